@@ -1,0 +1,79 @@
+//! Camera and projection conventions, shared by the GPU passes and the CPU reference.
+//!
+//! - World space is right-handed, y up. The camera looks along `forward`.
+//! - Positions are made camera-relative in f64 before they become f32 (scenes far from the origin).
+//! - Projection: reverse-Z with an infinite far plane (`depth = near / view_distance`: 1 at the near
+//!   plane, towards 0 far away), and y flipped so that NDC +y points down the image, as Vulkan's
+//!   framebuffer does. Pixel (x, y) covers `[x, x+1) x [y, y+1)`; its sample is at the centre.
+//! - `ndc -> pixel`: `px = (ndc.x + 1) / 2 * width`, `py = (ndc.y + 1) / 2 * height`.
+
+use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
+
+/// A perspective camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub position: DVec3,
+    /// Unit view direction.
+    pub forward: Vec3,
+    /// Up hint (need not be orthogonal to `forward`).
+    pub up: Vec3,
+    /// Vertical field of view in radians.
+    pub fov_y: f32,
+    /// Near plane distance (> 0).
+    pub near: f32,
+}
+
+impl Camera {
+    /// A camera at `eye` looking at `target`.
+    pub fn look_at(eye: DVec3, target: DVec3, up: Vec3, fov_y: f32, near: f32) -> Self {
+        let dir = (target - eye).as_vec3();
+        let forward = if dir.length_squared() > 0.0 { dir.normalize() } else { Vec3::NEG_Z };
+        let up = if forward.cross(up).length_squared() < 1e-12 { Vec3::Z } else { up };
+        Self { position: eye, forward, up, fov_y, near }
+    }
+
+    /// A camera that frames the box `[lo, hi]` from the front-right-above, the whole box in view.
+    pub fn frame_bounds(lo: DVec3, hi: DVec3, aspect: f32) -> Self {
+        let center = (lo + hi) * 0.5;
+        let radius = ((hi - lo).length() * 0.5).max(1e-6);
+        let fov_y = 45f32.to_radians();
+        let fov_min = if aspect >= 1.0 { fov_y } else { 2.0 * ((fov_y * 0.5).tan() * aspect).atan() };
+        let dist = radius / (fov_min as f64 * 0.5).sin() * 1.02;
+        let dir = DVec3::new(0.35, 0.3, 1.0).normalize();
+        let near = (dist - radius).max(radius * 1e-3) as f32 * 0.5;
+        Self::look_at(center + dir * dist, center, Vec3::Y, fov_y, near)
+    }
+
+    /// View rotation only: camera-relative world -> view space.
+    pub fn view_rotation(&self) -> Mat4 {
+        Mat4::look_to_rh(Vec3::ZERO, self.forward, self.up)
+    }
+
+    /// Reverse-Z infinite projection with y pointing down in NDC.
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        let mut p = Mat4::perspective_infinite_reverse_rh(self.fov_y, aspect, self.near);
+        p.y_axis.y = -p.y_axis.y;
+        p
+    }
+
+    /// Projection * view rotation, applied to camera-relative positions.
+    pub fn view_proj(&self, width: u32, height: u32) -> Mat4 {
+        self.projection(width as f32 / height.max(1) as f32) * self.view_rotation()
+    }
+
+    /// `model` made camera-relative (translation minus the camera position, in f64), as f32.
+    pub fn relative_model(&self, model: &DMat4) -> Mat4 {
+        let rel = DMat4::from_translation(-self.position) * *model;
+        rel.as_mat4()
+    }
+}
+
+/// Projects a camera-relative point to (pixel x, pixel y, depth, clip w); `None` behind the eye.
+pub fn project_to_pixel(view_proj: &Mat4, p: Vec3, width: u32, height: u32) -> Option<[f32; 4]> {
+    let c: Vec4 = *view_proj * p.extend(1.0);
+    if c.w <= 0.0 {
+        return None;
+    }
+    let ndc = c.truncate() / c.w;
+    Some([(ndc.x + 1.0) * 0.5 * width as f32, (ndc.y + 1.0) * 0.5 * height as f32, ndc.z, c.w])
+}
