@@ -4,7 +4,15 @@
 //! that name the file and the element), drops degenerate triangles with a counted warning and welds
 //! identical vertices.
 
-use std::path::PathBuf;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+mod gltf_loader;
+mod obj;
+mod off;
+mod ply;
+pub mod polygon;
+mod stl;
 
 /// A material as the renderer needs it (glTF metallic-roughness subset; a default for other formats).
 #[derive(Clone, Debug, PartialEq)]
@@ -86,10 +94,18 @@ impl Mesh {
                 self.uvs.len()
             ));
         }
-        if self.indices.len() % 3 != 0 {
-            return Err(format!("{} indices is not a multiple of 3", self.indices.len()));
+        if !self.indices.len().is_multiple_of(3) {
+            return Err(format!(
+                "{} indices is not a multiple of 3",
+                self.indices.len()
+            ));
         }
-        if let Some((i, &v)) = self.indices.iter().enumerate().find(|(_, v)| **v as usize >= n) {
+        if let Some((i, &v)) = self
+            .indices
+            .iter()
+            .enumerate()
+            .find(|(_, v)| **v as usize >= n)
+        {
             return Err(format!("index {i} = {v} is out of range ({n} vertices)"));
         }
         if self.material_ids.len() != self.triangle_count() {
@@ -99,12 +115,610 @@ impl Mesh {
                 self.triangle_count()
             ));
         }
-        if let Some(m) = self.material_ids.iter().find(|m| **m as usize >= self.materials.len()) {
-            return Err(format!("material id {m} out of range ({} materials)", self.materials.len()));
+        if let Some(m) = self
+            .material_ids
+            .iter()
+            .find(|m| **m as usize >= self.materials.len())
+        {
+            return Err(format!(
+                "material id {m} out of range ({} materials)",
+                self.materials.len()
+            ));
         }
-        if let Some(i) = self.positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+        if let Some(i) = self
+            .positions
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
             return Err(format!("position {i} is not finite"));
         }
         Ok(())
     }
+}
+
+/// Options for [`load`].
+#[derive(Clone, Debug, Default)]
+pub struct ImportOptions {
+    /// glTF only: return one [`Mesh`] per node that has a mesh (named after the node) instead of
+    /// merging the whole scene into one. Other formats always give one mesh.
+    pub split_nodes: bool,
+}
+
+/// What an import did to the source data, summed over all returned meshes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ImportReport {
+    /// Triangles in the source after triangulating polygons, strips and fans, before any were dropped.
+    pub source_triangles: usize,
+    /// Triangles removed by [`drop_degenerate`] (repeated index or zero area).
+    pub degenerate_dropped: usize,
+    /// Vertices removed by [`weld`] because an identical vertex already existed.
+    pub vertices_welded: usize,
+    /// Vertices removed because no kept triangle referenced them (see [`remove_unreferenced`]).
+    pub unreferenced_removed: usize,
+    /// Human-readable notes on what was tolerated (missing textures, skipped primitives, ...).
+    pub warnings: Vec<String>,
+}
+
+/// The result of [`load`]: one or more validated meshes and what happened on the way.
+#[derive(Clone, Debug)]
+pub struct Import {
+    /// At least one mesh; every one passes [`Mesh::validate`] and has at least one triangle.
+    pub meshes: Vec<Mesh>,
+    /// Counts and warnings for the whole file.
+    pub report: ImportReport,
+}
+
+/// Why a file could not be imported. Every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    /// The file (or a file it references) could not be read.
+    #[error("{}: cannot read {}: {source}", .path.display(), .file.display())]
+    Io {
+        /// The file being imported.
+        path: PathBuf,
+        /// The file that failed to read (the imported file itself or e.g. a glTF buffer).
+        file: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The extension is not one of the supported formats.
+    #[error(
+        "{}: unknown mesh format '{ext}' (supported: .gltf, .glb, .obj, .ply, .stl, .off)",
+        .path.display()
+    )]
+    UnknownFormat {
+        /// The file being imported.
+        path: PathBuf,
+        /// The extension found (empty if none).
+        ext: String,
+    },
+    /// The file is malformed; `message` names the element (line, face, accessor, ...).
+    #[error("{}: {message}", .path.display())]
+    Parse {
+        /// The file being imported.
+        path: PathBuf,
+        /// What is wrong and where.
+        message: String,
+    },
+    /// A vertex position is NaN or infinite.
+    #[error("{}: vertex {vertex}{context} has a non-finite position {position:?}", .path.display())]
+    NonFinite {
+        /// The file being imported.
+        path: PathBuf,
+        /// The vertex index in the source (within the element named by `context`).
+        vertex: usize,
+        /// Where the vertex lives, e.g. " (mesh 'Box', primitive 0, accessor 2)"; may be empty.
+        context: String,
+        /// The offending value.
+        position: [f32; 3],
+    },
+    /// A face/primitive references a vertex that does not exist.
+    #[error(
+        "{}: {context}: index {index} is out of range ({vertex_count} vertices)",
+        .path.display()
+    )]
+    IndexOutOfRange {
+        /// The file being imported.
+        path: PathBuf,
+        /// The element holding the index, e.g. "mesh 'Box' primitive 0, index accessor 0, element 7".
+        context: String,
+        /// The bad index value.
+        index: i64,
+        /// How many vertices the index may address.
+        vertex_count: usize,
+    },
+    /// The glTF uses KHR_draco_mesh_compression.
+    #[error(
+        "{}: Draco compression is not supported (KHR_draco_mesh_compression); \
+         re-export the file without Draco",
+        .path.display()
+    )]
+    Draco {
+        /// The file being imported.
+        path: PathBuf,
+    },
+    /// A glTF buffer file named by the document does not exist.
+    #[error("{}: buffer {index} file {} is missing", .path.display(), .buffer.display())]
+    MissingBuffer {
+        /// The file being imported.
+        path: PathBuf,
+        /// The buffer index in the glTF document.
+        index: usize,
+        /// The missing file.
+        buffer: PathBuf,
+    },
+    /// The file has no (non-degenerate) triangles.
+    #[error("{}: no triangles to import ({detail})", .path.display())]
+    NoTriangles {
+        /// The file being imported.
+        path: PathBuf,
+        /// Why, e.g. "only points and lines" or "all 4 triangles are degenerate".
+        detail: String,
+    },
+    /// The imported mesh broke a [`Mesh`] invariant (an importer bug, reported rather than panicking).
+    #[error("{}: imported mesh is invalid: {message}", .path.display())]
+    Invalid {
+        /// The file being imported.
+        path: PathBuf,
+        /// The failed invariant.
+        message: String,
+    },
+}
+
+impl ImportError {
+    /// Shorthand for a [`ImportError::Parse`].
+    pub(crate) fn parse(path: &Path, message: impl Into<String>) -> Self {
+        ImportError::Parse {
+            path: path.to_path_buf(),
+            message: message.into(),
+        }
+    }
+
+    /// Shorthand for reading `file` failing while importing `path`.
+    pub(crate) fn io(path: &Path, file: &Path, source: std::io::Error) -> Self {
+        ImportError::Io {
+            path: path.to_path_buf(),
+            file: file.to_path_buf(),
+            source,
+        }
+    }
+}
+
+/// The file formats [`load`] understands, chosen by file extension (case-insensitive).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// glTF 2.0, JSON (`.gltf`) or binary (`.glb`).
+    Gltf,
+    /// Wavefront OBJ with optional MTL materials.
+    Obj,
+    /// Stanford PLY, ASCII or binary.
+    Ply,
+    /// STL, ASCII (any number of `solid` blocks) or binary.
+    Stl,
+    /// Object File Format (Geomview / CGAL / Princeton Shape Benchmark).
+    Off,
+}
+
+impl Format {
+    /// The format for `path`'s extension, or `None` if unsupported.
+    pub fn from_path(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "gltf" | "glb" => Format::Gltf,
+            "obj" => Format::Obj,
+            "ply" => Format::Ply,
+            "stl" => Format::Stl,
+            "off" => Format::Off,
+            _ => return None,
+        })
+    }
+}
+
+/// Loads a mesh file (format by extension) into validated meshes.
+///
+/// Every importer: rejects NaN/Inf positions ([`ImportError::NonFinite`]) and out-of-range indices
+/// ([`ImportError::IndexOutOfRange`]); triangulates polygons (ear clipping on the best-fit plane);
+/// then [`drop_degenerate`] (counted, with a warning), [`remove_unreferenced`], [`weld`], and
+/// area-weighted normals for vertices without a (usable) source normal. UVs are zero where the
+/// source has none and follow the glTF convention (origin top-left; OBJ/PLY `v` is flipped).
+/// A file with no triangle left is an error, never an empty mesh.
+pub fn load(path: &Path, opts: &ImportOptions) -> Result<Import, ImportError> {
+    let format = Format::from_path(path).ok_or_else(|| ImportError::UnknownFormat {
+        path: path.to_path_buf(),
+        ext: path
+            .extension()
+            .map(|e| e.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+    })?;
+    let mut report = ImportReport::default();
+    let raws = match format {
+        Format::Gltf => gltf_loader::load(path, opts, &mut report.warnings)?,
+        Format::Obj => vec![obj::load(path, &mut report.warnings)?],
+        Format::Ply => vec![ply::load(path, &mut report.warnings)?],
+        Format::Stl => vec![stl::load(path, &mut report.warnings)?],
+        Format::Off => vec![off::load(path, &mut report.warnings)?],
+    };
+    let mut meshes = Vec::with_capacity(raws.len());
+    let mut empty = Vec::new();
+    for raw in raws {
+        let name = raw.name.clone();
+        let tris = raw.triangle_count();
+        match finish(path, raw, &mut report)? {
+            Some(mesh) => meshes.push(mesh),
+            None => empty.push(format!("'{name}' ({tris} triangles)")),
+        }
+    }
+    if meshes.is_empty() {
+        return Err(ImportError::NoTriangles {
+            path: path.to_path_buf(),
+            detail: if report.source_triangles == 0 {
+                "the file has no triangles".to_string()
+            } else {
+                format!("all {} triangles are degenerate", report.source_triangles)
+            },
+        });
+    }
+    if !empty.is_empty() {
+        report.warnings.push(format!(
+            "{}: skipped {} mesh(es) with only degenerate triangles: {}",
+            path.display(),
+            empty.len(),
+            empty.join(", ")
+        ));
+    }
+    Ok(Import { meshes, report })
+}
+
+/// Loads a mesh file with default options and merges everything into one [`Mesh`].
+pub fn load_mesh(path: &Path) -> Result<(Mesh, ImportReport), ImportError> {
+    let import = load(path, &ImportOptions::default())?;
+    let mesh = merge(import.meshes);
+    mesh.validate().map_err(|message| ImportError::Invalid {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    Ok((mesh, import.report))
+}
+
+/// Concatenates meshes (materials appended, ids offset) into one; the name is the first mesh's.
+/// `has_normals`/`has_uvs` are true only if they are true for every input.
+pub fn merge(meshes: Vec<Mesh>) -> Mesh {
+    let mut iter = meshes.into_iter();
+    let Some(mut out) = iter.next() else {
+        return Mesh::default();
+    };
+    for m in iter {
+        let vbase = out.positions.len() as u32;
+        let mbase = out.materials.len() as u32;
+        out.positions.extend_from_slice(&m.positions);
+        out.normals.extend_from_slice(&m.normals);
+        out.uvs.extend_from_slice(&m.uvs);
+        out.indices.extend(m.indices.iter().map(|i| i + vbase));
+        out.material_ids
+            .extend(m.material_ids.iter().map(|i| i + mbase));
+        out.materials.extend(m.materials);
+        out.has_normals &= m.has_normals;
+        out.has_uvs &= m.has_uvs;
+    }
+    out
+}
+
+/// Merges vertices whose position, normal and UV are bit-identical, keeping the first occurrence
+/// (vertex order is otherwise preserved). Returns how many vertices were removed.
+pub fn weld(mesh: &mut Mesh) -> usize {
+    let n = mesh.positions.len();
+    if mesh.normals.len() != n || mesh.uvs.len() != n {
+        return 0;
+    }
+    let mut first: HashMap<[u32; 8], u32> = HashMap::with_capacity(n);
+    let mut remap = Vec::with_capacity(n);
+    let mut kept = 0u32;
+    let mut keep = Vec::with_capacity(n);
+    for v in 0..n {
+        let (p, nn, t) = (mesh.positions[v], mesh.normals[v], mesh.uvs[v]);
+        let key = [
+            p[0].to_bits(),
+            p[1].to_bits(),
+            p[2].to_bits(),
+            nn[0].to_bits(),
+            nn[1].to_bits(),
+            nn[2].to_bits(),
+            t[0].to_bits(),
+            t[1].to_bits(),
+        ];
+        match first.get(&key) {
+            Some(&k) => remap.push(k),
+            None => {
+                first.insert(key, kept);
+                remap.push(kept);
+                keep.push(v);
+                kept += 1;
+            }
+        }
+    }
+    let removed = n - keep.len();
+    if removed > 0 {
+        apply_vertex_remap(mesh, &keep, &remap);
+    }
+    removed
+}
+
+/// Removes vertices that no triangle references and renumbers the indices. Returns the count.
+pub fn remove_unreferenced(mesh: &mut Mesh) -> usize {
+    let n = mesh.positions.len();
+    let mut used = vec![false; n];
+    for &i in &mesh.indices {
+        if let Some(u) = used.get_mut(i as usize) {
+            *u = true;
+        }
+    }
+    let mut remap = vec![0u32; n];
+    let mut keep = Vec::with_capacity(n);
+    for (v, &u) in used.iter().enumerate() {
+        if u {
+            remap[v] = keep.len() as u32;
+            keep.push(v);
+        }
+    }
+    let removed = n - keep.len();
+    if removed > 0 {
+        apply_vertex_remap(mesh, &keep, &remap);
+    }
+    removed
+}
+
+/// Keeps the vertices `keep` (old indices, ascending) and maps every index through `remap`.
+fn apply_vertex_remap(mesh: &mut Mesh, keep: &[usize], remap: &[u32]) {
+    let pick3 = |src: &[[f32; 3]]| keep.iter().filter_map(|&v| src.get(v).copied()).collect();
+    mesh.positions = pick3(&mesh.positions);
+    mesh.normals = pick3(&mesh.normals);
+    mesh.uvs = keep
+        .iter()
+        .filter_map(|&v| mesh.uvs.get(v).copied())
+        .collect();
+    for i in &mut mesh.indices {
+        if let Some(&r) = remap.get(*i as usize) {
+            *i = r;
+        }
+    }
+}
+
+/// Twice the area of triangle `abc` computed in f64, and its longest squared edge.
+fn area2_and_edge2(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> (f64, f64) {
+    let d = |p: [f32; 3], q: [f32; 3]| {
+        [
+            q[0] as f64 - p[0] as f64,
+            q[1] as f64 - p[1] as f64,
+            q[2] as f64 - p[2] as f64,
+        ]
+    };
+    let (u, v, w) = (d(a, b), d(a, c), d(b, c));
+    let cr = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    let len2 = |x: [f64; 3]| x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    (len2(cr).sqrt(), len2(u).max(len2(v)).max(len2(w)))
+}
+
+/// Relative area below which a triangle counts as zero-area: twice its area divided by its longest
+/// squared edge (a shape measure independent of scale). 1e-10 is far below anything f32 positions
+/// can resolve for a real triangle.
+pub const DEGENERATE_RELATIVE_AREA: f64 = 1e-10;
+
+/// Removes triangles with a repeated index or zero area (see [`DEGENERATE_RELATIVE_AREA`]),
+/// together with their material ids. Returns how many were removed.
+pub fn drop_degenerate(mesh: &mut Mesh) -> usize {
+    let tri_count = mesh.triangle_count();
+    let mut kept_idx = Vec::with_capacity(mesh.indices.len());
+    let mut kept_mat = Vec::with_capacity(tri_count);
+    for t in 0..tri_count {
+        let tri = [
+            mesh.indices[3 * t],
+            mesh.indices[3 * t + 1],
+            mesh.indices[3 * t + 2],
+        ];
+        if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
+            continue;
+        }
+        let p = |i: u32| mesh.positions.get(i as usize).copied();
+        let (Some(a), Some(b), Some(c)) = (p(tri[0]), p(tri[1]), p(tri[2])) else {
+            continue;
+        };
+        let (area2, edge2) = area2_and_edge2(a, b, c);
+        // Written so that a NaN area also counts as degenerate.
+        let proper = area2 > 0.0 && area2 > DEGENERATE_RELATIVE_AREA * edge2;
+        if !proper {
+            continue;
+        }
+        kept_idx.extend_from_slice(&tri);
+        kept_mat.push(mesh.material_ids.get(t).copied().unwrap_or(0));
+    }
+    let removed = tri_count - kept_mat.len();
+    mesh.indices = kept_idx;
+    mesh.material_ids = kept_mat;
+    removed
+}
+
+/// Normalizes every normal; vertices whose normal is zero or not finite get the area-weighted
+/// average of their triangles' normals (or +Z if those cancel out). Returns how many were computed.
+pub fn fill_missing_normals(mesh: &mut Mesh) -> usize {
+    let n = mesh.positions.len();
+    mesh.normals.resize(n, [0.0; 3]);
+    let mut need = vec![false; n];
+    let mut any = false;
+    for (v, nn) in mesh.normals.iter_mut().enumerate() {
+        let len = (nn[0] as f64).hypot(nn[1] as f64).hypot(nn[2] as f64);
+        if len.is_finite() && len > 1e-20 {
+            *nn = [
+                (nn[0] as f64 / len) as f32,
+                (nn[1] as f64 / len) as f32,
+                (nn[2] as f64 / len) as f32,
+            ];
+        } else {
+            need[v] = true;
+            any = true;
+        }
+    }
+    if !any {
+        return 0;
+    }
+    let mut acc = vec![[0.0f64; 3]; n];
+    for tri in mesh.indices.chunks_exact(3) {
+        let (ia, ib, ic) = (tri[0] as usize, tri[1] as usize, tri[2] as usize);
+        if !(need.get(ia).copied().unwrap_or(false)
+            || need.get(ib).copied().unwrap_or(false)
+            || need.get(ic).copied().unwrap_or(false))
+        {
+            continue;
+        }
+        let (Some(a), Some(b), Some(c)) = (
+            mesh.positions.get(ia),
+            mesh.positions.get(ib),
+            mesh.positions.get(ic),
+        ) else {
+            continue;
+        };
+        let u = [
+            b[0] as f64 - a[0] as f64,
+            b[1] as f64 - a[1] as f64,
+            b[2] as f64 - a[2] as f64,
+        ];
+        let w = [
+            c[0] as f64 - a[0] as f64,
+            c[1] as f64 - a[1] as f64,
+            c[2] as f64 - a[2] as f64,
+        ];
+        // Unnormalized cross product: its length is twice the area, i.e. area weighting.
+        let cr = [
+            u[1] * w[2] - u[2] * w[1],
+            u[2] * w[0] - u[0] * w[2],
+            u[0] * w[1] - u[1] * w[0],
+        ];
+        for i in [ia, ib, ic] {
+            if need[i] {
+                for k in 0..3 {
+                    acc[i][k] += cr[k];
+                }
+            }
+        }
+    }
+    let mut computed = 0;
+    for v in 0..n {
+        if !need[v] {
+            continue;
+        }
+        computed += 1;
+        let a = acc[v];
+        let len = a[0].hypot(a[1]).hypot(a[2]);
+        mesh.normals[v] = if len.is_finite() && len > 0.0 {
+            [
+                (a[0] / len) as f32,
+                (a[1] / len) as f32,
+                (a[2] / len) as f32,
+            ]
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+    }
+    computed
+}
+
+/// Drops materials no triangle uses and renumbers `material_ids` (original order kept); a mesh
+/// without materials gets the default one.
+fn compact_materials(mesh: &mut Mesh) {
+    if mesh.materials.is_empty() {
+        mesh.materials.push(Material::default());
+    }
+    let count = mesh.materials.len();
+    let mut used = vec![false; count];
+    for id in &mut mesh.material_ids {
+        if *id as usize >= count {
+            *id = 0;
+        }
+        used[*id as usize] = true;
+    }
+    if used.iter().all(|u| *u) {
+        return;
+    }
+    let mut remap = vec![0u32; count];
+    let mut materials = Vec::new();
+    for (i, m) in std::mem::take(&mut mesh.materials).into_iter().enumerate() {
+        if used[i] {
+            remap[i] = materials.len() as u32;
+            materials.push(m);
+        }
+    }
+    for id in &mut mesh.material_ids {
+        *id = remap[*id as usize];
+    }
+    mesh.materials = materials;
+}
+
+/// The shared tail of every importer: validation, degenerate removal, compaction, welding,
+/// normals, materials. Returns `None` when no triangle survives.
+fn finish(
+    path: &Path,
+    mut mesh: Mesh,
+    report: &mut ImportReport,
+) -> Result<Option<Mesh>, ImportError> {
+    report.source_triangles += mesh.triangle_count();
+    let n = mesh.positions.len();
+    // Importers fill these; keep the invariant even if one did not.
+    mesh.normals.resize(n, [0.0; 3]);
+    mesh.uvs.resize(n, [0.0; 2]);
+    if !mesh.indices.len().is_multiple_of(3) {
+        return Err(ImportError::Invalid {
+            path: path.to_path_buf(),
+            message: format!("{} indices is not a multiple of 3", mesh.indices.len()),
+        });
+    }
+    mesh.material_ids.resize(mesh.triangle_count(), 0);
+    if let Some(v) = mesh
+        .positions
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(ImportError::NonFinite {
+            path: path.to_path_buf(),
+            vertex: v,
+            context: format!(" (of mesh '{}')", mesh.name),
+            position: mesh.positions[v],
+        });
+    }
+    if let Some((k, &i)) = mesh
+        .indices
+        .iter()
+        .enumerate()
+        .find(|(_, i)| **i as usize >= n)
+    {
+        return Err(ImportError::IndexOutOfRange {
+            path: path.to_path_buf(),
+            context: format!("mesh '{}', triangle {}", mesh.name, k / 3),
+            index: i as i64,
+            vertex_count: n,
+        });
+    }
+    let dropped = drop_degenerate(&mut mesh);
+    if dropped > 0 {
+        report.degenerate_dropped += dropped;
+        report.warnings.push(format!(
+            "{}: dropped {dropped} degenerate triangles (repeated index or zero area) of mesh '{}'",
+            path.display(),
+            mesh.name
+        ));
+    }
+    report.unreferenced_removed += remove_unreferenced(&mut mesh);
+    if mesh.indices.is_empty() {
+        return Ok(None);
+    }
+    report.vertices_welded += weld(&mut mesh);
+    fill_missing_normals(&mut mesh);
+    compact_materials(&mut mesh);
+    mesh.validate().map_err(|message| ImportError::Invalid {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    Ok(Some(mesh))
 }
