@@ -103,34 +103,55 @@ enum Payload<'a> {
     Ascii(AsciiTokens),
 }
 
-/// Whitespace-separated tokens of an ASCII PLY body with their 1-based line numbers.
+/// Whitespace-separated tokens of an ASCII PLY body, read on demand, with 1-based line numbers.
 struct AsciiTokens {
-    tokens: std::vec::IntoIter<(usize, String)>,
+    body: String,
+    pos: usize,
+    line: usize,
     last_line: usize,
 }
 
 impl AsciiTokens {
-    fn new(body: &str, first_line: usize) -> Self {
-        let tokens: Vec<(usize, String)> = body
-            .lines()
-            .enumerate()
-            .flat_map(|(i, l)| {
-                l.split_whitespace()
-                    .map(move |t| (first_line + i, t.to_string()))
-            })
-            .collect();
+    fn new(body: String, first_line: usize) -> Self {
         Self {
-            tokens: tokens.into_iter(),
+            body,
+            pos: 0,
+            line: first_line,
             last_line: first_line,
         }
     }
 
+    /// The next token and its line.
+    fn next_token(&mut self) -> Option<(usize, &str)> {
+        let bytes = self.body.as_bytes();
+        while let Some(&b) = bytes.get(self.pos) {
+            if !b.is_ascii_whitespace() {
+                break;
+            }
+            if b == b'\n' {
+                self.line += 1;
+            }
+            self.pos += 1;
+        }
+        let start = self.pos;
+        while bytes
+            .get(self.pos)
+            .is_some_and(|b| !b.is_ascii_whitespace())
+        {
+            self.pos += 1;
+        }
+        // Token boundaries are ASCII whitespace, hence char boundaries.
+        let token = self.body.get(start..self.pos).filter(|t| !t.is_empty())?;
+        Some((self.line, token))
+    }
+
     fn number(&mut self, what: &dyn Fn() -> String) -> Result<f64, String> {
-        match self.tokens.next() {
+        match self.next_token() {
             Some((line, t)) => {
+                let parsed = t.parse::<f64>();
+                let shown: String = t.chars().take(32).collect();
                 self.last_line = line;
-                t.parse::<f64>()
-                    .map_err(|_| format!("line {line}: {}: '{t}' is not a number", what()))
+                parsed.map_err(|_| format!("line {line}: {}: '{shown}' is not a number", what()))
             }
             None => Err(format!(
                 "file ends at line {} while reading {}",
@@ -236,7 +257,7 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
                 .map(|e| 1 + e.properties.len())
                 .sum::<usize>();
         Payload::Ascii(AsciiTokens::new(
-            &String::from_utf8_lossy(&rest),
+            String::from_utf8_lossy(&rest).into_owned(),
             header_lines + 1,
         ))
     } else {
