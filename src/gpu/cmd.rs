@@ -1,0 +1,448 @@
+//! A command buffer being recorded, with a small safe API over the commands vgeo uses.
+
+use std::ffi::CString;
+use std::sync::atomic::Ordering;
+
+use ash::vk;
+
+use super::{Buffer, ComputePipeline, Context, GraphicsPipeline, Image};
+
+/// A descriptor pushed with `vkCmdPushDescriptorSetKHR` (binding i = entry i).
+pub enum Desc<'a> {
+    Storage(&'a Buffer),
+    Uniform(&'a Buffer),
+    StorageImage(&'a Image),
+}
+
+/// A colour or depth attachment of a rendering pass, with its clear value.
+pub struct RenderTarget<'a> {
+    pub image: &'a Image,
+    /// Clear colour (RGBA) or, for depth, `[depth, 0, 0, 0]`; `None` loads the contents.
+    pub clear: Option<[f32; 4]>,
+}
+
+/// Records commands into one command buffer. Created by [`Context::submit_and_wait`].
+pub struct Cmd {
+    ctx: Context,
+    cb: vk::CommandBuffer,
+    open_labels: u32,
+}
+
+fn layout_access(layout: vk::ImageLayout) -> (vk::PipelineStageFlags2, vk::AccessFlags2) {
+    use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+    match layout {
+        L::UNDEFINED => (S::TOP_OF_PIPE, A::NONE),
+        L::COLOR_ATTACHMENT_OPTIMAL => (
+            S::COLOR_ATTACHMENT_OUTPUT,
+            A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
+        ),
+        L::DEPTH_ATTACHMENT_OPTIMAL => (
+            S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+            A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        ),
+        L::TRANSFER_SRC_OPTIMAL => (S::ALL_TRANSFER, A::TRANSFER_READ),
+        L::TRANSFER_DST_OPTIMAL => (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+        L::SHADER_READ_ONLY_OPTIMAL => (
+            S::FRAGMENT_SHADER | S::COMPUTE_SHADER,
+            A::SHADER_SAMPLED_READ,
+        ),
+        _ => (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+    }
+}
+
+impl Cmd {
+    pub(crate) fn new(ctx: Context, cb: vk::CommandBuffer) -> Self {
+        Self {
+            ctx,
+            cb,
+            open_labels: 0,
+        }
+    }
+
+    pub(crate) fn finish(&mut self) {
+        while self.open_labels > 0 {
+            self.end_label();
+        }
+    }
+
+    pub(crate) fn raw(&self) -> vk::CommandBuffer {
+        self.cb
+    }
+
+    pub(crate) fn context(&self) -> &Context {
+        &self.ctx
+    }
+
+    fn dev(&self) -> &ash::Device {
+        self.ctx.device()
+    }
+
+    /// Opens a labelled region (one per pass); also remembered as the last pass for device-loss reports.
+    pub fn begin_label(&mut self, name: &str) {
+        if let Ok(mut p) = self.ctx.inner.last_pass.lock() {
+            name.clone_into(&mut p);
+        }
+        if let Some(d) = &self.ctx.inner.debug_device {
+            let Ok(c) = CString::new(name.replace('\0', " ")) else {
+                return;
+            };
+            let label = vk::DebugUtilsLabelEXT::default()
+                .label_name(&c)
+                .color([0.3, 0.6, 0.9, 1.0]);
+            // SAFETY: the command buffer is recording.
+            unsafe { d.cmd_begin_debug_utils_label(self.cb, &label) };
+            self.open_labels += 1;
+        }
+    }
+
+    /// Closes the innermost labelled region.
+    pub fn end_label(&mut self) {
+        if let Some(d) = &self.ctx.inner.debug_device
+            && self.open_labels > 0
+        {
+            // SAFETY: a label is open on this recording command buffer.
+            unsafe { d.cmd_end_debug_utils_label(self.cb) };
+            self.open_labels -= 1;
+        }
+    }
+
+    /// Copies `size` bytes from the start of `src` to the start of `dst`.
+    pub fn copy_buffer(&mut self, src: &Buffer, dst: &Buffer, size: u64) {
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size,
+        };
+        // SAFETY: both buffers are valid; sizes are checked by the caller's buffer creation.
+        unsafe {
+            self.dev()
+                .cmd_copy_buffer(self.cb, src.raw, dst.raw, &[region])
+        };
+    }
+
+    /// Fills a whole buffer with a repeated u32.
+    pub fn fill_buffer(&mut self, buf: &Buffer, value: u32) {
+        // SAFETY: valid buffer; WHOLE_SIZE rounds down to a multiple of 4.
+        unsafe {
+            self.dev()
+                .cmd_fill_buffer(self.cb, buf.raw, 0, vk::WHOLE_SIZE, value)
+        };
+    }
+
+    /// A global memory barrier between two stage/access scopes.
+    pub fn barrier(
+        &mut self,
+        src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+        dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    ) {
+        let mb = [vk::MemoryBarrier2::default()
+            .src_stage_mask(src.0)
+            .src_access_mask(src.1)
+            .dst_stage_mask(dst.0)
+            .dst_access_mask(dst.1)];
+        let dep = vk::DependencyInfo::default().memory_barriers(&mb);
+        // SAFETY: the command buffer is recording.
+        unsafe { self.ctx.inner.sync2.cmd_pipeline_barrier2(self.cb, &dep) };
+    }
+
+    /// Moves `image` to `layout`, with the stages/accesses the two layouts imply.
+    pub fn transition(&mut self, image: &Image, layout: vk::ImageLayout) {
+        let old = vk::ImageLayout::from_raw(image.layout.swap(layout.as_raw(), Ordering::Relaxed));
+        let (ss, sa) = layout_access(old);
+        let (ds, da) = layout_access(layout);
+        let ib = [vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(ss)
+            .src_access_mask(sa)
+            .dst_stage_mask(ds)
+            .dst_access_mask(da)
+            .old_layout(old)
+            .new_layout(layout)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(image.raw)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: image.aspect,
+                base_mip_level: 0,
+                level_count: 1,
+                base_array_layer: 0,
+                layer_count: 1,
+            })];
+        let dep = vk::DependencyInfo::default().image_memory_barriers(&ib);
+        // SAFETY: the command buffer is recording; the image is valid.
+        unsafe { self.ctx.inner.sync2.cmd_pipeline_barrier2(self.cb, &dep) };
+    }
+
+    /// Begins dynamic rendering into `colors` and `depth` (images are transitioned as needed) and
+    /// sets the viewport and scissor to the full target.
+    pub fn begin_rendering(
+        &mut self,
+        colors: &[RenderTarget<'_>],
+        depth: Option<RenderTarget<'_>>,
+    ) {
+        let (w, h) = colors
+            .first()
+            .or(depth.as_ref())
+            .map(|t| (t.image.width, t.image.height))
+            .unwrap_or((1, 1));
+        for c in colors {
+            self.transition(c.image, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+        }
+        if let Some(d) = &depth {
+            self.transition(d.image, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL);
+        }
+        let attach = |t: &RenderTarget<'_>, layout: vk::ImageLayout, is_depth: bool| {
+            let clear = t.clear.unwrap_or_default();
+            vk::RenderingAttachmentInfo::default()
+                .image_view(t.image.view)
+                .image_layout(layout)
+                .load_op(if t.clear.is_some() {
+                    vk::AttachmentLoadOp::CLEAR
+                } else {
+                    vk::AttachmentLoadOp::LOAD
+                })
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(if is_depth {
+                    vk::ClearValue {
+                        depth_stencil: vk::ClearDepthStencilValue {
+                            depth: clear[0],
+                            stencil: 0,
+                        },
+                    }
+                } else {
+                    vk::ClearValue {
+                        color: vk::ClearColorValue { float32: clear },
+                    }
+                })
+        };
+        let color_infos: Vec<_> = colors
+            .iter()
+            .map(|c| attach(c, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, false))
+            .collect();
+        let depth_info = depth
+            .as_ref()
+            .map(|d| attach(d, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, true));
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D {
+                width: w,
+                height: h,
+            },
+        };
+        let mut info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_infos);
+        if let Some(d) = depth_info.as_ref() {
+            info = info.depth_attachment(d);
+        }
+        // SAFETY: the attachments are valid images in the layouts set above.
+        unsafe {
+            self.ctx
+                .inner
+                .dynamic_rendering
+                .cmd_begin_rendering(self.cb, &info);
+            let vp = vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: w as f32,
+                height: h as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            };
+            self.dev().cmd_set_viewport(self.cb, 0, &[vp]);
+            self.dev().cmd_set_scissor(self.cb, 0, &[area]);
+        }
+    }
+
+    /// Ends dynamic rendering.
+    pub fn end_rendering(&mut self) {
+        // SAFETY: rendering was begun on this command buffer.
+        unsafe { self.ctx.inner.dynamic_rendering.cmd_end_rendering(self.cb) };
+    }
+
+    /// Binds a graphics pipeline.
+    pub fn bind_graphics(&mut self, p: &GraphicsPipeline) {
+        // SAFETY: valid pipeline.
+        unsafe {
+            self.dev()
+                .cmd_bind_pipeline(self.cb, vk::PipelineBindPoint::GRAPHICS, p.raw)
+        };
+    }
+
+    /// Binds a compute pipeline.
+    pub fn bind_compute(&mut self, p: &ComputePipeline) {
+        // SAFETY: valid pipeline.
+        unsafe {
+            self.dev()
+                .cmd_bind_pipeline(self.cb, vk::PipelineBindPoint::COMPUTE, p.raw)
+        };
+    }
+
+    fn push_descriptors(
+        &mut self,
+        bind: vk::PipelineBindPoint,
+        layout: vk::PipelineLayout,
+        descs: &[Desc<'_>],
+    ) {
+        let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = descs
+            .iter()
+            .map(|d| match d {
+                Desc::Storage(b) | Desc::Uniform(b) => [vk::DescriptorBufferInfo {
+                    buffer: b.raw,
+                    offset: 0,
+                    range: vk::WHOLE_SIZE,
+                }],
+                Desc::StorageImage(_) => [vk::DescriptorBufferInfo::default()],
+            })
+            .collect();
+        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = descs
+            .iter()
+            .map(|d| match d {
+                Desc::StorageImage(i) => [vk::DescriptorImageInfo {
+                    sampler: vk::Sampler::null(),
+                    image_view: i.view,
+                    image_layout: vk::ImageLayout::GENERAL,
+                }],
+                _ => [vk::DescriptorImageInfo::default()],
+            })
+            .collect();
+        let writes: Vec<_> = descs
+            .iter()
+            .enumerate()
+            .map(|(i, d)| {
+                let w = vk::WriteDescriptorSet::default().dst_binding(i as u32);
+                match d {
+                    Desc::Storage(_) => w
+                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                        .buffer_info(&buffer_infos[i]),
+                    Desc::Uniform(_) => w
+                        .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                        .buffer_info(&buffer_infos[i]),
+                    Desc::StorageImage(_) => w
+                        .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                        .image_info(&image_infos[i]),
+                }
+            })
+            .collect();
+        // SAFETY: the writes refer to live resources and match the pipeline's push-descriptor layout.
+        unsafe {
+            self.ctx
+                .inner
+                .push_descriptor
+                .cmd_push_descriptor_set(self.cb, bind, layout, 0, &writes)
+        };
+    }
+
+    /// Pushes descriptors (binding i = `descs[i]`) for a graphics pipeline.
+    pub fn push_graphics_descriptors(&mut self, p: &GraphicsPipeline, descs: &[Desc<'_>]) {
+        self.push_descriptors(vk::PipelineBindPoint::GRAPHICS, p.layout, descs);
+    }
+
+    /// Pushes descriptors (binding i = `descs[i]`) for a compute pipeline.
+    pub fn push_compute_descriptors(&mut self, p: &ComputePipeline, descs: &[Desc<'_>]) {
+        self.push_descriptors(vk::PipelineBindPoint::COMPUTE, p.layout, descs);
+    }
+
+    /// Sets push constants of a graphics pipeline (all its stages).
+    pub fn graphics_push_constants(&mut self, p: &GraphicsPipeline, data: &[u8]) {
+        assert_eq!(
+            data.len() as u32,
+            p.push_constant_size,
+            "push constants of `{}`",
+            p.name
+        );
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        // SAFETY: size matches the layout's range (checked above).
+        unsafe {
+            self.dev()
+                .cmd_push_constants(self.cb, p.layout, stages, 0, data)
+        };
+    }
+
+    /// Sets push constants of a compute pipeline.
+    pub fn compute_push_constants(&mut self, p: &ComputePipeline, data: &[u8]) {
+        assert_eq!(
+            data.len() as u32,
+            p.push_constant_size,
+            "push constants of `{}`",
+            p.name
+        );
+        // SAFETY: size matches the layout's range (checked above).
+        unsafe {
+            self.dev()
+                .cmd_push_constants(self.cb, p.layout, vk::ShaderStageFlags::COMPUTE, 0, data)
+        };
+    }
+
+    /// Binds vertex buffer 0 and a u32 index buffer.
+    pub fn bind_mesh_buffers(&mut self, vertices: &Buffer, indices: &Buffer) {
+        // SAFETY: valid buffers created with vertex/index usage.
+        unsafe {
+            self.dev()
+                .cmd_bind_vertex_buffers(self.cb, 0, &[vertices.raw], &[0]);
+            self.dev()
+                .cmd_bind_index_buffer(self.cb, indices.raw, 0, vk::IndexType::UINT32);
+        }
+    }
+
+    /// `vkCmdDrawIndexed`.
+    pub fn draw_indexed(
+        &mut self,
+        index_count: u32,
+        instance_count: u32,
+        first_index: u32,
+        first_instance: u32,
+    ) {
+        // SAFETY: a pipeline and index buffer are bound by the caller.
+        unsafe {
+            self.dev().cmd_draw_indexed(
+                self.cb,
+                index_count,
+                instance_count,
+                first_index,
+                0,
+                first_instance,
+            )
+        };
+    }
+
+    /// `vkCmdDispatch`.
+    pub fn dispatch(&mut self, x: u32, y: u32, z: u32) {
+        // SAFETY: a compute pipeline is bound by the caller.
+        unsafe { self.dev().cmd_dispatch(self.cb, x, y, z) };
+    }
+
+    /// Copies a whole colour image (in any layout) into a buffer, tightly packed.
+    pub fn copy_image_to_buffer(&mut self, image: &Image, buf: &Buffer) {
+        self.transition(image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL);
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: image.aspect,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D {
+                width: image.width,
+                height: image.height,
+                depth: 1,
+            });
+        // SAFETY: the image is in TRANSFER_SRC layout; the buffer is large enough (caller sizes it).
+        unsafe {
+            self.dev().cmd_copy_image_to_buffer(
+                self.cb,
+                image.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buf.raw,
+                &[region],
+            )
+        };
+        self.barrier(
+            (
+                vk::PipelineStageFlags2::ALL_TRANSFER,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+    }
+}

@@ -1,0 +1,365 @@
+//! Buffers and images with memory from `gpu-allocator`, uploads and readbacks.
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+
+use super::{Context, GpuError, GpuResult, VkResultExt};
+
+/// Where a resource's memory lives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MemoryKind {
+    /// Device-local, not host visible.
+    Gpu,
+    /// Host-visible, written by the CPU (uploads, small uniforms).
+    Upload,
+    /// Host-visible, read by the CPU (readbacks).
+    Readback,
+}
+
+impl MemoryKind {
+    fn location(self) -> MemoryLocation {
+        match self {
+            MemoryKind::Gpu => MemoryLocation::GpuOnly,
+            MemoryKind::Upload => MemoryLocation::CpuToGpu,
+            MemoryKind::Readback => MemoryLocation::GpuToCpu,
+        }
+    }
+}
+
+/// A buffer and its memory; freed on drop.
+pub struct Buffer {
+    ctx: Context,
+    pub(crate) raw: vk::Buffer,
+    allocation: Option<Allocation>,
+    size: u64,
+    name: String,
+}
+
+impl Buffer {
+    /// Creates a buffer of `size` bytes (at least 4).
+    pub fn new(
+        ctx: &Context,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        kind: MemoryKind,
+    ) -> GpuResult<Self> {
+        let size = size.max(4);
+        let dev = ctx.device();
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { dev.create_buffer(&info, None) }.call("vkCreateBuffer")?;
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { dev.get_buffer_memory_requirements(raw) };
+        let allocation = ctx
+            .inner
+            .allocator
+            .lock()
+            .map_err(|_| GpuError::Other("allocator lock poisoned".into()))?
+            .as_mut()
+            .ok_or_else(|| GpuError::Other("allocator gone".into()))?
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: kind.location(),
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: the buffer has no memory bound and is not in use.
+                unsafe { dev.destroy_buffer(raw, None) };
+                return Err(GpuError::Alloc {
+                    name: name.into(),
+                    msg: e.to_string(),
+                });
+            }
+        };
+        // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
+        unsafe { dev.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .call("vkBindBufferMemory")?;
+        ctx.set_name(raw, name);
+        Ok(Self {
+            ctx: ctx.clone(),
+            raw,
+            allocation: Some(allocation),
+            size,
+            name: name.into(),
+        })
+    }
+
+    /// A device-local buffer filled with `data` through a staging copy.
+    pub fn with_data(
+        ctx: &Context,
+        name: &str,
+        data: &[u8],
+        usage: vk::BufferUsageFlags,
+    ) -> GpuResult<Self> {
+        let buf = Self::new(
+            ctx,
+            name,
+            data.len() as u64,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryKind::Gpu,
+        )?;
+        if !data.is_empty() {
+            let mut staging = Self::new(
+                ctx,
+                &format!("{name} (staging)"),
+                data.len() as u64,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryKind::Upload,
+            )?;
+            staging.write(0, data)?;
+            ctx.submit_and_wait(&format!("upload {name}"), |cmd| {
+                cmd.copy_buffer(&staging, &buf, data.len() as u64)
+            })?;
+        }
+        Ok(buf)
+    }
+
+    /// Size in bytes.
+    pub fn size(&self) -> u64 {
+        self.size
+    }
+
+    /// Debug name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Writes `data` at `offset` into a host-visible buffer.
+    pub fn write(&mut self, offset: u64, data: &[u8]) -> GpuResult<()> {
+        let end = offset
+            .checked_add(data.len() as u64)
+            .filter(|e| *e <= self.size);
+        if end.is_none() {
+            return Err(GpuError::Other(format!(
+                "write past the end of buffer `{}`",
+                self.name
+            )));
+        }
+        let slice = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| {
+                GpuError::Other(format!("buffer `{}` is not host visible", self.name))
+            })?;
+        slice[offset as usize..offset as usize + data.len()].copy_from_slice(data);
+        Ok(())
+    }
+
+    /// Reads the contents of a host-visible buffer.
+    pub fn read(&self) -> GpuResult<Vec<u8>> {
+        let slice = self
+            .allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .ok_or_else(|| {
+                GpuError::Other(format!("buffer `{}` is not host visible", self.name))
+            })?;
+        Ok(slice[..self.size as usize].to_vec())
+    }
+
+    /// Copies a device buffer back to the CPU (through a readback buffer).
+    pub fn download(&self) -> GpuResult<Vec<u8>> {
+        let rb = Self::new(
+            &self.ctx,
+            &format!("{} (readback)", self.name),
+            self.size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryKind::Readback,
+        )?;
+        self.ctx
+            .submit_and_wait(&format!("download {}", self.name), |cmd| {
+                cmd.copy_buffer(self, &rb, self.size)
+            })?;
+        rb.read()
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        let dev = self.ctx.device();
+        // SAFETY: callers wait for GPU work that uses the buffer before dropping it (every submission
+        // here is waited on); the allocation is returned to the allocator it came from.
+        unsafe { dev.destroy_buffer(self.raw, None) };
+        if let (Some(a), Ok(mut alloc)) = (self.allocation.take(), self.ctx.inner.allocator.lock())
+            && let Some(alloc) = alloc.as_mut()
+        {
+            let _ = alloc.free(a);
+        }
+    }
+}
+
+/// A 2D image with one mip level and a view; freed on drop.
+pub struct Image {
+    ctx: Context,
+    pub(crate) raw: vk::Image,
+    pub(crate) view: vk::ImageView,
+    allocation: Option<Allocation>,
+    pub format: vk::Format,
+    pub width: u32,
+    pub height: u32,
+    pub(crate) aspect: vk::ImageAspectFlags,
+    /// Current layout, tracked in recording order (commands are recorded in execution order).
+    pub(crate) layout: std::sync::atomic::AtomicI32,
+    name: String,
+}
+
+impl Image {
+    /// Creates a device-local 2D image.
+    pub fn new(
+        ctx: &Context,
+        name: &str,
+        width: u32,
+        height: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+    ) -> GpuResult<Self> {
+        let dev = ctx.device();
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: valid device and create info.
+        let raw = unsafe { dev.create_image(&info, None) }.call("vkCreateImage")?;
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { dev.get_image_memory_requirements(raw) };
+        let allocation = ctx
+            .inner
+            .allocator
+            .lock()
+            .map_err(|_| GpuError::Other("allocator lock poisoned".into()))?
+            .as_mut()
+            .ok_or_else(|| GpuError::Other("allocator gone".into()))?
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: the image has no memory bound and is not in use.
+                unsafe { dev.destroy_image(raw, None) };
+                return Err(GpuError::Alloc {
+                    name: name.into(),
+                    msg: e.to_string(),
+                });
+            }
+        };
+        // SAFETY: the allocation satisfies the image's requirements.
+        unsafe { dev.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
+            .call("vkBindImageMemory")?;
+        let aspect = match format {
+            vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
+            _ => vk::ImageAspectFlags::COLOR,
+        };
+        let vinfo = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: aspect,
+                base_mip_level: 0,
+                level_count: 1,
+                base_array_layer: 0,
+                layer_count: 1,
+            });
+        // SAFETY: the image is valid and bound to memory.
+        let view = unsafe { dev.create_image_view(&vinfo, None) }.call("vkCreateImageView")?;
+        ctx.set_name(raw, name);
+        ctx.set_name(view, &format!("{name} view"));
+        Ok(Self {
+            ctx: ctx.clone(),
+            raw,
+            view,
+            allocation: Some(allocation),
+            format,
+            width,
+            height,
+            aspect,
+            layout: std::sync::atomic::AtomicI32::new(vk::ImageLayout::UNDEFINED.as_raw()),
+            name: name.into(),
+        })
+    }
+
+    /// Debug name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        let dev = self.ctx.device();
+        // SAFETY: GPU work using the image has been waited for (all submissions are waited on).
+        unsafe {
+            dev.destroy_image_view(self.view, None);
+            dev.destroy_image(self.raw, None);
+        }
+        if let (Some(a), Ok(mut alloc)) = (self.allocation.take(), self.ctx.inner.allocator.lock())
+            && let Some(alloc) = alloc.as_mut()
+        {
+            let _ = alloc.free(a);
+        }
+    }
+}
+
+impl Image {
+    /// Bytes per texel of the formats vgeo reads back.
+    fn texel_size(&self) -> Option<u64> {
+        match self.format {
+            vk::Format::R8G8B8A8_UNORM | vk::Format::R8G8B8A8_SRGB | vk::Format::D32_SFLOAT => {
+                Some(4)
+            }
+            vk::Format::R32_UINT | vk::Format::R32_SFLOAT => Some(4),
+            vk::Format::R32G32_UINT | vk::Format::R64_UINT => Some(8),
+            _ => None,
+        }
+    }
+
+    /// Copies the image back to the CPU, tightly packed rows.
+    pub fn download(&self) -> GpuResult<Vec<u8>> {
+        let texel = self.texel_size().ok_or_else(|| {
+            GpuError::Other(format!(
+                "readback of {:?} (`{}`) is not supported",
+                self.format, self.name
+            ))
+        })?;
+        let size = texel * self.width as u64 * self.height as u64;
+        let rb = Buffer::new(
+            &self.ctx,
+            &format!("{} (readback)", self.name),
+            size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryKind::Readback,
+        )?;
+        self.ctx
+            .submit_and_wait(&format!("download {}", self.name), |cmd| {
+                cmd.copy_image_to_buffer(self, &rb)
+            })?;
+        let mut v = rb.read()?;
+        v.truncate(size as usize);
+        Ok(v)
+    }
+}

@@ -1,0 +1,56 @@
+//! The GPU layer: the only module with raw `ash` calls.
+//!
+//! [`Context`] owns the instance, device, queue, allocator and debug messenger; [`Buffer`] and
+//! [`Image`] own memory from `gpu-allocator`; [`Cmd`] records commands through a small safe API;
+//! [`Timer`] measures passes with timestamp queries. Every object gets a debug name and every pass a
+//! labelled region (`VK_EXT_debug_utils`), so a RenderDoc capture reads like the design.
+
+mod cmd;
+mod context;
+mod memory;
+mod pipeline;
+mod query;
+
+pub use ash::vk;
+pub use cmd::{Cmd, Desc, RenderTarget};
+pub use context::{Caps, Context, ContextOptions};
+pub use memory::{Buffer, Image, MemoryKind};
+pub use pipeline::{ComputePipeline, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage};
+pub use query::Timer;
+
+/// Errors of the GPU layer.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error(
+        "the Vulkan loader could not be loaded ({0}); install libvulkan1 and a driver (e.g. mesa-vulkan-drivers)"
+    )]
+    Loader(String),
+    #[error("no usable Vulkan device: {0}")]
+    NoDevice(String),
+    #[error("Vulkan call {call} failed: {result}")]
+    Vk {
+        call: &'static str,
+        result: vk::Result,
+    },
+    #[error("the device was lost while running pass `{pass}`")]
+    DeviceLost { pass: String },
+    #[error("memory allocation for `{name}` failed: {msg}")]
+    Alloc { name: String, msg: String },
+    #[error("invalid SPIR-V for `{name}`: {msg}")]
+    Shader { name: String, msg: String },
+    #[error("{0}")]
+    Other(String),
+}
+
+/// Result of the GPU layer.
+pub type GpuResult<T> = Result<T, GpuError>;
+
+pub(crate) trait VkResultExt<T> {
+    fn call(self, call: &'static str) -> GpuResult<T>;
+}
+
+impl<T> VkResultExt<T> for Result<T, vk::Result> {
+    fn call(self, call: &'static str) -> GpuResult<T> {
+        self.map_err(|result| GpuError::Vk { call, result })
+    }
+}

@@ -1,0 +1,291 @@
+//! Shader modules and pipelines. Every pipeline uses one push-descriptor set layout and an optional
+//! push-constant range; graphics pipelines use dynamic rendering.
+
+use ash::vk;
+
+use super::{Context, GpuError, GpuResult, VkResultExt};
+
+/// A shader stage's SPIR-V (as embedded by build.rs).
+#[derive(Clone, Copy)]
+pub struct ShaderStage<'a> {
+    pub name: &'a str,
+    pub spirv: &'a [u8],
+}
+
+fn module(ctx: &Context, stage: ShaderStage<'_>) -> GpuResult<vk::ShaderModule> {
+    let words = ash::util::read_spv(&mut std::io::Cursor::new(stage.spirv)).map_err(|e| {
+        GpuError::Shader {
+            name: stage.name.into(),
+            msg: e.to_string(),
+        }
+    })?;
+    let info = vk::ShaderModuleCreateInfo::default().code(&words);
+    // SAFETY: `words` is SPIR-V produced by shaderc at build time.
+    let m =
+        unsafe { ctx.device().create_shader_module(&info, None) }.call("vkCreateShaderModule")?;
+    ctx.set_name(m, stage.name);
+    Ok(m)
+}
+
+struct Layout {
+    set: vk::DescriptorSetLayout,
+    pipeline: vk::PipelineLayout,
+}
+
+fn layout(
+    ctx: &Context,
+    name: &str,
+    bindings: &[vk::DescriptorType],
+    stages: vk::ShaderStageFlags,
+    push_constant_size: u32,
+) -> GpuResult<Layout> {
+    let b: Vec<_> = bindings
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(i as u32)
+                .descriptor_type(*t)
+                .descriptor_count(1)
+                .stage_flags(stages)
+        })
+        .collect();
+    let info = vk::DescriptorSetLayoutCreateInfo::default()
+        .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
+        .bindings(&b);
+    // SAFETY: valid create info.
+    let set = unsafe { ctx.device().create_descriptor_set_layout(&info, None) }
+        .call("vkCreateDescriptorSetLayout")?;
+    ctx.set_name(set, &format!("{name} set layout"));
+    let sets = [set];
+    let ranges = [vk::PushConstantRange {
+        stage_flags: stages,
+        offset: 0,
+        size: push_constant_size,
+    }];
+    let mut pinfo = vk::PipelineLayoutCreateInfo::default().set_layouts(&sets);
+    if push_constant_size > 0 {
+        pinfo = pinfo.push_constant_ranges(&ranges);
+    }
+    // SAFETY: valid create info referencing the set layout above.
+    let pipeline = unsafe { ctx.device().create_pipeline_layout(&pinfo, None) }
+        .call("vkCreatePipelineLayout")?;
+    ctx.set_name(pipeline, &format!("{name} layout"));
+    Ok(Layout { set, pipeline })
+}
+
+/// A compute pipeline.
+pub struct ComputePipeline {
+    ctx: Context,
+    pub(crate) raw: vk::Pipeline,
+    pub(crate) layout: vk::PipelineLayout,
+    set_layout: vk::DescriptorSetLayout,
+    pub(crate) push_constant_size: u32,
+    pub(crate) name: String,
+}
+
+impl ComputePipeline {
+    /// Creates a compute pipeline from `shader` with descriptor bindings `bindings` (binding i = entry i).
+    pub fn new(
+        ctx: &Context,
+        shader: ShaderStage<'_>,
+        bindings: &[vk::DescriptorType],
+        push_constant_size: u32,
+    ) -> GpuResult<Self> {
+        let l = layout(
+            ctx,
+            shader.name,
+            bindings,
+            vk::ShaderStageFlags::COMPUTE,
+            push_constant_size,
+        )?;
+        let m = module(ctx, shader)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(m)
+            .name(c"main");
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(l.pipeline);
+        // SAFETY: valid create info; the module may be destroyed after pipeline creation.
+        let result = unsafe {
+            ctx.device()
+                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+        };
+        // SAFETY: the module is no longer needed.
+        unsafe { ctx.device().destroy_shader_module(m, None) };
+        let raw = result
+            .map_err(|(_, e)| e)
+            .call("vkCreateComputePipelines")?[0];
+        ctx.set_name(raw, shader.name);
+        Ok(Self {
+            ctx: ctx.clone(),
+            raw,
+            layout: l.pipeline,
+            set_layout: l.set,
+            push_constant_size,
+            name: shader.name.into(),
+        })
+    }
+}
+
+impl Drop for ComputePipeline {
+    fn drop(&mut self) {
+        // SAFETY: the pipeline is idle (all submissions are waited on).
+        unsafe {
+            let d = self.ctx.device();
+            d.destroy_pipeline(self.raw, None);
+            d.destroy_pipeline_layout(self.layout, None);
+            d.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+/// How to build a graphics pipeline.
+pub struct GraphicsPipelineDesc<'a> {
+    pub name: &'a str,
+    pub vertex: ShaderStage<'a>,
+    pub fragment: ShaderStage<'a>,
+    pub bindings: &'a [vk::DescriptorType],
+    pub push_constant_size: u32,
+    /// Vertex buffer 0: stride and (location, format, offset) attributes; `None` for vertex pulling.
+    pub vertex_layout: Option<(u32, &'a [(u32, vk::Format, u32)])>,
+    pub color_formats: &'a [vk::Format],
+    pub depth_format: Option<vk::Format>,
+    pub depth_compare: vk::CompareOp,
+    pub depth_write: bool,
+    pub cull: vk::CullModeFlags,
+}
+
+/// A graphics pipeline (dynamic rendering, dynamic viewport and scissor).
+pub struct GraphicsPipeline {
+    ctx: Context,
+    pub(crate) raw: vk::Pipeline,
+    pub(crate) layout: vk::PipelineLayout,
+    set_layout: vk::DescriptorSetLayout,
+    pub(crate) push_constant_size: u32,
+    pub(crate) name: String,
+}
+
+impl GraphicsPipeline {
+    /// Creates the pipeline.
+    pub fn new(ctx: &Context, d: &GraphicsPipelineDesc<'_>) -> GpuResult<Self> {
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let l = layout(ctx, d.name, d.bindings, stages, d.push_constant_size)?;
+        let vm = module(ctx, d.vertex)?;
+        let fm = match module(ctx, d.fragment) {
+            Ok(m) => m,
+            Err(e) => {
+                // SAFETY: unused module.
+                unsafe { ctx.device().destroy_shader_module(vm, None) };
+                return Err(e);
+            }
+        };
+        let sinfo = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(vm)
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(fm)
+                .name(c"main"),
+        ];
+        let mut vb = Vec::new();
+        let mut va = Vec::new();
+        if let Some((stride, attrs)) = d.vertex_layout {
+            vb.push(vk::VertexInputBindingDescription {
+                binding: 0,
+                stride,
+                input_rate: vk::VertexInputRate::VERTEX,
+            });
+            for &(location, format, offset) in attrs {
+                va.push(vk::VertexInputAttributeDescription {
+                    location,
+                    binding: 0,
+                    format,
+                    offset,
+                });
+            }
+        }
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&vb)
+            .vertex_attribute_descriptions(&va);
+        let ia = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let vp = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let rs = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(d.cull)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let ms = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let ds = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(d.depth_format.is_some())
+            .depth_write_enable(d.depth_write)
+            .depth_compare_op(d.depth_compare);
+        let blend: Vec<_> = d
+            .color_formats
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let cb = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);
+        let dyn_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dyn_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(d.color_formats)
+            .depth_attachment_format(d.depth_format.unwrap_or(vk::Format::UNDEFINED));
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&sinfo)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&ia)
+            .viewport_state(&vp)
+            .rasterization_state(&rs)
+            .multisample_state(&ms)
+            .depth_stencil_state(&ds)
+            .color_blend_state(&cb)
+            .dynamic_state(&dynamic)
+            .layout(l.pipeline)
+            .push_next(&mut rendering);
+        // SAFETY: every pointer in `info` refers to locals alive for the call.
+        let result = unsafe {
+            ctx.device()
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        };
+        // SAFETY: the modules are no longer needed after pipeline creation.
+        unsafe {
+            ctx.device().destroy_shader_module(vm, None);
+            ctx.device().destroy_shader_module(fm, None);
+        }
+        let raw = result
+            .map_err(|(_, e)| e)
+            .call("vkCreateGraphicsPipelines")?[0];
+        ctx.set_name(raw, d.name);
+        Ok(Self {
+            ctx: ctx.clone(),
+            raw,
+            layout: l.pipeline,
+            set_layout: l.set,
+            push_constant_size: d.push_constant_size,
+            name: d.name.into(),
+        })
+    }
+}
+
+impl Drop for GraphicsPipeline {
+    fn drop(&mut self) {
+        // SAFETY: the pipeline is idle (all submissions are waited on).
+        unsafe {
+            let d = self.ctx.device();
+            d.destroy_pipeline(self.raw, None);
+            d.destroy_pipeline_layout(self.layout, None);
+            d.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}

@@ -1,0 +1,130 @@
+//! GPU timing of passes with timestamp queries.
+
+use ash::vk;
+
+use super::{Cmd, Context, GpuResult, VkResultExt};
+
+/// Times named passes of one command buffer. Each pass takes two queries.
+pub struct Timer {
+    ctx: Context,
+    pool: Option<vk::QueryPool>,
+    names: Vec<String>,
+    capacity: u32,
+    open: Option<u32>,
+}
+
+impl Timer {
+    /// A timer for up to `max_passes` passes; without timestamp support it records nothing.
+    pub fn new(ctx: &Context, max_passes: u32) -> GpuResult<Self> {
+        let pool = if ctx.caps().timestamp_period_ns.is_some() {
+            let info = vk::QueryPoolCreateInfo::default()
+                .query_type(vk::QueryType::TIMESTAMP)
+                .query_count(max_passes * 2);
+            // SAFETY: valid create info.
+            let pool =
+                unsafe { ctx.device().create_query_pool(&info, None) }.call("vkCreateQueryPool")?;
+            ctx.set_name(pool, "pass timestamps");
+            Some(pool)
+        } else {
+            None
+        };
+        Ok(Self {
+            ctx: ctx.clone(),
+            pool,
+            names: Vec::new(),
+            capacity: max_passes,
+            open: None,
+        })
+    }
+
+    /// Resets the timer at the start of a command buffer (must precede any pass).
+    pub fn reset(&mut self, cmd: &mut Cmd) {
+        self.names.clear();
+        self.open = None;
+        if let Some(pool) = self.pool {
+            // SAFETY: the pool is valid; resetting all of its queries outside a render pass.
+            unsafe {
+                self.ctx
+                    .device()
+                    .cmd_reset_query_pool(cmd.raw(), pool, 0, self.capacity * 2)
+            };
+        }
+    }
+
+    /// Begins pass `name`: a labelled region and a start timestamp.
+    pub fn begin(&mut self, cmd: &mut Cmd, name: &str) {
+        cmd.begin_label(name);
+        let i = self.names.len() as u32;
+        if i < self.capacity {
+            self.names.push(name.to_string());
+            self.open = Some(i);
+            if let Some(pool) = self.pool {
+                // SAFETY: query 2i was reset in `reset` and is written once.
+                unsafe {
+                    cmd.context().inner.sync2.cmd_write_timestamp2(
+                        cmd.raw(),
+                        vk::PipelineStageFlags2::TOP_OF_PIPE,
+                        pool,
+                        2 * i,
+                    )
+                };
+            }
+        }
+    }
+
+    /// Ends the pass begun last.
+    pub fn end(&mut self, cmd: &mut Cmd) {
+        if let (Some(i), Some(pool)) = (self.open.take(), self.pool) {
+            // SAFETY: query 2i+1 was reset and is written once.
+            unsafe {
+                cmd.context().inner.sync2.cmd_write_timestamp2(
+                    cmd.raw(),
+                    vk::PipelineStageFlags2::BOTTOM_OF_PIPE,
+                    pool,
+                    2 * i + 1,
+                )
+            };
+        }
+        cmd.end_label();
+    }
+
+    /// Milliseconds per pass of the last submission (after it completed); empty without timestamps.
+    pub fn results(&self) -> GpuResult<Vec<(String, f64)>> {
+        let (Some(pool), Some(period)) = (self.pool, self.ctx.caps().timestamp_period_ns) else {
+            return Ok(Vec::new());
+        };
+        let n = self.names.len();
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let mut data = vec![0u64; n * 2];
+        // SAFETY: the queries 0..2n were written by the completed submission.
+        unsafe {
+            self.ctx.device().get_query_pool_results(
+                pool,
+                0,
+                &mut data,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .call("vkGetQueryPoolResults")?;
+        Ok(self
+            .names
+            .iter()
+            .enumerate()
+            .map(|(i, name)| {
+                let ticks = data[2 * i + 1].wrapping_sub(data[2 * i]);
+                (name.clone(), ticks as f64 * period as f64 / 1e6)
+            })
+            .collect())
+    }
+}
+
+impl Drop for Timer {
+    fn drop(&mut self) {
+        if let Some(pool) = self.pool {
+            // SAFETY: the pool is idle (all submissions are waited on).
+            unsafe { self.ctx.device().destroy_query_pool(pool, None) };
+        }
+    }
+}
