@@ -27,9 +27,23 @@ impl Camera {
     /// A camera at `eye` looking at `target`.
     pub fn look_at(eye: DVec3, target: DVec3, up: Vec3, fov_y: f32, near: f32) -> Self {
         let dir = (target - eye).as_vec3();
-        let forward = if dir.length_squared() > 0.0 { dir.normalize() } else { Vec3::NEG_Z };
-        let up = if forward.cross(up).length_squared() < 1e-12 { Vec3::Z } else { up };
-        Self { position: eye, forward, up, fov_y, near }
+        let forward = if dir.length_squared() > 0.0 {
+            dir.normalize()
+        } else {
+            Vec3::NEG_Z
+        };
+        let up = if forward.cross(up).length_squared() < 1e-12 {
+            Vec3::Z
+        } else {
+            up
+        };
+        Self {
+            position: eye,
+            forward,
+            up,
+            fov_y,
+            near,
+        }
     }
 
     /// A camera that frames the box `[lo, hi]` from the front-right-above, the whole box in view.
@@ -37,7 +51,11 @@ impl Camera {
         let center = (lo + hi) * 0.5;
         let radius = ((hi - lo).length() * 0.5).max(1e-6);
         let fov_y = 45f32.to_radians();
-        let fov_min = if aspect >= 1.0 { fov_y } else { 2.0 * ((fov_y * 0.5).tan() * aspect).atan() };
+        let fov_min = if aspect >= 1.0 {
+            fov_y
+        } else {
+            2.0 * ((fov_y * 0.5).tan() * aspect).atan()
+        };
         let dist = radius / (fov_min as f64 * 0.5).sin() * 1.02;
         let dir = DVec3::new(0.35, 0.3, 1.0).normalize();
         let near = (dist - radius).max(radius * 1e-3) as f32 * 0.5;
@@ -75,5 +93,10 @@ pub fn project_to_pixel(view_proj: &Mat4, p: Vec3, width: u32, height: u32) -> O
         return None;
     }
     let ndc = c.truncate() / c.w;
-    Some([(ndc.x + 1.0) * 0.5 * width as f32, (ndc.y + 1.0) * 0.5 * height as f32, ndc.z, c.w])
+    Some([
+        (ndc.x + 1.0) * 0.5 * width as f32,
+        (ndc.y + 1.0) * 0.5 * height as f32,
+        ndc.z,
+        c.w,
+    ])
 }

@@ -2,6 +2,7 @@
 //!
 //! See `docs/architecture.md` for the map of the code.
 
+pub mod builder;
 pub mod camera;
 pub mod mesh;
 pub mod shared;

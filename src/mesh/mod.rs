@@ -87,9 +87,17 @@ impl Mesh {
             ));
         }
         if self.indices.len() % 3 != 0 {
-            return Err(format!("{} indices is not a multiple of 3", self.indices.len()));
+            return Err(format!(
+                "{} indices is not a multiple of 3",
+                self.indices.len()
+            ));
         }
-        if let Some((i, &v)) = self.indices.iter().enumerate().find(|(_, v)| **v as usize >= n) {
+        if let Some((i, &v)) = self
+            .indices
+            .iter()
+            .enumerate()
+            .find(|(_, v)| **v as usize >= n)
+        {
             return Err(format!("index {i} = {v} is out of range ({n} vertices)"));
         }
         if self.material_ids.len() != self.triangle_count() {
@@ -99,10 +107,21 @@ impl Mesh {
                 self.triangle_count()
             ));
         }
-        if let Some(m) = self.material_ids.iter().find(|m| **m as usize >= self.materials.len()) {
-            return Err(format!("material id {m} out of range ({} materials)", self.materials.len()));
+        if let Some(m) = self
+            .material_ids
+            .iter()
+            .find(|m| **m as usize >= self.materials.len())
+        {
+            return Err(format!(
+                "material id {m} out of range ({} materials)",
+                self.materials.len()
+            ));
         }
-        if let Some(i) = self.positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+        if let Some(i) = self
+            .positions
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
             return Err(format!("position {i} is not finite"));
         }
         Ok(())
