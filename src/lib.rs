@@ -4,5 +4,6 @@
 
 pub mod builder;
 pub mod camera;
+pub mod format;
 pub mod mesh;
 pub mod shared;

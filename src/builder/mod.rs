@@ -225,7 +225,7 @@ pub struct Quantization {
 }
 
 /// Statistics of one complete level of the DAG (the working set after an iteration).
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LevelStats {
     pub level: u32,
     pub clusters: usize,
@@ -240,7 +240,7 @@ pub struct LevelStats {
 }
 
 /// Build statistics (deterministic; timing is reported separately by the CLI).
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BuildStats {
     pub input_triangles: usize,
     /// Triangles dropped as degenerate (after snapping to the grid).

@@ -142,6 +142,14 @@ pub fn verify(m: &BuiltMesh, opts: &VerifyOptions) -> VerifyReport {
     report
 }
 
+/// Structural problems of `m` (references out of range, limits): what the file loader rejects.
+pub fn structure_errors(m: &BuiltMesh) -> Vec<String> {
+    let mut report = VerifyReport::default();
+    let mut s = Sink { r: &mut report, max: 8 };
+    check_structure(m, &mut s);
+    report.violations
+}
+
 fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
     let before = s.r.violation_count;
     let nv = m.vertices.len() as u64;
