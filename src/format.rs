@@ -49,7 +49,9 @@ pub enum FormatError {
     Version(u32),
     #[error("truncated .vgeo file: {0}")]
     Truncated(String),
-    #[error("corrupted .vgeo file: checksum {found:#018x} does not match the stored {stored:#018x}")]
+    #[error(
+        "corrupted .vgeo file: checksum {found:#018x} does not match the stored {stored:#018x}"
+    )]
     Checksum { stored: u64, found: u64 },
     #[error("invalid .vgeo file: {0}")]
     Invalid(String),
@@ -109,8 +111,14 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
                 base_color: x.base_color,
                 metallic: x.metallic,
                 roughness: x.roughness,
-                base_color_texture: x.base_color_texture.as_ref().map(|p| p.to_string_lossy().into_owned()),
-                normal_texture: x.normal_texture.as_ref().map(|p| p.to_string_lossy().into_owned()),
+                base_color_texture: x
+                    .base_color_texture
+                    .as_ref()
+                    .map(|p| p.to_string_lossy().into_owned()),
+                normal_texture: x
+                    .normal_texture
+                    .as_ref()
+                    .map(|p| p.to_string_lossy().into_owned()),
             })
             .collect(),
         stats: m.stats.clone(),
@@ -119,7 +127,10 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
     let sections: Vec<(u32, &[u8])> = vec![
         (section::META, &meta_json),
         (section::VERTICES, bytemuck::cast_slice(&m.vertices)),
-        (section::VERTEX_MATERIALS, bytemuck::cast_slice(&m.vertex_materials)),
+        (
+            section::VERTEX_MATERIALS,
+            bytemuck::cast_slice(&m.vertex_materials),
+        ),
         (section::CLUSTERS, bytemuck::cast_slice(&m.clusters)),
         (section::VERTEX_REFS, bytemuck::cast_slice(&m.vertex_refs)),
         (section::TRIANGLES, &m.triangles),
@@ -156,11 +167,15 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
 }
 
 fn u32_at(b: &[u8], at: usize) -> Option<u32> {
-    Some(u32::from_le_bytes(b.get(at..at.checked_add(4)?)?.try_into().ok()?))
+    Some(u32::from_le_bytes(
+        b.get(at..at.checked_add(4)?)?.try_into().ok()?,
+    ))
 }
 
 fn u64_at(b: &[u8], at: usize) -> Option<u64> {
-    Some(u64::from_le_bytes(b.get(at..at.checked_add(8)?)?.try_into().ok()?))
+    Some(u64::from_le_bytes(
+        b.get(at..at.checked_add(8)?)?.try_into().ok()?,
+    ))
 }
 
 fn pod_vec<T: Pod>(data: &[u8], what: &str) -> Result<Vec<T>, FormatError> {
@@ -195,11 +210,16 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
         return Err(if length > bytes.len() as u64 {
             FormatError::Truncated(format!("{} bytes of {length}", bytes.len()))
         } else {
-            FormatError::Invalid(format!("{} bytes but the header says {length}", bytes.len()))
+            FormatError::Invalid(format!(
+                "{} bytes but the header says {length}",
+                bytes.len()
+            ))
         });
     }
     if count > MAX_SECTIONS {
-        return Err(FormatError::Invalid(format!("{count} sections (at most {MAX_SECTIONS})")));
+        return Err(FormatError::Invalid(format!(
+            "{count} sections (at most {MAX_SECTIONS})"
+        )));
     }
     let mut zeroed = bytes.to_vec();
     zeroed[16..24].fill(0);
@@ -210,7 +230,9 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
     }
     let table_end = HEADER_LEN + ENTRY_LEN * count as usize;
     if table_end > bytes.len() {
-        return Err(FormatError::Invalid(format!("section table of {count} entries exceeds the file")));
+        return Err(FormatError::Invalid(format!(
+            "section table of {count} entries exceeds the file"
+        )));
     }
     let mut found_sections: Vec<(u32, &[u8])> = Vec::new();
     for i in 0..count as usize {
@@ -218,9 +240,13 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
         let id = u32_at(bytes, e).ok_or_else(trunc)?;
         let off = u64_at(bytes, e + 8).ok_or_else(trunc)?;
         let len = u64_at(bytes, e + 16).ok_or_else(trunc)?;
-        let end = off.checked_add(len).filter(|&end| end <= bytes.len() as u64 && off >= table_end as u64);
+        let end = off
+            .checked_add(len)
+            .filter(|&end| end <= bytes.len() as u64 && off >= table_end as u64);
         let Some(end) = end else {
-            return Err(FormatError::Invalid(format!("section {id} ({off}+{len}) lies outside the file")));
+            return Err(FormatError::Invalid(format!(
+                "section {id} ({off}+{len}) lies outside the file"
+            )));
         };
         if found_sections.iter().any(|(x, _)| *x == id) {
             return Err(FormatError::Invalid(format!("section {id} appears twice")));
@@ -237,11 +263,18 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
     let meta: Meta = serde_json::from_slice(get(section::META, "meta")?)
         .map_err(|e| FormatError::Invalid(format!("section meta: {e}")))?;
     if !(meta.step.is_finite() && meta.step > 0.0 && meta.origin.iter().all(|x| x.is_finite())) {
-        return Err(FormatError::Invalid("section meta: quantization grid is not finite and positive".into()));
+        return Err(FormatError::Invalid(
+            "section meta: quantization grid is not finite and positive".into(),
+        ));
     }
     let m = BuiltMesh {
         name: meta.name,
-        quantization: Quantization { origin: meta.origin, step: meta.step, uv_min: meta.uv_min, uv_max: meta.uv_max },
+        quantization: Quantization {
+            origin: meta.origin,
+            step: meta.step,
+            uv_min: meta.uv_min,
+            uv_max: meta.uv_max,
+        },
         has_normals: meta.has_normals,
         has_uvs: meta.has_uvs,
         materials: meta
@@ -257,9 +290,15 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
             })
             .collect(),
         vertices: pod_vec::<PackedVertex>(get(section::VERTICES, "vertices")?, "vertices")?,
-        vertex_materials: pod_vec::<u16>(get(section::VERTEX_MATERIALS, "vertex materials")?, "vertex materials")?,
+        vertex_materials: pod_vec::<u16>(
+            get(section::VERTEX_MATERIALS, "vertex materials")?,
+            "vertex materials",
+        )?,
         clusters: pod_vec::<Cluster>(get(section::CLUSTERS, "clusters")?, "clusters")?,
-        vertex_refs: pod_vec::<u32>(get(section::VERTEX_REFS, "vertex references")?, "vertex references")?,
+        vertex_refs: pod_vec::<u32>(
+            get(section::VERTEX_REFS, "vertex references")?,
+            "vertex references",
+        )?,
         triangles: get(section::TRIANGLES, "triangles")?.to_vec(),
         groups: pod_vec::<Group>(get(section::GROUPS, "groups")?, "groups")?,
         bvh: pod_vec::<BvhNode>(get(section::BVH, "bvh")?, "bvh")?,
@@ -268,10 +307,20 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
     };
     let errors = crate::builder::verify::structure_errors(&m);
     if let Some(first) = errors.first() {
-        return Err(FormatError::Invalid(format!("{first} ({} problems)", errors.len())));
+        return Err(FormatError::Invalid(format!(
+            "{first} ({} problems)",
+            errors.len()
+        )));
     }
-    if let Some(v) = m.vertex_materials.iter().find(|&&v| v as usize >= m.materials.len().max(1)) {
-        return Err(FormatError::Invalid(format!("vertex material {v} out of range ({} materials)", m.materials.len())));
+    if let Some(v) = m
+        .vertex_materials
+        .iter()
+        .find(|&&v| v as usize >= m.materials.len().max(1))
+    {
+        return Err(FormatError::Invalid(format!(
+            "vertex material {v} out of range ({} materials)",
+            m.materials.len()
+        )));
     }
     Ok(m)
 }

@@ -4,6 +4,7 @@
 
 pub mod builder;
 pub mod camera;
+pub mod cmd_build;
 pub mod format;
 pub mod mesh;
 pub mod shared;

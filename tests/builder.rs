@@ -301,7 +301,10 @@ fn sample_built() -> BuiltMesh {
     append(&mut m, sphere(16, 10, [5.0, 1.0, 0.0], 0.7));
     let mut mesh = mesh_from("fmt", m.0, m.1);
     // Two materials, so the vertex-material section is exercised.
-    mesh.materials.push(Material { name: "second".into(), ..Default::default() });
+    mesh.materials.push(Material {
+        name: "second".into(),
+        ..Default::default()
+    });
     for (t, id) in mesh.material_ids.iter_mut().enumerate() {
         *id = (t % 7 == 0) as u32;
     }
@@ -314,8 +317,18 @@ fn format_round_trip() {
     let bytes = vgeo::format::save(&built);
     let loaded = vgeo::format::load(&bytes).expect("load");
     assert_same(&built, &loaded);
-    assert_eq!(vgeo::format::save(&loaded), bytes, "re-saving changes the bytes");
-    let report = builder::verify(&loaded, &VerifyOptions { views: 16, ..Default::default() });
+    assert_eq!(
+        vgeo::format::save(&loaded),
+        bytes,
+        "re-saving changes the bytes"
+    );
+    let report = builder::verify(
+        &loaded,
+        &VerifyOptions {
+            views: 16,
+            ..Default::default()
+        },
+    );
     assert!(report.ok(), "loaded mesh fails verify:\n{report}");
     let bpt = vgeo::format::bytes_per_input_triangle(bytes.len(), &built);
     assert!(bpt > 4.0 && bpt < 64.0, "{bpt} bytes per triangle");
@@ -325,15 +338,24 @@ fn format_round_trip() {
 fn format_rejects_bad_files() {
     use vgeo::format::{FormatError, load};
     let bytes = vgeo::format::save(&sample_built());
-    assert!(matches!(load(b"hello world, not a vgeo file"), Err(FormatError::BadMagic)));
+    assert!(matches!(
+        load(b"hello world, not a vgeo file"),
+        Err(FormatError::BadMagic)
+    ));
     assert!(load(&[]).is_err());
     let mut v = bytes.clone();
     v[8] = 99;
     assert!(matches!(load(&v), Err(FormatError::Version(_))));
     // Truncations at many lengths.
     let step = (bytes.len() / 500).max(1);
-    for len in (0..bytes.len()).step_by(step).chain(bytes.len().saturating_sub(40)..bytes.len()) {
-        assert!(load(&bytes[..len]).is_err(), "truncated to {len} bytes loads");
+    for len in (0..bytes.len())
+        .step_by(step)
+        .chain(bytes.len().saturating_sub(40)..bytes.len())
+    {
+        assert!(
+            load(&bytes[..len]).is_err(),
+            "truncated to {len} bytes loads"
+        );
     }
     // Byte flips everywhere (xorshift positions): always an error, never a panic.
     let mut x = 0x1234_5678_9abc_def0u64;
@@ -359,7 +381,65 @@ fn format_rejects_bad_files() {
         v[16..24].copy_from_slice(&sum.to_le_bytes());
         if let Ok(m) = load(&v) {
             // Whatever loads must be safe to verify.
-            let _ = builder::verify(&m, &VerifyOptions { views: 2, ..Default::default() });
+            let _ = builder::verify(
+                &m,
+                &VerifyOptions {
+                    views: 2,
+                    ..Default::default()
+                },
+            );
+        }
+    }
+}
+
+fn assets_dir() -> std::path::PathBuf {
+    let candidates = [
+        std::env::var("VGEO_SHARED_ASSETS")
+            .ok()
+            .map(std::path::PathBuf::from),
+        Some(std::path::PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../shared/assets"
+        ))),
+        Some(std::path::PathBuf::from("/work/shared/assets")),
+    ];
+    candidates
+        .into_iter()
+        .flatten()
+        .find(|p| p.is_dir())
+        .expect("shared assets folder not found: set VGEO_SHARED_ASSETS")
+}
+
+/// Real scanned meshes (PLY/OBJ readers of cmd_build until the importers land): build, verify,
+/// round-trip through the file format.
+#[test]
+fn real_meshes_build_and_verify() {
+    let dir = assets_dir();
+    for name in ["scanned/spot.obj", "scanned/bunny.ply"] {
+        let path = dir.join(name);
+        let meshes = vgeo::cmd_build::load_input(&path).unwrap_or_else(|e| panic!("{name}: {e:#}"));
+        for mesh in meshes {
+            let t0 = std::time::Instant::now();
+            let built = builder::build(&mesh, &BuildOptions::default())
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let secs = t0.elapsed().as_secs_f64();
+            let bytes = vgeo::format::save(&built);
+            let loaded = vgeo::format::load(&bytes).expect("load");
+            let report = builder::verify(
+                &loaded,
+                &VerifyOptions {
+                    views: 12,
+                    ..Default::default()
+                },
+            );
+            eprintln!(
+                "{name}: {} tris in {secs:.2}s ({:.0} tris/s), {} levels, {:.2} B/tri",
+                mesh.triangle_count(),
+                mesh.triangle_count() as f64 / secs,
+                built.stats.levels.len(),
+                bytes.len() as f64 / mesh.triangle_count() as f64
+            );
+            assert!(report.ok(), "{name}: {report}");
         }
     }
 }

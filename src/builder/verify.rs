@@ -145,7 +145,10 @@ pub fn verify(m: &BuiltMesh, opts: &VerifyOptions) -> VerifyReport {
 /// Structural problems of `m` (references out of range, limits): what the file loader rejects.
 pub fn structure_errors(m: &BuiltMesh) -> Vec<String> {
     let mut report = VerifyReport::default();
-    let mut s = Sink { r: &mut report, max: 8 };
+    let mut s = Sink {
+        r: &mut report,
+        max: 8,
+    };
     check_structure(m, &mut s);
     report.violations
 }
