@@ -180,7 +180,7 @@ fn u64_at(b: &[u8], at: usize) -> Option<u64> {
 
 fn pod_vec<T: Pod>(data: &[u8], what: &str) -> Result<Vec<T>, FormatError> {
     let size = size_of::<T>();
-    if data.len() % size != 0 {
+    if !data.len().is_multiple_of(size) {
         return Err(FormatError::Invalid(format!(
             "section {what}: {} bytes is not a multiple of the {size}-byte element",
             data.len()
