@@ -337,6 +337,11 @@ fn build_inner(
             })
             .collect();
     drop(tris);
+    progress(&format!(
+        "{}: level 0: {} clusters",
+        mesh.name,
+        clusters.len()
+    ));
 
     let mut groups: Vec<WGroup> = Vec::new();
     let mut working: Vec<u32> = (0..clusters.len() as u32).collect();
