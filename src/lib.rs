@@ -1,15 +1,22 @@
 //! vgeo: a virtualized-geometry renderer (Nanite-style cluster DAG) on raw Vulkan.
 //!
+//! - [`mesh`] imports meshes (glTF, OBJ, PLY, STL, OFF) into a validated, welded [`mesh::Mesh`].
+//! - [`builder`] turns a mesh into a DAG of clusters (CPU only, deterministic); [`format`] stores it.
+//! - [`gpu`] is the only module with raw Vulkan calls; [`baseline`] holds the classic paths.
+//!
 //! See `docs/architecture.md` for the map of the code.
 
+pub mod baseline;
+pub mod builder;
 pub mod camera;
+pub mod cmd_build;
+pub mod format;
 pub mod gpu;
 pub mod mesh;
+pub mod render;
 pub mod shared;
 
 /// SPIR-V of every shader, embedded at build time (see build.rs).
 pub mod shaders {
     include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 }
-pub mod baseline;
-pub mod render;

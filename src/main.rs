@@ -28,8 +28,15 @@ struct Cli {
 enum Command {
     /// Render a mesh (auto-framed) or a scene file (.toml) to a PNG.
     Render(RenderArgs),
-    /// Print the Vulkan device, driver and the features vgeo uses.
-    Info,
+    /// Build a mesh's cluster DAG into a .vgeo file.
+    Build(vgeo::cmd_build::BuildArgs),
+    /// Check a .vgeo file: DAG invariants and crack-free cuts for many views (non-zero exit on failure).
+    Verify(vgeo::cmd_build::VerifyArgs),
+    /// Without FILE: the Vulkan device, driver and the features vgeo uses. With a .vgeo FILE: its stats.
+    Info {
+        /// A .vgeo file to describe.
+        file: Option<PathBuf>,
+    },
 }
 
 #[derive(clap::Args)]
@@ -65,7 +72,16 @@ fn main() -> ExitCode {
             stats: true,
         }),
         Some(Command::Render(a)) => render(&a),
-        Some(Command::Info) => info(),
+        Some(Command::Build(a)) => vgeo::cmd_build::run_build(&a),
+        Some(Command::Verify(a)) => match vgeo::cmd_build::run_verify(&a) {
+            Ok(true) => Ok(()),
+            Ok(false) => return ExitCode::FAILURE,
+            Err(e) => Err(e),
+        },
+        Some(Command::Info { file: Some(f) }) => {
+            vgeo::cmd_build::info_vgeo(&f).map(|s| println!("{s}"))
+        }
+        Some(Command::Info { file: None }) => info(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,755 @@
+//! The build: input preparation, level-0 clusters, the group/simplify/split loop, assembly.
+
+use std::collections::HashMap;
+
+use rayon::prelude::*;
+
+use super::cluster::cluster_triangles;
+use super::group::group_clusters;
+use super::quantize::{
+    decode_position, encode_normal, encode_position, encode_uv, make_quantization,
+};
+use super::simplify::{Mode, simplify};
+use super::{
+    BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
+    LevelStats, NO_GROUP, PackedVertex, Sphere,
+};
+use crate::mesh::Mesh;
+use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
+
+/// Builds the cluster DAG of `mesh`. Deterministic: the same input gives the same result whatever
+/// the thread count.
+pub fn build(mesh: &Mesh, opts: &BuildOptions) -> Result<BuiltMesh, BuildError> {
+    build_with_progress(mesh, opts, &|_| {})
+}
+
+/// [`build`] with a progress callback, called with a short line per phase / iteration.
+pub fn build_with_progress(
+    mesh: &Mesh,
+    opts: &BuildOptions,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<BuiltMesh, BuildError> {
+    check_options(opts)?;
+    match opts.threads {
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .map_err(|e| BuildError::Threads(e.to_string()))?;
+            pool.install(|| build_inner(mesh, opts, progress))
+        }
+        None => build_inner(mesh, opts, progress),
+    }
+}
+
+fn check_options(o: &BuildOptions) -> Result<(), BuildError> {
+    let bad = |s: String| Err(BuildError::InvalidOptions(s));
+    if o.max_cluster_triangles < 4 || o.max_cluster_triangles > MAX_CLUSTER_TRIANGLES {
+        return bad(format!(
+            "max_cluster_triangles {} not in 4..={MAX_CLUSTER_TRIANGLES}",
+            o.max_cluster_triangles
+        ));
+    }
+    if o.group_min < 2 || o.group_max < o.group_min || o.group_max > 1024 {
+        return bad(format!(
+            "group sizes {}..{} invalid (need 2 <= min <= max <= 1024)",
+            o.group_min, o.group_max
+        ));
+    }
+    if !(o.simplify_ratio > 0.05 && o.simplify_ratio < 0.95) {
+        return bad(format!(
+            "simplify_ratio {} not in (0.05, 0.95)",
+            o.simplify_ratio
+        ));
+    }
+    if !(o.keep_percent > 0.0 && o.keep_percent <= 100.0) {
+        return bad(format!("keep_percent {} not in (0, 100]", o.keep_percent));
+    }
+    if !(o.trim_error >= 0.0 && o.trim_error.is_finite()) {
+        return bad(format!(
+            "trim_error {} must be finite and >= 0",
+            o.trim_error
+        ));
+    }
+    Ok(())
+}
+
+/// Working cluster during the build.
+struct WCluster {
+    tris: Vec<[u32; 3]>,
+    self_error: f32,
+    self_sphere: Sphere,
+    creator: u32,
+    level: u32,
+    group: u32,
+}
+
+struct WGroup {
+    members: Vec<u32>,
+    error: f32,
+    sphere: Sphere,
+    iteration: u32,
+}
+
+/// Result of one group's simplification.
+struct Outcome {
+    parts: Vec<Vec<[u32; 3]>>,
+    error: f32,
+    sphere: Sphere,
+    fallback: bool,
+}
+
+/// Input after quantization and welding.
+struct Prepared {
+    vertices: Vec<PackedVertex>,
+    materials: Vec<u16>,
+    positions: Vec<[f32; 3]>,
+    pid: Vec<u32>,
+    tris: Vec<[u32; 3]>,
+    dropped: usize,
+    duplicates: usize,
+    quant: super::Quantization,
+}
+
+fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
+    mesh.validate().map_err(|msg| BuildError::InvalidMesh {
+        name: mesh.name.clone(),
+        msg,
+    })?;
+    if mesh.materials.len() > u16::MAX as usize {
+        return Err(BuildError::InvalidMesh {
+            name: mesh.name.clone(),
+            msg: format!("{} materials (at most {})", mesh.materials.len(), u16::MAX),
+        });
+    }
+    let (lo, hi) = mesh.bounds().ok_or_else(|| BuildError::Empty {
+        name: mesh.name.clone(),
+        dropped: 0,
+    })?;
+    let mut uv_lo = [f32::MAX; 2];
+    let mut uv_hi = [f32::MIN; 2];
+    for t in &mesh.uvs {
+        for k in 0..2 {
+            if t[k].is_finite() {
+                uv_lo[k] = uv_lo[k].min(t[k]);
+                uv_hi[k] = uv_hi[k].max(t[k]);
+            }
+        }
+    }
+    for k in 0..2 {
+        if uv_lo[k] > uv_hi[k] {
+            uv_lo[k] = 0.0;
+            uv_hi[k] = 0.0;
+        }
+    }
+    let quant = make_quantization(lo, hi, uv_lo, uv_hi);
+    let mut key_to_vertex: HashMap<(PackedVertex, u16), u32> = HashMap::new();
+    let mut pos_to_pid: HashMap<[u32; 2], u32> = HashMap::new();
+    let mut vertices = Vec::new();
+    let mut materials = Vec::new();
+    let mut pid = Vec::new();
+    let mut tris = Vec::with_capacity(mesh.triangle_count());
+    let mut dropped = 0;
+    let mut duplicates = 0;
+    let mut seen: std::collections::HashSet<[u32; 3]> = std::collections::HashSet::new();
+    for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
+        let mat = mesh.material_ids[t] as u16;
+        let mut tri = [0u32; 3];
+        for k in 0..3 {
+            let v = idx[k] as usize;
+            let pv = PackedVertex {
+                position: encode_position(&quant, mesh.positions[v]),
+                normal: encode_normal(mesh.normals[v]),
+                uv: encode_uv(&quant, mesh.uvs[v]),
+            };
+            let next = vertices.len() as u32;
+            let id = *key_to_vertex.entry((pv, mat)).or_insert(next);
+            if id == next {
+                vertices.push(pv);
+                materials.push(mat);
+                let np = pos_to_pid.len() as u32;
+                pid.push(*pos_to_pid.entry(pv.position).or_insert(np));
+            }
+            tri[k] = id;
+        }
+        let p = [
+            pid[tri[0] as usize],
+            pid[tri[1] as usize],
+            pid[tri[2] as usize],
+        ];
+        if p[0] == p[1] || p[1] == p[2] || p[0] == p[2] {
+            dropped += 1;
+            continue;
+        }
+        // Exact duplicates (same three points, same winding) are dropped: they add nothing to the
+        // surface and make coincident layers that simplification cannot keep consistent.
+        let r = (0..3).min_by_key(|&i| p[i]).unwrap_or(0);
+        if seen.insert([p[r], p[(r + 1) % 3], p[(r + 2) % 3]]) {
+            tris.push(tri);
+        } else {
+            duplicates += 1;
+        }
+    }
+    let positions = vertices
+        .iter()
+        .map(|v| decode_position(&quant, v.position))
+        .collect();
+    Ok(Prepared {
+        vertices,
+        materials,
+        positions,
+        pid,
+        tris,
+        dropped,
+        duplicates,
+        quant,
+    })
+}
+
+/// Bounding sphere of points (box centre, farthest point).
+fn points_sphere(points: impl Iterator<Item = [f32; 3]> + Clone) -> Sphere {
+    let mut lo = [f32::MAX; 3];
+    let mut hi = [f32::MIN; 3];
+    for p in points.clone() {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let c: [f32; 3] = std::array::from_fn(|k| (lo[k] + hi[k]) * 0.5);
+    let mut r = 0.0f32;
+    for p in points {
+        r = r.max(dist(c, p));
+    }
+    pad_sphere(c, r)
+}
+
+fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
+    (((a[0] - b[0]) as f64).powi(2)
+        + ((a[1] - b[1]) as f64).powi(2)
+        + ((a[2] - b[2]) as f64).powi(2))
+    .sqrt() as f32
+}
+
+/// Inflates a radius so that float rounding in [`super::lod_error_px`] cannot make an enclosed sphere
+/// project larger than its encloser.
+fn pad_sphere(c: [f32; 3], r: f32) -> Sphere {
+    let mag = c[0].abs().max(c[1].abs()).max(c[2].abs());
+    let r = r * (1.0 + 1e-5) + (mag + r) * 4e-7 + f32::MIN_POSITIVE;
+    [c[0], c[1], c[2], r]
+}
+
+/// A sphere enclosing all `spheres`.
+fn merge_spheres(spheres: &[Sphere]) -> Sphere {
+    let mut lo = [f32::MAX; 3];
+    let mut hi = [f32::MIN; 3];
+    for s in spheres {
+        for k in 0..3 {
+            lo[k] = lo[k].min(s[k] - s[3]);
+            hi[k] = hi[k].max(s[k] + s[3]);
+        }
+    }
+    let c: [f32; 3] = std::array::from_fn(|k| (lo[k] + hi[k]) * 0.5);
+    let mut r = 0.0f32;
+    for s in spheres {
+        r = r.max(dist(c, [s[0], s[1], s[2]]) + s[3]);
+    }
+    pad_sphere(c, r)
+}
+
+/// Error of a group: at least its members' and strictly positive, with a margin against rounding.
+fn group_error(simplify_error: f32, members_max: f32, min_error: f32) -> f32 {
+    (simplify_error.max(members_max) * (1.0 + 1.0 / 1024.0)).max(min_error)
+}
+
+fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
+    tris.retain(|t| {
+        let p = [pid[t[0] as usize], pid[t[1] as usize], pid[t[2] as usize]];
+        p[0] != p[1] && p[1] != p[2] && p[0] != p[2]
+    });
+}
+
+fn build_inner(
+    mesh: &Mesh,
+    opts: &BuildOptions,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<BuiltMesh, BuildError> {
+    let prep = prepare(mesh)?;
+    let Prepared {
+        vertices,
+        materials: vmat,
+        positions,
+        pid,
+        mut tris,
+        dropped,
+        duplicates,
+        quant,
+    } = prep;
+    let input_triangles = mesh.triangle_count();
+    if tris.is_empty() {
+        return Err(BuildError::Empty {
+            name: mesh.name.clone(),
+            dropped,
+        });
+    }
+    let extent = (quant.step * ((1u64 << super::quantize::POSITION_BITS) - 1) as f64) as f32;
+    let min_error = (extent * 1e-6).max(1e-30);
+    let max_tris = opts.max_cluster_triangles as usize;
+    let max_verts = MAX_CLUSTER_VERTICES as usize;
+
+    // Optional trimming of the input.
+    if opts.keep_percent < 100.0 || opts.trim_error > 0.0 {
+        let target =
+            ((tris.len() as f64 * opts.keep_percent as f64 / 100.0).round() as usize).max(1);
+        let target = if opts.keep_percent < 100.0 { target } else { 0 };
+        let err = if opts.trim_error > 0.0 {
+            opts.trim_error
+        } else {
+            f32::MAX
+        };
+        let (mut t, _) = simplify(&tris, &positions, &|_| false, target, err, Mode::Locked);
+        drop_degenerate(&mut t, &pid);
+        if !t.is_empty() {
+            tris = t;
+        }
+    }
+    let level0_triangles = tris.len();
+    progress(&format!(
+        "{}: {} triangles, clustering level 0",
+        mesh.name,
+        tris.len()
+    ));
+
+    let mut clusters: Vec<WCluster> =
+        cluster_triangles(&tris, &pid, &positions, max_tris, max_verts)
+            .into_iter()
+            .map(|part| {
+                let t: Vec<[u32; 3]> = part.iter().map(|&i| tris[i as usize]).collect();
+                let sphere = points_sphere(t.iter().flatten().map(|&v| positions[v as usize]));
+                WCluster {
+                    tris: t,
+                    self_error: 0.0,
+                    self_sphere: sphere,
+                    creator: NO_GROUP,
+                    level: 0,
+                    group: NO_GROUP,
+                }
+            })
+            .collect();
+    drop(tris);
+    progress(&format!(
+        "{}: level 0: {} clusters",
+        mesh.name,
+        clusters.len()
+    ));
+
+    let mut groups: Vec<WGroup> = Vec::new();
+    let mut working: Vec<u32> = (0..clusters.len() as u32).collect();
+    let mut levels = vec![level_stats(0, &working, &clusters, 0, 0, 0)];
+    let mut widened = Vec::new();
+    let mut fallback_groups = 0;
+    let mut iteration = 0u32;
+    let mut widen = 1usize;
+    let npid = pid.iter().copied().max().map_or(0, |m| m as usize + 1);
+    let group_target =
+        ((opts.group_min as usize) * 2).clamp(opts.group_min as usize, opts.group_max as usize);
+    const NONE: u32 = u32::MAX;
+    const MULTI: u32 = u32::MAX - 1;
+
+    while working.len() > 1 {
+        if iteration >= 4096 {
+            return Err(stuck(mesh, iteration, &working, &clusters));
+        }
+        let gmax = (opts.group_max as usize).saturating_mul(widen);
+        let member_groups: Vec<Vec<u32>> = {
+            let tri_refs: Vec<&[[u32; 3]]> = working
+                .iter()
+                .map(|&c| clusters[c as usize].tris.as_slice())
+                .collect();
+            let centers: Vec<[f32; 3]> = working
+                .iter()
+                .map(|&c| {
+                    let s = clusters[c as usize].self_sphere;
+                    let t = &clusters[c as usize].tris;
+                    let n = (t.len() * 3) as f32;
+                    let mut m = [0.0f32; 3];
+                    for &v in t.iter().flatten() {
+                        for k in 0..3 {
+                            m[k] += positions[v as usize][k] / n;
+                        }
+                    }
+                    if m.iter().all(|x| x.is_finite()) {
+                        m
+                    } else {
+                        [s[0], s[1], s[2]]
+                    }
+                })
+                .collect();
+            group_clusters(&tri_refs, &centers, &pid, group_target * widen, gmax)
+                .into_iter()
+                .map(|g| g.into_iter().map(|i| working[i as usize]).collect())
+                .collect()
+        };
+        let single = member_groups.len() == 1;
+        // Locks: position ids used by more than one group.
+        let mut owner = vec![NONE; npid];
+        for (gi, g) in member_groups.iter().enumerate() {
+            for &c in g {
+                for &v in clusters[c as usize].tris.iter().flatten() {
+                    let o = &mut owner[pid[v as usize] as usize];
+                    *o = match *o {
+                        NONE => gi as u32,
+                        x if x == gi as u32 => x,
+                        _ => MULTI,
+                    };
+                }
+            }
+        }
+        let ctx = GroupCtx {
+            clusters: &clusters,
+            positions: &positions,
+            pid: &pid,
+            owner: &owner,
+            opts,
+            min_error,
+            single,
+        };
+        let outcomes: Vec<Option<Outcome>> = member_groups
+            .par_iter()
+            .map(|g| ctx.simplify_group(g))
+            .collect();
+        let mut next = Vec::new();
+        let mut progressed = false;
+        let mut stuck_groups = 0;
+        let level = iteration + 1;
+        for (g, out) in member_groups.into_iter().zip(outcomes) {
+            match out {
+                Some(out) => {
+                    progressed = true;
+                    fallback_groups += out.fallback as usize;
+                    let gid = groups.len() as u32;
+                    for &m in &g {
+                        clusters[m as usize].group = gid;
+                    }
+                    for part in out.parts {
+                        next.push(clusters.len() as u32);
+                        clusters.push(WCluster {
+                            tris: part,
+                            self_error: out.error,
+                            self_sphere: out.sphere,
+                            creator: gid,
+                            level,
+                            group: NO_GROUP,
+                        });
+                    }
+                    groups.push(WGroup {
+                        members: g,
+                        error: out.error,
+                        sphere: out.sphere,
+                        iteration,
+                    });
+                }
+                None => {
+                    stuck_groups += 1;
+                    next.extend(g);
+                }
+            }
+        }
+        let ngroups = groups.iter().filter(|g| g.iteration == iteration).count() + stuck_groups;
+        if !progressed {
+            if single {
+                return Err(stuck(mesh, iteration, &working, &clusters));
+            }
+            widened.push(iteration);
+            widen *= 2;
+        } else {
+            widen = 1;
+        }
+        let prev = levels.last().map_or(0, |l| l.triangles);
+        let mut st = level_stats(level, &next, &clusters, prev, ngroups, stuck_groups);
+        st.level = level;
+        progress(&format!(
+            "{}: level {level}: {} clusters, {} triangles ({} groups, {} stuck)",
+            mesh.name, st.clusters, st.triangles, ngroups, stuck_groups
+        ));
+        levels.push(st);
+        working = next;
+        iteration += 1;
+    }
+    let root = working[0];
+    // The root's pseudo-group: parent error infinite.
+    let root_sphere = clusters[root as usize].self_sphere;
+    clusters[root as usize].group = groups.len() as u32;
+    groups.push(WGroup {
+        members: vec![root],
+        error: f32::INFINITY,
+        sphere: root_sphere,
+        iteration: u32::MAX,
+    });
+
+    let stats = BuildStats {
+        input_triangles,
+        degenerate_dropped: dropped,
+        duplicates_dropped: duplicates,
+        level0_triangles,
+        vertices: vertices.len(),
+        levels,
+        widened_iterations: widened,
+        fallback_groups,
+        ..Default::default()
+    };
+    Ok(assemble(
+        mesh, quant, vertices, vmat, &positions, clusters, groups, stats,
+    ))
+}
+
+fn stuck(mesh: &Mesh, iteration: u32, working: &[u32], clusters: &[WCluster]) -> BuildError {
+    BuildError::Stuck {
+        name: mesh.name.clone(),
+        iteration,
+        clusters: working.len(),
+        triangles: working
+            .iter()
+            .map(|&c| clusters[c as usize].tris.len())
+            .sum(),
+    }
+}
+
+fn level_stats(
+    level: u32,
+    working: &[u32],
+    clusters: &[WCluster],
+    prev: usize,
+    groups: usize,
+    stuck: usize,
+) -> LevelStats {
+    let triangles: usize = working
+        .iter()
+        .map(|&c| clusters[c as usize].tris.len())
+        .sum();
+    LevelStats {
+        level,
+        clusters: working.len(),
+        triangles,
+        ratio: if prev > 0 {
+            triangles as f32 / prev as f32
+        } else {
+            1.0
+        },
+        max_error: working
+            .iter()
+            .map(|&c| clusters[c as usize].self_error)
+            .fold(0.0, f32::max),
+        groups,
+        stuck_groups: stuck,
+    }
+}
+
+struct GroupCtx<'a> {
+    clusters: &'a [WCluster],
+    positions: &'a [[f32; 3]],
+    pid: &'a [u32],
+    owner: &'a [u32],
+    opts: &'a BuildOptions,
+    min_error: f32,
+    single: bool,
+}
+
+impl GroupCtx<'_> {
+    fn simplify_group(&self, members: &[u32]) -> Option<Outcome> {
+        let tris: Vec<[u32; 3]> = members
+            .iter()
+            .flat_map(|&m| self.clusters[m as usize].tris.iter().copied())
+            .collect();
+        let n = tris.len();
+        let target = ((n as f32 * self.opts.simplify_ratio) as usize).max(1);
+        let locked = |v: u32| self.owner[self.pid[v as usize] as usize] == u32::MAX - 1;
+        let members_max = members
+            .iter()
+            .map(|&m| self.clusters[m as usize].self_error)
+            .fold(0.0, f32::max);
+        let spheres: Vec<Sphere> = members
+            .iter()
+            .map(|&m| self.clusters[m as usize].self_sphere)
+            .collect();
+        let sphere = merge_spheres(&spheres);
+        let max_tris = self.opts.max_cluster_triangles as usize;
+        let max_verts = MAX_CLUSTER_VERTICES as usize;
+        let accept = |t: &Vec<[u32; 3]>| {
+            !t.is_empty()
+                && if self.single {
+                    t.len() < n
+                } else {
+                    (t.len() as f32) <= n as f32 * 0.85
+                }
+        };
+        let mut attempts = vec![Mode::Locked, Mode::LockedPrune];
+        if self.single {
+            attempts.push(Mode::Sloppy);
+        }
+        let mut result = None;
+        for (i, mode) in attempts.into_iter().enumerate() {
+            let (mut t, e) = simplify(&tris, self.positions, &locked, target, f32::MAX, mode);
+            drop_degenerate(&mut t, self.pid);
+            if accept(&t) {
+                result = Some((t, e, i > 0));
+                break;
+            }
+        }
+        if result.is_none() && self.single {
+            // Last resort: everything fits in one cluster; merge without simplifying.
+            let fits = n <= max_tris && {
+                let mut v: Vec<u32> = tris.iter().flatten().copied().collect();
+                v.sort_unstable();
+                v.dedup();
+                v.len() <= max_verts
+            };
+            if fits && members.len() > 1 {
+                result = Some((tris.clone(), 0.0, true));
+            }
+        }
+        let (t, e, fallback) = result?;
+        let error = group_error(e, members_max, self.min_error);
+        let parts = cluster_triangles(&t, self.pid, self.positions, max_tris, max_verts)
+            .into_iter()
+            .map(|p| p.iter().map(|&i| t[i as usize]).collect())
+            .collect();
+        Some(Outcome {
+            parts,
+            error,
+            sphere,
+            fallback,
+        })
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    mesh: &Mesh,
+    quant: super::Quantization,
+    vertices: Vec<PackedVertex>,
+    vmat: Vec<u16>,
+    positions: &[[f32; 3]],
+    wclusters: Vec<WCluster>,
+    wgroups: Vec<WGroup>,
+    mut stats: BuildStats,
+) -> BuiltMesh {
+    // Clusters ordered by member group so that each group's members are contiguous.
+    let mut new_index = vec![0u32; wclusters.len()];
+    let mut order = Vec::with_capacity(wclusters.len());
+    let mut groups = Vec::with_capacity(wgroups.len());
+    for (gi, g) in wgroups.iter().enumerate() {
+        let first = order.len() as u32;
+        let mut lo = [f32::MAX; 3];
+        let mut hi = [f32::MIN; 3];
+        for &m in &g.members {
+            new_index[m as usize] = order.len() as u32;
+            order.push(m);
+            for &v in wclusters[m as usize].tris.iter().flatten() {
+                let p = positions[v as usize];
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+        }
+        debug_assert!(
+            g.members
+                .iter()
+                .all(|&m| wclusters[m as usize].group == gi as u32)
+        );
+        groups.push(Group {
+            lod_sphere: g.sphere,
+            bounds_min: lo,
+            error: g.error,
+            bounds_max: hi,
+            first_cluster: first,
+            cluster_count: g.members.len() as u32,
+            iteration: g.iteration,
+            _pad: [0; 2],
+        });
+    }
+    let mut clusters = Vec::with_capacity(order.len());
+    let mut refs: Vec<u32> = Vec::new();
+    let mut triangles: Vec<u8> = Vec::new();
+    let mut stored = 0;
+    for &ci in &order {
+        let w = &wclusters[ci as usize];
+        let mut local: Vec<u32> = Vec::new();
+        let mut lo = [f32::MAX; 3];
+        let mut hi = [f32::MIN; 3];
+        let tri_offset = triangles.len() as u32;
+        for t in &w.tris {
+            for &v in t {
+                let li = match local.iter().position(|&x| x == v) {
+                    Some(i) => i,
+                    None => {
+                        local.push(v);
+                        local.len() - 1
+                    }
+                };
+                triangles.push(li as u8);
+                let p = positions[v as usize];
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+        }
+        stored += w.tris.len();
+        let base = local.iter().copied().min().unwrap_or(0);
+        let span = local.iter().copied().max().unwrap_or(0) - base;
+        let ref_offset = refs.len() as u32;
+        let flags = if span < 65536 {
+            for pair in local.chunks(2) {
+                let a = pair[0] - base;
+                let b = pair.get(1).map_or(0, |&b| b - base);
+                refs.push(a | b << 16);
+            }
+            0
+        } else {
+            refs.extend_from_slice(&local);
+            CLUSTER_FLAG_REFS_U32
+        };
+        let g = &wgroups[w.group as usize];
+        clusters.push(Cluster {
+            self_sphere: w.self_sphere,
+            parent_sphere: g.sphere,
+            bounds_min: lo,
+            self_error: w.self_error,
+            bounds_max: hi,
+            parent_error: g.error,
+            vertex_ref_offset: ref_offset,
+            vertex_base: if flags == 0 { base } else { 0 },
+            triangle_offset: tri_offset,
+            counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16,
+            group: w.group,
+            creator: w.creator,
+            level: w.level,
+            _pad: 0,
+        });
+    }
+    let root = new_index[order[order.len() - 1] as usize];
+    let bvh = super::bvh::build_bvh(&groups);
+    stats.clusters = clusters.len();
+    stats.groups = groups.len();
+    stats.bvh_nodes = bvh.len();
+    stats.stored_triangles = stored;
+    let single_material = mesh.materials.len() <= 1;
+    BuiltMesh {
+        name: mesh.name.clone(),
+        quantization: quant,
+        has_normals: mesh.has_normals,
+        has_uvs: mesh.has_uvs,
+        materials: mesh.materials.clone(),
+        vertices,
+        vertex_materials: if single_material { Vec::new() } else { vmat },
+        clusters,
+        vertex_refs: refs,
+        triangles,
+        groups,
+        bvh,
+        root,
+        stats,
+    }
+}

@@ -1,0 +1,442 @@
+//! The offline cluster-DAG builder (CPU only, deterministic).
+//!
+//! [`build`] turns a [`Mesh`] into a [`BuiltMesh`]: level-0 clusters of at most 128 triangles
+//! (METIS on the triangle graph), then repeatedly groups of 8..32 clusters (METIS on the cluster
+//! graph) simplified to about half with their borders locked and split into new clusters, until one
+//! root cluster remains. Every cluster stores a `self` and a `parent` (error, LOD sphere) pair as
+//! DESIGN.md's "cut rule" requires; [`verify`] checks the invariants and the cut on many views.
+//!
+//! Positions are snapped to a per-mesh grid at the start (21 bits per axis), normals to 16-bit
+//! octahedral codes and UVs to 16 bits over the mesh's UV range, so the `.vgeo` file stores exactly
+//! what the builder used and a loaded file verifies like the built one.
+
+pub mod bvh;
+pub mod cluster;
+pub mod cut;
+pub mod dag;
+pub mod group;
+pub mod quantize;
+pub mod simplify;
+pub mod verify;
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::mesh::{Material, Mesh};
+
+pub use cut::lod_error_px;
+pub use dag::{build, build_with_progress};
+pub use verify::{VerifyOptions, VerifyReport, verify};
+
+/// Options of [`build`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct BuildOptions {
+    /// Most triangles per cluster (at most [`crate::shared::MAX_CLUSTER_TRIANGLES`]).
+    pub max_cluster_triangles: u32,
+    /// Smallest group size the partitioner aims for (clusters).
+    pub group_min: u32,
+    /// Largest group size (clusters); exceeded only when the build is stuck and regroups wider.
+    pub group_max: u32,
+    /// Target triangle ratio of one simplification step (0.5: half).
+    pub simplify_ratio: f32,
+    /// Percentage of the input triangles to keep at level 0 (100: all); below 100 the input is
+    /// simplified first (no locks) and that becomes the finest level.
+    pub keep_percent: f32,
+    /// Object-space error allowed when trimming the input (with `keep_percent`); 0: no trimming by error.
+    pub trim_error: f32,
+    /// Triangle count the fallback mesh ([`BuiltMesh::fallback_mesh`]) aims for.
+    pub fallback_triangles: u32,
+    /// Worker threads (`None`: rayon's default). The output does not depend on it.
+    pub threads: Option<usize>,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        Self {
+            max_cluster_triangles: 128,
+            group_min: 8,
+            group_max: 32,
+            simplify_ratio: 0.5,
+            keep_percent: 100.0,
+            trim_error: 0.0,
+            fallback_triangles: 2000,
+            threads: None,
+        }
+    }
+}
+
+/// Why a build failed.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    /// The input mesh breaks the [`Mesh`] invariants.
+    #[error("mesh '{name}' is invalid: {msg}")]
+    InvalidMesh { name: String, msg: String },
+    /// Nothing left to build (no triangles, or all degenerate).
+    #[error("mesh '{name}' has no non-degenerate triangles ({dropped} degenerate dropped)")]
+    Empty { name: String, dropped: usize },
+    /// An option is out of range.
+    #[error("invalid build option: {0}")]
+    InvalidOptions(String),
+    /// The DAG could not be reduced to one root cluster.
+    #[error(
+        "mesh '{name}': the DAG got stuck at iteration {iteration} with {clusters} clusters / {triangles} triangles that cannot be simplified further"
+    )]
+    Stuck {
+        name: String,
+        iteration: u32,
+        clusters: usize,
+        triangles: usize,
+    },
+    /// The thread pool could not be created.
+    #[error("cannot create a thread pool: {0}")]
+    Threads(String),
+}
+
+/// A sphere `[x, y, z, radius]`.
+pub type Sphere = [f32; 4];
+
+/// Sentinel for "no group" (level-0 clusters have no creator group).
+pub const NO_GROUP: u32 = u32::MAX;
+
+/// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).
+pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
+
+/// One cluster as stored on the GPU (and in the file).
+///
+/// `self_*` is the pair of the simplification that produced the cluster (level 0: error 0 and its own
+/// bounds), shared by all clusters produced together; `parent_*` is the pair of the simplification of
+/// the group it is a member of (the root: `f32::INFINITY`), shared by all members of that group.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Cluster {
+    pub self_sphere: Sphere,
+    pub parent_sphere: Sphere,
+    /// Tight bounds of the cluster's own vertices (for frustum / occlusion culling).
+    pub bounds_min: [f32; 3],
+    pub self_error: f32,
+    pub bounds_max: [f32; 3],
+    pub parent_error: f32,
+    /// Offset (in u32 words) of the cluster's vertex references in [`BuiltMesh::vertex_refs`].
+    pub vertex_ref_offset: u32,
+    /// Added to the u16 vertex references (unused with [`CLUSTER_FLAG_REFS_U32`]).
+    pub vertex_base: u32,
+    /// Offset (in bytes) of the cluster's local triangle indices in [`BuiltMesh::triangles`].
+    pub triangle_offset: u32,
+    /// `vertex_count | triangle_count << 8 | flags << 16`.
+    pub counts: u32,
+    /// The group the cluster is a member of (its `parent` pair); the root's own pseudo-group.
+    pub group: u32,
+    /// The group whose simplification produced the cluster ([`NO_GROUP`] at level 0).
+    pub creator: u32,
+    /// DAG level: 0 for input clusters, else the creator group's iteration + 1.
+    pub level: u32,
+    pub _pad: u32,
+}
+const _: () = assert!(size_of::<Cluster>() == 96);
+
+impl Cluster {
+    /// Number of unique vertices (<= 255).
+    pub fn vertex_count(&self) -> u32 {
+        self.counts & 0xff
+    }
+    /// Number of triangles (<= 128).
+    pub fn triangle_count(&self) -> u32 {
+        (self.counts >> 8) & 0xff
+    }
+    /// Flags ([`CLUSTER_FLAG_REFS_U32`]).
+    pub fn flags(&self) -> u32 {
+        self.counts >> 16
+    }
+    /// Number of u32 words its vertex references take.
+    pub fn vertex_ref_words(&self) -> u32 {
+        if self.flags() & CLUSTER_FLAG_REFS_U32 != 0 {
+            self.vertex_count()
+        } else {
+            self.vertex_count().div_ceil(2)
+        }
+    }
+}
+
+/// A group: clusters simplified together. Its members are the clusters
+/// `first_cluster .. first_cluster + cluster_count` and all share the group's (error, sphere) as
+/// their `parent` pair.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Group {
+    /// LOD sphere of the group's simplification (the members' parent sphere).
+    pub lod_sphere: Sphere,
+    /// Union of the members' bounds.
+    pub bounds_min: [f32; 3],
+    /// Error of the group's simplification (the members' parent error; the root's: infinity).
+    pub error: f32,
+    pub bounds_max: [f32; 3],
+    pub first_cluster: u32,
+    pub cluster_count: u32,
+    /// Build iteration at which the group was simplified (`u32::MAX` for the root pseudo-group).
+    pub iteration: u32,
+    pub _pad: [u32; 2],
+}
+const _: () = assert!(size_of::<Group>() == 64);
+
+/// BVH node flag: the node is a leaf referencing groups `first .. first + count`.
+pub const BVH_FLAG_LEAF: u32 = 1;
+
+/// A BVH node (fanout <= 8) over groups.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct BvhNode {
+    pub bounds_min: [f32; 3],
+    /// Largest parent error in the subtree: when it projects under the threshold on `lod_sphere`,
+    /// no cluster below can be drawn.
+    pub max_parent_error: f32,
+    pub bounds_max: [f32; 3],
+    pub flags: u32,
+    /// Encloses every parent sphere in the subtree.
+    pub lod_sphere: Sphere,
+    /// Inner node: first child node; leaf: first group.
+    pub first: u32,
+    /// Inner node: child count; leaf: group count.
+    pub count: u32,
+    pub _pad: [u32; 2],
+}
+const _: () = assert!(size_of::<BvhNode>() == 64);
+
+/// A vertex as stored: position on the mesh grid (21 bits per axis in 63 bits), octahedral normal
+/// (2 x 16 bits), UV (2 x 16 bits over the mesh's UV range).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Pod, Zeroable)]
+pub struct PackedVertex {
+    /// Low and high words of `x | y << 21 | z << 42`.
+    pub position: [u32; 2],
+    pub normal: u32,
+    pub uv: u32,
+}
+const _: () = assert!(size_of::<PackedVertex>() == 16);
+
+/// Per-mesh quantization grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quantization {
+    /// Position of grid point (0, 0, 0).
+    pub origin: [f64; 3],
+    /// Grid step (the same on every axis).
+    pub step: f64,
+    /// UV range: code 0 is `uv_min`, code 65535 is `uv_max`.
+    pub uv_min: [f32; 2],
+    pub uv_max: [f32; 2],
+}
+
+/// Statistics of one complete level of the DAG (the working set after an iteration).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LevelStats {
+    pub level: u32,
+    pub clusters: usize,
+    pub triangles: usize,
+    /// Triangles relative to the previous level.
+    pub ratio: f32,
+    /// Largest `self` error of its clusters.
+    pub max_error: f32,
+    /// Groups simplified at this iteration, and how many of them could not shrink (carried over).
+    pub groups: usize,
+    pub stuck_groups: usize,
+}
+
+/// Build statistics (deterministic; timing is reported separately by the CLI).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BuildStats {
+    pub input_triangles: usize,
+    /// Triangles dropped as degenerate (after snapping to the grid).
+    pub degenerate_dropped: usize,
+    /// Exact duplicate triangles dropped (same points, same winding).
+    pub duplicates_dropped: usize,
+    /// Level-0 triangles (after degenerate removal and `keep_percent`).
+    pub level0_triangles: usize,
+    pub vertices: usize,
+    pub clusters: usize,
+    pub groups: usize,
+    pub bvh_nodes: usize,
+    /// Triangles over all levels.
+    pub stored_triangles: usize,
+    pub levels: Vec<LevelStats>,
+    /// Iterations at which the group size had to be widened beyond `group_max` (stuck).
+    pub widened_iterations: Vec<u32>,
+    /// Groups that needed pruning, sloppy simplification or merging to make progress.
+    pub fallback_groups: usize,
+}
+
+/// A built mesh: the cluster DAG, its BVH and vertex data. What `.vgeo` stores.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BuiltMesh {
+    pub name: String,
+    pub quantization: Quantization,
+    pub has_normals: bool,
+    pub has_uvs: bool,
+    pub materials: Vec<Material>,
+    pub vertices: Vec<PackedVertex>,
+    /// Material per vertex (vertices are split per material, so a triangle's material is its first
+    /// vertex's).
+    pub vertex_materials: Vec<u16>,
+    pub clusters: Vec<Cluster>,
+    /// Vertex references of all clusters (u16 pairs or u32 words, see [`Cluster`]).
+    pub vertex_refs: Vec<u32>,
+    /// Local triangle indices of all clusters, 3 per triangle.
+    pub triangles: Vec<u8>,
+    pub groups: Vec<Group>,
+    pub bvh: Vec<BvhNode>,
+    /// Index of the root cluster.
+    pub root: u32,
+    pub stats: BuildStats,
+}
+
+impl BuiltMesh {
+    /// Decoded position of vertex `v`.
+    pub fn position(&self, v: u32) -> [f32; 3] {
+        quantize::decode_position(&self.quantization, self.vertices[v as usize].position)
+    }
+
+    /// All decoded positions.
+    pub fn positions(&self) -> Vec<[f32; 3]> {
+        self.vertices
+            .iter()
+            .map(|v| quantize::decode_position(&self.quantization, v.position))
+            .collect()
+    }
+
+    /// Global index of cluster `c`'s local vertex `i`. Panics on out-of-range input (the file loader
+    /// checks every reference).
+    pub fn vertex_ref(&self, c: &Cluster, i: u32) -> u32 {
+        if c.flags() & CLUSTER_FLAG_REFS_U32 != 0 {
+            self.vertex_refs[(c.vertex_ref_offset + i) as usize]
+        } else {
+            let w = self.vertex_refs[(c.vertex_ref_offset + i / 2) as usize];
+            c.vertex_base + ((w >> (16 * (i & 1))) & 0xffff)
+        }
+    }
+
+    /// Triangles of cluster `ci` as global vertex indices.
+    pub fn cluster_triangles(&self, ci: usize) -> Vec<[u32; 3]> {
+        let c = &self.clusters[ci];
+        let base = c.triangle_offset as usize;
+        (0..c.triangle_count() as usize)
+            .map(|t| {
+                let l = &self.triangles[base + 3 * t..base + 3 * t + 3];
+                [
+                    self.vertex_ref(c, l[0] as u32),
+                    self.vertex_ref(c, l[1] as u32),
+                    self.vertex_ref(c, l[2] as u32),
+                ]
+            })
+            .collect()
+    }
+
+    /// Number of complete levels (working sets) recorded in the stats.
+    pub fn level_count(&self) -> usize {
+        self.stats.levels.len()
+    }
+
+    /// Clusters forming complete level `k`: created at iteration <= k and simplified (as a group
+    /// member) at iteration >= k, or never (the root).
+    pub fn level_clusters(&self, k: u32) -> Vec<u32> {
+        (0..self.clusters.len() as u32)
+            .filter(|&ci| {
+                let c = &self.clusters[ci as usize];
+                let g = &self.groups[c.group as usize];
+                c.level <= k && g.iteration >= k
+            })
+            .collect()
+    }
+
+    /// The complete level whose triangle count is closest to `target`, as a plain mesh.
+    pub fn fallback_mesh(&self, target: u32) -> Mesh {
+        let mut best = 0u32;
+        let mut best_d = u64::MAX;
+        for l in &self.stats.levels {
+            let d = (l.triangles as i64 - target as i64).unsigned_abs();
+            if d < best_d {
+                best_d = d;
+                best = l.level;
+            }
+        }
+        self.level_mesh(best)
+    }
+
+    /// Complete level `k` as a plain mesh (vertices compacted, attributes decoded).
+    pub fn level_mesh(&self, k: u32) -> Mesh {
+        let mut remap = vec![u32::MAX; self.vertices.len()];
+        let mut mesh = Mesh {
+            name: format!("{} (level {k})", self.name),
+            materials: if self.materials.is_empty() {
+                vec![Material::default()]
+            } else {
+                self.materials.clone()
+            },
+            has_normals: self.has_normals,
+            has_uvs: self.has_uvs,
+            ..Default::default()
+        };
+        for ci in self.level_clusters(k) {
+            for tri in self.cluster_triangles(ci as usize) {
+                for &v in &tri {
+                    if remap[v as usize] == u32::MAX {
+                        remap[v as usize] = mesh.positions.len() as u32;
+                        let pv = &self.vertices[v as usize];
+                        mesh.positions
+                            .push(quantize::decode_position(&self.quantization, pv.position));
+                        mesh.normals.push(quantize::decode_normal(pv.normal));
+                        mesh.uvs
+                            .push(quantize::decode_uv(&self.quantization, pv.uv));
+                    }
+                    mesh.indices.push(remap[v as usize]);
+                }
+                let m = self
+                    .vertex_materials
+                    .get(tri[0] as usize)
+                    .copied()
+                    .unwrap_or(0) as u32;
+                mesh.material_ids
+                    .push(m.min(mesh.materials.len() as u32 - 1));
+            }
+        }
+        mesh
+    }
+}
+
+/// Writes `mesh` as Wavefront OBJ text (positions, normals, UVs, one `usemtl` per material run).
+pub fn mesh_to_obj(mesh: &Mesh) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# {} ({} triangles), written by vgeo",
+        mesh.name,
+        mesh.triangle_count()
+    );
+    for p in &mesh.positions {
+        let _ = writeln!(s, "v {} {} {}", p[0], p[1], p[2]);
+    }
+    for n in &mesh.normals {
+        let _ = writeln!(s, "vn {} {} {}", n[0], n[1], n[2]);
+    }
+    for t in &mesh.uvs {
+        let _ = writeln!(s, "vt {} {}", t[0], t[1]);
+    }
+    let mut cur = u32::MAX;
+    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+        let m = mesh.material_ids.get(t).copied().unwrap_or(0);
+        if m != cur {
+            cur = m;
+            let name = mesh
+                .materials
+                .get(m as usize)
+                .map(|m| m.name.as_str())
+                .unwrap_or("default");
+            let _ = writeln!(s, "usemtl {name}");
+        }
+        let _ = writeln!(
+            s,
+            "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}",
+            a = tri[0] + 1,
+            b = tri[1] + 1,
+            c = tri[2] + 1
+        );
+    }
+    s
+}

@@ -1,0 +1,116 @@
+//! Group simplification with meshoptimizer: locked border vertices, absolute object-space error.
+
+/// meshopt_SimplifyLockBorder is not used: locks are explicit per vertex.
+const OPT_SPARSE_NONE: u32 = 0;
+/// meshopt_SimplifyErrorAbsolute.
+const OPT_ERROR_ABSOLUTE: u32 = 4;
+/// meshopt_SimplifyPrune (meshoptimizer 0.22): removes disconnected parts that are not locked.
+const OPT_PRUNE: u32 = 8;
+
+/// How to simplify.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Mode {
+    /// Edge collapses with locked vertices.
+    Locked,
+    /// As `Locked`, and small disconnected parts may be removed.
+    LockedPrune,
+    /// Vertex clustering, no locks (only valid when nothing outside the group shares vertices).
+    Sloppy,
+}
+
+/// Simplifies `tris` (global vertex indices into `positions`) towards `target_tris` triangles.
+/// `locked(v)` says whether global vertex `v` must keep its place. Returns the new triangles (global
+/// indices, a subset of the input vertices) and the absolute error.
+pub(crate) fn simplify(
+    tris: &[[u32; 3]],
+    positions: &[[f32; 3]],
+    locked: &dyn Fn(u32) -> bool,
+    target_tris: usize,
+    target_error: f32,
+    mode: Mode,
+) -> (Vec<[u32; 3]>, f32) {
+    // Compact vertex buffer of the group (keeps meshopt's work proportional to the group).
+    let mut verts: Vec<u32> = tris.iter().flatten().copied().collect();
+    verts.sort_unstable();
+    verts.dedup();
+    let local = |v: u32| verts.binary_search(&v).unwrap_or(0) as u32;
+    let indices: Vec<u32> = tris.iter().flatten().map(|&v| local(v)).collect();
+    let pos: Vec<[f32; 3]> = verts.iter().map(|&v| positions[v as usize]).collect();
+    let lock: Vec<u8> = verts.iter().map(|&v| locked(v) as u8).collect();
+    let mut dest = vec![0u32; indices.len()];
+    let mut err = 0.0f32;
+    let count = match mode {
+        Mode::Locked | Mode::LockedPrune => {
+            let opts = OPT_SPARSE_NONE
+                | OPT_ERROR_ABSOLUTE
+                | if mode == Mode::LockedPrune {
+                    OPT_PRUNE
+                } else {
+                    0
+                };
+            // SAFETY: every pointer covers the counts passed with it: `dest` and `indices` hold
+            // `indices.len()` u32, `pos` holds `pos.len()` tightly packed float3 (stride 12), `lock`
+            // has one byte per vertex, and every index is < pos.len() by construction.
+            unsafe {
+                meshopt::ffi::meshopt_simplifyWithAttributes(
+                    dest.as_mut_ptr(),
+                    indices.as_ptr(),
+                    indices.len(),
+                    pos.as_ptr().cast(),
+                    pos.len(),
+                    12,
+                    std::ptr::null(),
+                    0,
+                    std::ptr::null(),
+                    0,
+                    lock.as_ptr(),
+                    target_tris * 3,
+                    target_error,
+                    opts,
+                    &mut err,
+                )
+            }
+        }
+        Mode::Sloppy => {
+            // SAFETY: as above, without locks.
+            let n = unsafe {
+                meshopt::ffi::meshopt_simplifySloppy(
+                    dest.as_mut_ptr(),
+                    indices.as_ptr(),
+                    indices.len(),
+                    pos.as_ptr().cast(),
+                    pos.len(),
+                    12,
+                    target_tris * 3,
+                    f32::MAX,
+                    &mut err,
+                )
+            };
+            // Sloppy reports a relative error.
+            // SAFETY: `pos` holds `pos.len()` float3.
+            let scale =
+                unsafe { meshopt::ffi::meshopt_simplifyScale(pos.as_ptr().cast(), pos.len(), 12) };
+            err *= scale;
+            n
+        }
+    };
+    let count = count.min(dest.len());
+    let out: Vec<[u32; 3]> = dest[..count]
+        .chunks_exact(3)
+        .map(|t| {
+            [
+                verts[t[0] as usize],
+                verts[t[1] as usize],
+                verts[t[2] as usize],
+            ]
+        })
+        .collect();
+    (
+        out,
+        if err.is_finite() {
+            err.max(0.0)
+        } else {
+            f32::MAX
+        },
+    )
+}
