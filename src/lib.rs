@@ -4,4 +4,6 @@
 
 pub mod camera;
 pub mod mesh;
+pub mod reference;
+pub mod scene;
 pub mod shared;
