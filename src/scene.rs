@@ -78,17 +78,30 @@ pub const DEFAULT_LIGHT_DIR: [f32; 3] = [0.4, 1.0, 0.6];
 /// An error loading a scene file; every message names the file, and the entry where there is one.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// The file could not be read.
     #[error("{}: cannot read the scene file: {source}", path.display())]
     Io {
+        /// The scene file.
         path: PathBuf,
+        /// The I/O error.
         source: std::io::Error,
     },
+    /// Not valid TOML, or not the scene format (unknown key, wrong type, missing key).
     #[error("{}: {message}", path.display())]
-    Parse { path: PathBuf, message: String },
+    Parse {
+        /// The scene file.
+        path: PathBuf,
+        /// The parser's message, with line and column.
+        message: String,
+    },
+    /// Well-formed but invalid content.
     #[error("{}: {entry}: {message}", path.display())]
     Invalid {
+        /// The scene file.
         path: PathBuf,
+        /// The entry at fault, e.g. `grid #2 (mesh "bunny")` or `[camera]`.
         entry: String,
+        /// What is wrong with it.
         message: String,
     },
 }
@@ -96,6 +109,7 @@ pub enum SceneError {
 /// A mesh a scene uses.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneMesh {
+    /// The name instances refer to it by.
     pub name: String,
     /// Resolved against the scene file's folder.
     pub path: PathBuf,
@@ -115,9 +129,13 @@ pub struct Instance {
 /// An explicit camera from the scene file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CameraDesc {
+    /// Camera position, world space.
     pub eye: DVec3,
+    /// The point looked at, world space (differs from `eye`).
     pub target: DVec3,
+    /// Up hint, unit length.
     pub up: Vec3,
+    /// Vertical field of view in degrees, in (0, 180).
     pub fov_y_deg: f32,
     /// `None`: chosen from the distance between the eye and the scene's bounds.
     pub near: Option<f32>,
@@ -126,7 +144,9 @@ pub struct CameraDesc {
 /// A loaded, validated scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// Meshes, in file order; instances index into this.
     pub meshes: Vec<SceneMesh>,
+    /// All instances: `[[instance]]` entries, then grids, then scatters, each in file order.
     pub instances: Vec<Instance>,
     /// `None`: frame the scene's bounds (see [`Scene::camera`]).
     pub camera: Option<CameraDesc>,
@@ -871,6 +891,48 @@ mod tests {
             "{to_centre} {}",
             cam.forward
         );
+    }
+
+    #[test]
+    fn demo_scene_parses_and_frames_its_instances() {
+        let path = Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/assets/scenes/demo.toml"
+        ));
+        let s = Scene::load(path).unwrap_or_else(|e| panic!("{e}"));
+        let names: Vec<&str> = s.meshes.iter().map(|m| m.name.as_str()).collect();
+        assert_eq!(names, ["spot", "bunny"]);
+        assert!(s.meshes[0].path.ends_with("scenes/../spot.obj"));
+        assert!(s.meshes[1].path.ends_with("scenes/../bunny.ply"));
+        let per_mesh = |m: u32| s.instances.iter().filter(|i| i.mesh == m).count();
+        // Triangles: spot.obj 5,856 and bunny.ply 69,451 each; the scene stays under 500k.
+        let tris = per_mesh(0) * 5_856 + per_mesh(1) * 69_451;
+        assert!(
+            per_mesh(0) >= 4 && per_mesh(1) >= 2 && tris < 500_000,
+            "{tris}"
+        );
+        // Object-space boxes of the two meshes: every instance's centre is in view at 4:3 and 16:9.
+        let bounds = [
+            ([-0.472f32, -0.737, -0.669], [0.472f32, 0.954, 1.049]),
+            ([-0.095f32, 0.033, -0.062], [0.061f32, 0.187, 0.059]),
+        ];
+        for (w, h) in [(800u32, 600u32), (1920, 1080)] {
+            let cam = s.camera(&bounds, w as f32 / h as f32);
+            let vp = cam.view_proj(w, h);
+            for inst in &s.instances {
+                let (lo, hi) = bounds[inst.mesh as usize];
+                let c = (Vec3::from(lo) + Vec3::from(hi)).as_dvec3() * 0.5;
+                let rel = cam.relative_model(&inst.transform);
+                let p =
+                    crate::camera::project_to_pixel(&vp, rel.transform_point3(c.as_vec3()), w, h)
+                        .expect("instance behind the camera");
+                assert!(
+                    p[0] > 0.0 && p[0] < w as f32 && p[1] > 0.0 && p[1] < h as f32,
+                    "{p:?}"
+                );
+                assert!(p[2] < 1.0, "instance before the near plane");
+            }
+        }
     }
 
     #[test]

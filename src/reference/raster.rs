@@ -49,7 +49,9 @@ const GUARD_BAND_PIXELS: f32 = (1 << 20) as f32;
 /// A depth and id buffer for the reference rasterizer.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RasterTarget {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// Row-major depth per pixel; `0.0` = empty (reverse-Z: far away is 0).
     pub depth: Vec<f32>,
@@ -87,7 +89,9 @@ impl RasterTarget {
 /// One covered pixel of one triangle, before the depth test.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fragment {
+    /// Pixel column, from the left.
     pub x: u32,
+    /// Pixel row, from the top.
     pub y: u32,
     /// Interpolated `ndc.z` (reverse-Z: 1 at the near plane, towards 0 far away).
     pub depth: f32,
