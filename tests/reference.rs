@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
 use vgeo::camera::Camera;
-use vgeo::reference::{RasterTarget, for_each_fragment, rasterize};
+use vgeo::reference::{RasterTarget, SideClip, for_each_fragment, rasterize};
 
 /// xorshift64* for test inputs.
 struct Rng(u64);
@@ -32,7 +32,7 @@ fn camera_at_origin(near: f32) -> Camera {
 /// Fragment count per pixel.
 fn counts(w: u32, h: u32, vp: &Mat4, tris: &[([Vec3; 3], u32)]) -> Vec<u32> {
     let mut c = vec![0u32; (w * h) as usize];
-    for_each_fragment(w, h, vp, tris.iter().copied(), |f| {
+    for_each_fragment(w, h, vp, SideClip::Viewport, tris.iter().copied(), |f| {
         c[(f.y * w + f.x) as usize] += 1
     });
     c
@@ -88,11 +88,18 @@ impl Oracle {
 }
 
 /// Compares one triangle's fragments with the oracle; returns (covered, checked pixels).
-fn check_against_oracle(tri: [Vec3; 3], vp: &Mat4, w: u32, h: u32, eps: f64) -> (usize, usize) {
+fn check_against_oracle(
+    tri: [Vec3; 3],
+    vp: &Mat4,
+    w: u32,
+    h: u32,
+    eps: f64,
+    side_clip: SideClip,
+) -> (usize, usize) {
     let oracle = Oracle::new(vp, w, h);
     let mut depth = vec![f32::NAN; (w * h) as usize];
     let mut n = 0;
-    for_each_fragment(w, h, vp, [(tri, 0)], |f| {
+    for_each_fragment(w, h, vp, side_clip, [(tri, 0)], |f| {
         let i = (f.y * w + f.x) as usize;
         assert!(
             depth[i].is_nan(),
@@ -232,8 +239,11 @@ fn near_plane_crossing_draws_only_the_visible_part() {
             Vec3::new(0.1, -0.4, -0.9),
         ],
     ];
-    for tri in tris {
-        let (covered, checked) = check_against_oracle(tri, &vp, w, h, 1.0 / 16.0);
+    for (tri, side_clip) in tris
+        .iter()
+        .flat_map(|t| [(*t, SideClip::Viewport), (*t, SideClip::GuardBand)])
+    {
+        let (covered, checked) = check_against_oracle(tri, &vp, w, h, 1.0 / 16.0, side_clip);
         assert!(
             covered > 100 && covered < (w * h) as usize,
             "covered {covered}"
@@ -267,7 +277,13 @@ fn random_triangles_match_ray_casting() {
         let s = rng.range(0.05, 4.0);
         let tri =
             [0, 1, 2].map(|_| c + Vec3::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s)));
-        total += check_against_oracle(tri, &vp, w, h, 1.0 / 32.0).0;
+        let a = check_against_oracle(tri, &vp, w, h, 1.0 / 32.0, SideClip::Viewport).0;
+        let b = check_against_oracle(tri, &vp, w, h, 1.0 / 32.0, SideClip::GuardBand).0;
+        assert!(
+            a.abs_diff(b) <= 2,
+            "side clipping changed {a} covered pixels to {b}"
+        );
+        total += a;
     }
     assert!(
         total > 10_000,
@@ -323,8 +339,10 @@ fn closer_triangle_wins_and_ties_keep_the_first() {
         rasterize(&mut t, &vp, order);
         let mut both = 0;
         let mut f = vec![0u32; (w * h) as usize];
-        for_each_fragment(w, h, &vp, [far_t], |fr| f[(fr.y * w + fr.x) as usize] += 1);
-        for_each_fragment(w, h, &vp, [near_t], |fr| {
+        for_each_fragment(w, h, &vp, SideClip::Viewport, [far_t], |fr| {
+            f[(fr.y * w + fr.x) as usize] += 1
+        });
+        for_each_fragment(w, h, &vp, SideClip::Viewport, [near_t], |fr| {
             let i = (fr.y * w + fr.x) as usize;
             assert_eq!(t.id[i], 1, "pixel {},{}", fr.x, fr.y);
             assert_eq!(t.depth[i], fr.depth);

@@ -6,4 +6,6 @@
 
 pub mod raster;
 
-pub use raster::{Fragment, RasterTarget, for_each_fragment, mesh_triangles, rasterize};
+pub use raster::{
+    Fragment, RasterTarget, SideClip, for_each_fragment, mesh_triangles, rasterize, rasterize_with,
+};
