@@ -3,6 +3,7 @@
 //! - [`mesh`] imports meshes (glTF, OBJ, PLY, STL, OFF) into a validated, welded [`mesh::Mesh`].
 //! - [`builder`] turns a mesh into a DAG of clusters (CPU only, deterministic); [`format`] stores it.
 //! - [`gpu`] is the only module with raw Vulkan calls; [`baseline`] holds the classic paths.
+//! - [`scene`] reads scene files; [`reference`] has CPU oracles used by tests.
 //!
 //! See `docs/architecture.md` for the map of the code.
 
@@ -13,7 +14,9 @@ pub mod cmd_build;
 pub mod format;
 pub mod gpu;
 pub mod mesh;
+pub mod reference;
 pub mod render;
+pub mod scene;
 pub mod shared;
 
 /// SPIR-V of every shader, embedded at build time (see build.rs).
