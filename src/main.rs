@@ -5,11 +5,8 @@ use std::process::ExitCode;
 
 use anyhow::{Context as _, Result};
 use clap::{Parser, Subcommand};
-use glam::DVec3;
-
-use vgeo::camera::Camera;
 use vgeo::gpu::{Context, ContextOptions};
-use vgeo::render::{Light, Placement};
+use vgeo::render::LoadedScene;
 
 /// vgeo renders triangle scenes of any size at pixel-scale detail (Nanite-style cluster DAGs) on Vulkan.
 ///
@@ -118,27 +115,30 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.mode != "brute" {
         anyhow::bail!("unknown --mode `{}` (available: brute)", a.mode);
     }
-    let (mesh, report) = vgeo::mesh::load_mesh(&a.input)?;
-    for w in &report.warnings {
-        eprintln!("warning: {}: {w}", a.input.display());
+    let t0 = std::time::Instant::now();
+    let loaded = LoadedScene::load(&a.input)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
     }
-    let (lo, hi) = mesh.bounds().context("empty mesh")?;
-    let camera = Camera::frame_bounds(
-        DVec3::from(lo.map(f64::from)),
-        DVec3::from(hi.map(f64::from)),
-        a.width as f32 / a.height as f32,
-    );
-    let placements = [Placement {
-        mesh: 0,
-        transform: glam::DMat4::IDENTITY,
-        color: [0.8, 0.8, 0.8],
-    }];
+    let camera = loaded.camera(a.width, a.height);
+    let load_s = t0.elapsed().as_secs_f64();
     let ctx = context()?;
-    let brute = vgeo::baseline::brute::Brute::new(&ctx, std::slice::from_ref(&mesh))?;
-    let frame = brute.render(&placements, &camera, &Light::default(), a.width, a.height)?;
+    let brute = vgeo::baseline::brute::Brute::new(&ctx, &loaded.meshes)?;
+    let frame = brute.render(
+        &loaded.placements,
+        &camera,
+        &loaded.light,
+        a.width,
+        a.height,
+    )?;
     frame.save_png(&a.out)?;
     println!("device:     {}", ctx.caps().device_name);
     println!("resolution: {}x{}", a.width, a.height);
+    println!(
+        "scene:      {} meshes, {} instances (loaded in {load_s:.2} s)",
+        loaded.meshes.len(),
+        loaded.placements.len()
+    );
     println!("triangles:  {}", frame.triangles);
     println!("GPU time:   {:.3} ms", frame.gpu_total_ms());
     if a.stats {

@@ -67,3 +67,78 @@ impl Frame {
             .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))
     }
 }
+
+/// A scene with its meshes imported, ready for any rendering path.
+pub struct LoadedScene {
+    pub scene: crate::scene::Scene,
+    /// `meshes[i]` is `scene.meshes[i]`, imported (all parts merged).
+    pub meshes: Vec<crate::mesh::Mesh>,
+    pub placements: Vec<Placement>,
+    pub light: Light,
+    /// Import warnings, prefixed with the mesh file.
+    pub warnings: Vec<String>,
+}
+
+impl LoadedScene {
+    /// Loads a scene file (`.toml`) or a single mesh file (auto-framed).
+    pub fn load(path: &Path) -> anyhow::Result<Self> {
+        let is_scene = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+        let scene = if is_scene {
+            crate::scene::Scene::load(path)?
+        } else {
+            crate::scene::Scene::single_mesh(path)
+        };
+        let mut meshes = Vec::with_capacity(scene.meshes.len());
+        let mut warnings = Vec::new();
+        for m in &scene.meshes {
+            let (mesh, report) = crate::mesh::load_mesh(&m.path)?;
+            warnings.extend(
+                report
+                    .warnings
+                    .iter()
+                    .map(|w| format!("{}: {w}", m.path.display())),
+            );
+            meshes.push(mesh);
+        }
+        let placements = scene
+            .instances
+            .iter()
+            .map(|i| Placement {
+                mesh: i.mesh,
+                transform: i.transform,
+                color: i.color,
+            })
+            .collect();
+        let light = Light {
+            direction: scene.light_dir,
+        };
+        Ok(Self {
+            scene,
+            meshes,
+            placements,
+            light,
+            warnings,
+        })
+    }
+
+    /// The scene's camera for an image of `width` x `height`.
+    pub fn camera(&self, width: u32, height: u32) -> crate::camera::Camera {
+        let bounds: Vec<_> = self
+            .meshes
+            .iter()
+            .map(|m| m.bounds().unwrap_or(([0.0; 3], [0.0; 3])))
+            .collect();
+        self.scene
+            .camera(&bounds, width as f32 / height.max(1) as f32)
+    }
+
+    /// Triangles in the scene (instanced).
+    pub fn scene_triangles(&self) -> u64 {
+        self.placements
+            .iter()
+            .map(|p| self.meshes[p.mesh as usize].triangle_count() as u64)
+            .sum()
+    }
+}

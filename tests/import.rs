@@ -1,6 +1,8 @@
 //! Mesh import: every shared asset with its real counts, hand-built files for each format and
 //! feature, and a small fuzz pass (truncations, byte flips) asserting no panic.
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -9,25 +11,8 @@ use vgeo::mesh::{self, ImportError, ImportOptions, Mesh};
 // ---------------------------------------------------------------------------------------------
 // Helpers
 
-/// The shared assets folder: `VGEO_SHARED_ASSETS`, else `../shared/assets` next to the crate,
-/// else `/work/shared/assets`. Fails loudly when none exists: nothing is skipped silently.
 fn assets_dir() -> PathBuf {
-    let candidates: Vec<PathBuf> = std::env::var("VGEO_SHARED_ASSETS")
-        .ok()
-        .map(PathBuf::from)
-        .into_iter()
-        .chain([
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/assets")),
-            PathBuf::from("/work/shared/assets"),
-        ])
-        .collect();
-    candidates
-        .iter()
-        .find(|p| p.is_dir())
-        .cloned()
-        .unwrap_or_else(|| {
-            panic!("shared assets folder not found (tried {candidates:?}); set VGEO_SHARED_ASSETS")
-        })
+    common::shared_assets()
 }
 
 /// A fresh, empty scratch folder for one test.

@@ -1,9 +1,11 @@
 //! The CPU reference rasterizer through its public API, against independent oracles: ray casting
 //! for coverage and depth, exact counts for fill-rule cases, parity of a closed mesh.
 
-use std::path::PathBuf;
+mod common;
+
 use std::time::Instant;
 
+use common::shared_assets;
 use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
 use vgeo::camera::Camera;
 use vgeo::reference::{RasterTarget, SideClip, for_each_fragment, rasterize};
@@ -385,25 +387,6 @@ fn top_left_rule_through_the_public_api() {
             }
         }
     }
-}
-
-/// `VGEO_SHARED_ASSETS`, else `../shared/assets` next to the crate, else `/work/shared/assets`.
-fn shared_assets() -> PathBuf {
-    if let Ok(p) = std::env::var("VGEO_SHARED_ASSETS") {
-        return PathBuf::from(p);
-    }
-    let near = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/assets"));
-    let dir = if near.exists() {
-        near
-    } else {
-        PathBuf::from("/work/shared/assets")
-    };
-    assert!(
-        dir.exists(),
-        "shared assets folder not found (set VGEO_SHARED_ASSETS): {}",
-        dir.display()
-    );
-    dir
 }
 
 #[test]

@@ -576,6 +576,21 @@ impl Context {
         }
     }
 
+    /// Makes one deliberately invalid Vulkan call (a zero-sized buffer), so tests can check that the
+    /// validation messenger catches errors. Not for normal use.
+    #[doc(hidden)]
+    pub fn provoke_validation_error(&self) {
+        let info = vk::BufferCreateInfo::default()
+            .size(0)
+            .usage(vk::BufferUsageFlags::STORAGE_BUFFER);
+        // SAFETY: deliberately invalid (size 0) for the validation layer to report; with validation
+        // on, the layer reports and the driver still returns a handle or an error, which we clean up.
+        if let Ok(b) = unsafe { self.inner.device.create_buffer(&info, None) } {
+            // SAFETY: the buffer (if any) is unused.
+            unsafe { self.inner.device.destroy_buffer(b, None) };
+        }
+    }
+
     pub(crate) fn device(&self) -> &ash::Device {
         &self.inner.device
     }

@@ -141,6 +141,9 @@ impl Drop for ComputePipeline {
     }
 }
 
+/// A vertex attribute: (shader location, format, byte offset in the vertex).
+pub type VertexAttribute = (u32, vk::Format, u32);
+
 /// How to build a graphics pipeline.
 pub struct GraphicsPipelineDesc<'a> {
     pub name: &'a str,
@@ -149,7 +152,7 @@ pub struct GraphicsPipelineDesc<'a> {
     pub bindings: &'a [vk::DescriptorType],
     pub push_constant_size: u32,
     /// Vertex buffer 0: stride and (location, format, offset) attributes; `None` for vertex pulling.
-    pub vertex_layout: Option<(u32, &'a [(u32, vk::Format, u32)])>,
+    pub vertex_layout: Option<(u32, &'a [VertexAttribute])>,
     pub color_formats: &'a [vk::Format],
     pub depth_format: Option<vk::Format>,
     pub depth_compare: vk::CompareOp,

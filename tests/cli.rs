@@ -1,0 +1,144 @@
+//! The `vgeo` command line as a user runs it (validation on).
+
+mod common;
+
+use std::process::Command;
+
+use common::{assets, shared_assets};
+
+fn vgeo() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_vgeo"));
+    c.env("VGEO_VALIDATION", "1");
+    c
+}
+
+fn run(c: &mut Command) -> (bool, String, String) {
+    let out = c.output().expect("vgeo runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn info_prints_device_and_features() {
+    let (ok, out, err) = run(vgeo().arg("info"));
+    assert!(ok, "vgeo info failed: {err}");
+    for key in [
+        "device:",
+        "driver:",
+        "shaderInt64:",
+        "64-bit buffer atomics:",
+        "64-bit image atomics:",
+        "multiDrawIndirect:",
+        "drawIndirectCount:",
+        "timestamps:",
+        "subgroup size:",
+    ] {
+        assert!(out.contains(key), "`{key}` missing from:\n{out}");
+    }
+}
+
+#[test]
+fn render_mesh_writes_png() {
+    let dir = std::env::temp_dir().join(format!("vgeo-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("bunny.png");
+    let bunny = shared_assets().join("scanned/bunny.ply");
+    let (ok, out, err) = run(vgeo()
+        .args(["render", "--width", "96", "--height", "64", "--out"])
+        .arg(&png)
+        .arg(&bunny));
+    assert!(ok, "render failed: {err}");
+    assert!(out.contains("triangles:  69451"), "{out}");
+    let img = image::open(&png).expect("a readable PNG").to_rgba8();
+    assert_eq!(img.dimensions(), (96, 64));
+    let bg = img.get_pixel(0, 0);
+    let lit = img.pixels().filter(|p| *p != bg).count();
+    assert!(lit > 500, "the bunny covers only {lit} pixels");
+    assert!(!err.contains("validation error"), "{err}");
+}
+
+#[test]
+fn bad_input_is_a_clear_error_not_a_panic() {
+    let invalid = shared_assets().join("invalid/BoxWithInfinites.glb");
+    let cases: Vec<(Vec<std::ffi::OsString>, &str)> = vec![
+        (
+            vec!["render".into(), invalid.clone().into()],
+            "BoxWithInfinites.glb",
+        ),
+        (
+            vec!["render".into(), "/nonexistent/mesh.ply".into()],
+            "mesh.ply",
+        ),
+        (
+            vec!["render".into(), assets().join("ATTRIBUTION.md").into()],
+            "ATTRIBUTION.md",
+        ),
+        (
+            vec![
+                "render".into(),
+                "--width".into(),
+                "0".into(),
+                assets().join("spot.obj").into(),
+            ],
+            "--width",
+        ),
+        (
+            vec![
+                "render".into(),
+                "--mode".into(),
+                "magic".into(),
+                assets().join("spot.obj").into(),
+            ],
+            "magic",
+        ),
+    ];
+    for (args, needle) in cases {
+        let (ok, _out, err) = run(vgeo().args(&args));
+        assert!(!ok, "{args:?} should fail");
+        assert!(err.contains("error"), "{args:?}: {err}");
+        assert!(
+            err.contains(needle),
+            "{args:?}: error should name `{needle}`: {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    }
+}
+
+#[test]
+fn build_verify_and_info_of_a_vgeo_file() {
+    let dir = std::env::temp_dir().join(format!("vgeo-cli-build-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out_file = dir.join("spot.vgeo");
+    let (ok, _, err) = run(vgeo()
+        .arg("build")
+        .arg(assets().join("spot.obj"))
+        .arg("-o")
+        .arg(&out_file));
+    assert!(ok, "build failed: {err}");
+    let (ok, out, err) = run(vgeo().arg("verify").arg(&out_file));
+    assert!(ok, "verify failed: {out}{err}");
+    let (ok, out, err) = run(vgeo().arg("info").arg(&out_file));
+    assert!(ok, "info failed: {err}");
+    assert!(
+        out.contains("5856"),
+        "info should state the input triangles: {out}"
+    );
+    // A truncated file is an error, not a panic.
+    let bytes = std::fs::read(&out_file).unwrap();
+    let cut = dir.join("cut.vgeo");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let (ok, _, err) = run(vgeo().arg("verify").arg(&cut));
+    assert!(!ok && !err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn help_explains_commands() {
+    let (ok, out, _) = run(vgeo().arg("--help"));
+    assert!(ok);
+    for cmd in ["render", "build", "verify", "info"] {
+        assert!(out.contains(cmd), "--help lacks `{cmd}`:\n{out}");
+    }
+}
