@@ -2,6 +2,10 @@
 //! `shaders.rs`, which embeds them with `include_bytes!`. Constants come from `src/shared.rs` (the lines
 //! between its `BEGIN/END SHADER CONSTANTS` markers) and reach GLSL as macros. `SHADER_DEBUG=1` keeps
 //! debug info (for RenderDoc) and turns optimization off.
+//!
+//! A shader may ask for extra variants with lines `//! variant <suffix> <MACRO>[=<value>]`: each is
+//! compiled once more with that macro defined, as `<PASS>_<STAGE>_<SUFFIX>` (e.g. the visibility
+//! buffer's image path: `//! variant image VISBUFFER_IMAGE` gives `RASTER_SW_COMP_IMAGE`).
 
 use std::fmt::Write as _;
 use std::fs;
@@ -58,58 +62,77 @@ fn main() {
             }
         };
         let source = fs::read_to_string(path).expect("read shader");
-        let mut opts = shaderc::CompileOptions::new().expect("shaderc options");
-        opts.set_target_env(
-            shaderc::TargetEnv::Vulkan,
-            shaderc::EnvVersion::Vulkan1_2 as u32,
-        );
-        opts.set_target_spirv(shaderc::SpirvVersion::V1_5);
-        opts.set_source_language(shaderc::SourceLanguage::GLSL);
-        if debug {
-            opts.set_generate_debug_info();
-            opts.set_optimization_level(shaderc::OptimizationLevel::Zero);
-        } else {
-            opts.set_optimization_level(shaderc::OptimizationLevel::Performance);
+        let mut variants: Vec<(String, Option<(String, String)>)> = vec![(String::new(), None)];
+        for line in source.lines() {
+            if let Some(rest) = line.trim().strip_prefix("//! variant ") {
+                let mut parts = rest.split_whitespace();
+                let (Some(suffix), Some(def)) = (parts.next(), parts.next()) else {
+                    failed.push(format!(
+                        "{file}: `//! variant <suffix> <MACRO>[=value]` expected: {line}"
+                    ));
+                    continue;
+                };
+                let (k, v) = def.split_once('=').unwrap_or((def, "1"));
+                variants.push((format!("_{suffix}"), Some((k.to_string(), v.to_string()))));
+            }
         }
-        for (k, v) in &constants {
-            opts.add_macro_definition(k, Some(v));
-        }
-        let dir = shader_dir.clone();
-        opts.set_include_callback(move |requested, _ty, requester, _depth| {
-            let base = Path::new(requester)
-                .parent()
-                .map(Path::to_path_buf)
-                .unwrap_or_default();
-            let candidates = [
-                base.join(requested),
-                dir.join(requested),
-                dir.join("common").join(requested),
-            ];
-            for c in candidates {
-                if let Ok(content) = fs::read_to_string(&c) {
-                    return Ok(shaderc::ResolvedInclude {
-                        resolved_name: c.display().to_string(),
-                        content,
-                    });
+        for (suffix, define) in variants {
+            let mut opts = shaderc::CompileOptions::new().expect("shaderc options");
+            opts.set_target_env(
+                shaderc::TargetEnv::Vulkan,
+                shaderc::EnvVersion::Vulkan1_2 as u32,
+            );
+            opts.set_target_spirv(shaderc::SpirvVersion::V1_5);
+            opts.set_source_language(shaderc::SourceLanguage::GLSL);
+            if debug {
+                opts.set_generate_debug_info();
+                opts.set_optimization_level(shaderc::OptimizationLevel::Zero);
+            } else {
+                opts.set_optimization_level(shaderc::OptimizationLevel::Performance);
+            }
+            for (k, v) in &constants {
+                opts.add_macro_definition(k, Some(v));
+            }
+            if let Some((k, v)) = &define {
+                opts.add_macro_definition(k, Some(v));
+            }
+            let dir = shader_dir.clone();
+            opts.set_include_callback(move |requested, _ty, requester, _depth| {
+                let base = Path::new(requester)
+                    .parent()
+                    .map(Path::to_path_buf)
+                    .unwrap_or_default();
+                let candidates = [
+                    base.join(requested),
+                    dir.join(requested),
+                    dir.join("common").join(requested),
+                ];
+                for c in candidates {
+                    if let Ok(content) = fs::read_to_string(&c) {
+                        return Ok(shaderc::ResolvedInclude {
+                            resolved_name: c.display().to_string(),
+                            content,
+                        });
+                    }
                 }
+                Err(format!("cannot find include `{requested}`"))
+            });
+            // The full path as the input name makes errors read `path:line: error: ...`.
+            let input_name = path.display().to_string();
+            match compiler.compile_into_spirv(&source, kind, &input_name, "main", Some(&opts)) {
+                Ok(art) => {
+                    let spv = out.join(format!("{stem}{suffix}.spv"));
+                    fs::write(&spv, art.as_binary_u8()).expect("write spv");
+                    let ident = format!("{stem}{suffix}").replace('.', "_").to_uppercase();
+                    writeln!(
+                        rs,
+                        "pub const {ident}: &[u8] = include_bytes!({:?});",
+                        spv.display().to_string()
+                    )
+                    .unwrap();
+                }
+                Err(e) => failed.push(e.to_string()),
             }
-            Err(format!("cannot find include `{requested}`"))
-        });
-        // The full path as the input name makes errors read `path:line: error: ...`.
-        let input_name = path.display().to_string();
-        match compiler.compile_into_spirv(&source, kind, &input_name, "main", Some(&opts)) {
-            Ok(art) => {
-                let spv = out.join(format!("{stem}.spv"));
-                fs::write(&spv, art.as_binary_u8()).expect("write spv");
-                let ident = stem.replace('.', "_").to_uppercase();
-                writeln!(
-                    rs,
-                    "pub const {ident}: &[u8] = include_bytes!({:?});",
-                    spv.display().to_string()
-                )
-                .unwrap();
-            }
-            Err(e) => failed.push(e.to_string()),
         }
     }
     if !failed.is_empty() {

@@ -14,9 +14,11 @@ pub mod cmd_build;
 pub mod format;
 pub mod gpu;
 pub mod mesh;
+pub mod passes;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod scene_gpu;
 pub mod shared;
 
 /// SPIR-V of every shader, embedded at build time (see build.rs).

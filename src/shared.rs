@@ -20,6 +20,26 @@ pub const VISBUFFER_TRIANGLE_BITS: u32 = 7;
 pub const VISBUFFER_CLUSTER_BITS: u32 = 25;
 /// Workgroup size of simple 2D image passes.
 pub const TILE_WORKGROUP_SIZE: u32 = 8;
+/// Threads of one `instance_cull` workgroup.
+pub const INSTANCE_CULL_WORKGROUP_SIZE: u32 = 64;
+/// Threads of one persistent `cluster_cull` workgroup (items popped per iteration).
+pub const CLUSTER_CULL_WORKGROUP_SIZE: u32 = 64;
+/// Threads of one `raster_sw` workgroup: one per triangle of a cluster.
+pub const RASTER_SW_WORKGROUP_SIZE: u32 = 128;
+/// `cluster_cull` gives up (and reports) after this many loop iterations per workgroup.
+pub const CLUSTER_CULL_WATCHDOG: u32 = 1000000;
+/// An empty slot of the `cluster_cull` work queue (items are `instance << 32 | bvh node`).
+pub const QUEUE_EMPTY_LO: u32 = 0xffffffff;
+/// `ViewGpu::flags`: all clusters to the SW rasterizer.
+pub const VIEW_FLAG_FORCE_SW: u32 = 1;
+/// `ViewGpu::flags`: all clusters to the HW rasterizer.
+pub const VIEW_FLAG_FORCE_HW: u32 = 2;
+/// `ViewGpu::flags`: skip frustum culling (tests compare the pure LOD cut).
+pub const VIEW_FLAG_NO_FRUSTUM: u32 = 4;
+/// `BvhNode::flags`: the node is a leaf over groups `first .. first + count`.
+pub const BVH_FLAG_LEAF: u32 = 1;
+/// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).
+pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
 // END SHADER CONSTANTS
 
 /// Per-frame uniforms of the classic (brute) path. All positions are camera-relative.
@@ -56,3 +76,105 @@ pub struct VertexGpu {
     pub uv: [f32; 2],
 }
 const _: () = assert!(size_of::<VertexGpu>() == 32);
+
+/// Per mesh of the vgeo path: where its data starts in the scene's shared buffers.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct MeshGpu {
+    /// First cluster / group / BVH node / vertex / vertex-reference word of the mesh.
+    pub cluster_offset: u32,
+    pub group_offset: u32,
+    pub bvh_offset: u32,
+    pub vertex_offset: u32,
+    pub vertex_ref_offset: u32,
+    /// Byte offset of the mesh's local triangle indices (3 bytes per triangle).
+    pub triangle_offset: u32,
+    pub cluster_count: u32,
+    /// BVH root node, relative to `bvh_offset` (0 when the mesh has a BVH).
+    pub bvh_root: u32,
+    /// Position grid: `position = origin + code * step`.
+    pub quant_origin: [f32; 3],
+    pub quant_step: f32,
+    /// Object-space bounding sphere of the whole mesh.
+    pub bounds_center: [f32; 3],
+    pub bounds_radius: f32,
+}
+const _: () = assert!(size_of::<MeshGpu>() == 64);
+
+/// One instance of the vgeo path. The translation is split into high and low f32 parts so that
+/// camera-relative positions are exact for scenes far from the origin.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct InstanceVgeo {
+    /// Columns of the 3x3 linear part (w unused).
+    pub linear: [[f32; 4]; 3],
+    pub translation_hi: [f32; 3],
+    pub mesh: u32,
+    pub translation_lo: [f32; 3],
+    /// Largest axis scale of `linear` (scales errors and radii).
+    pub max_scale: f32,
+    /// Albedo tint (rgb), w unused.
+    pub color: [f32; 4],
+}
+const _: () = assert!(size_of::<InstanceVgeo>() == 96);
+
+/// Per-frame view of the vgeo path.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ViewGpu {
+    /// Projection * view rotation, applied to camera-relative positions.
+    pub view_proj: [[f32; 4]; 4],
+    /// Frustum planes (camera-relative; inside: `dot(n, p) + d >= 0`): left, right, top, bottom, near.
+    pub frustum: [[f32; 4]; 5],
+    /// Camera position split into high and low f32 parts (w unused).
+    pub camera_hi: [f32; 4],
+    pub camera_lo: [f32; 4],
+    /// Width, height, 1/width, 1/height.
+    pub viewport: [f32; 4],
+    /// `height / (2 tan(fov_y / 2))`: pixels per unit of error at distance 1.
+    pub proj_scale: f32,
+    /// LOD threshold in pixels.
+    pub error_px: f32,
+    /// Clusters whose projected bounds exceed this many pixels go to the HW rasterizer.
+    pub hw_threshold_px: f32,
+    pub near: f32,
+    pub instance_count: u32,
+    /// `VIEW_FLAG_*`.
+    pub flags: u32,
+    /// Capacity of the cull work queue (items) and of the visible-cluster list.
+    pub queue_capacity: u32,
+    pub visible_capacity: u32,
+}
+const _: () = assert!(size_of::<ViewGpu>() == 224);
+
+/// Counters and indirect arguments written by the culling passes (read back for `--stats`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct CullCounters {
+    /// Work queue: next item to pop, next slot to push, items pushed but not yet processed.
+    pub queue_head: u32,
+    pub queue_tail: u32,
+    pub outstanding: u32,
+    /// `cluster_cull` workgroups that have finished (the last one writes the indirect arguments).
+    pub finished_workgroups: u32,
+    pub instances_tested: u32,
+    pub instances_visible: u32,
+    pub nodes_visited: u32,
+    pub clusters_tested: u32,
+    /// Entries of the visible-cluster list, and how many of them go to each rasterizer.
+    pub visible_count: u32,
+    pub sw_count: u32,
+    pub hw_count: u32,
+    pub triangles: u32,
+    /// Items or clusters dropped because a capacity was exceeded (reported, never silent).
+    pub queue_overflow: u32,
+    pub visible_overflow: u32,
+    /// Non-zero when a `cluster_cull` workgroup hit its watchdog (a bug: reported as an error).
+    pub watchdog: u32,
+    pub _pad0: u32,
+    /// `vkCmdDispatchIndirect` arguments of `raster_sw` (x, y, z) + pad.
+    pub sw_dispatch: [u32; 4],
+    /// `vkCmdDrawIndirect` arguments of `raster_hw` (vertices, instances, first vertex, first instance).
+    pub hw_draw: [u32; 4],
+}
+const _: () = assert!(size_of::<CullCounters>() == 96);

@@ -17,4 +17,113 @@ struct InstanceGpu {
     vec4 color;
 };
 
+struct MeshGpu {
+    uint cluster_offset;
+    uint group_offset;
+    uint bvh_offset;
+    uint vertex_offset;
+    uint vertex_ref_offset;
+    uint triangle_offset;
+    uint cluster_count;
+    uint bvh_root;
+    vec3 quant_origin;
+    float quant_step;
+    vec3 bounds_center;
+    float bounds_radius;
+};
+
+struct InstanceVgeo {
+    vec4 linear[3];
+    vec3 translation_hi;
+    uint mesh;
+    vec3 translation_lo;
+    float max_scale;
+    vec4 color;
+};
+
+struct ViewGpu {
+    mat4 view_proj;
+    vec4 frustum[5];
+    vec4 camera_hi;
+    vec4 camera_lo;
+    vec4 viewport;
+    float proj_scale;
+    float error_px;
+    float hw_threshold_px;
+    float near;
+    uint instance_count;
+    uint flags;
+    uint queue_capacity;
+    uint visible_capacity;
+};
+
+struct CullCounters {
+    uint queue_head;
+    uint queue_tail;
+    uint outstanding;
+    uint finished_workgroups;
+    uint instances_tested;
+    uint instances_visible;
+    uint nodes_visited;
+    uint clusters_tested;
+    uint visible_count;
+    uint sw_count;
+    uint hw_count;
+    uint triangles;
+    uint queue_overflow;
+    uint visible_overflow;
+    uint watchdog;
+    uint _pad0;
+    uvec4 sw_dispatch;
+    uvec4 hw_draw;
+};
+
+// Builder structs (src/builder/mod.rs), as stored in the .vgeo file.
+struct Cluster {
+    vec4 self_sphere;
+    vec4 parent_sphere;
+    vec3 bounds_min;
+    float self_error;
+    vec3 bounds_max;
+    float parent_error;
+    uint vertex_ref_offset;
+    uint vertex_base;
+    uint triangle_offset;
+    uint counts;  // vertex_count | triangle_count << 8 | flags << 16
+    uint group;
+    uint creator;
+    uint level;
+    uint _pad;
+};
+
+struct Group {
+    vec4 lod_sphere;
+    vec3 bounds_min;
+    float error;
+    vec3 bounds_max;
+    uint first_cluster;
+    uint cluster_count;
+    uint iteration;
+    uint _pad0;
+    uint _pad1;
+};
+
+struct BvhNode {
+    vec3 bounds_min;
+    float max_parent_error;
+    vec3 bounds_max;
+    uint flags;
+    vec4 lod_sphere;
+    uint first;
+    uint count;
+    uint _pad0;
+    uint _pad1;
+};
+
+struct PackedVertex {
+    uvec2 position;  // x | y << 21 | z << 42 on the mesh grid
+    uint normal;     // octahedral, 2 x 16 bits
+    uint uv;         // 2 x 16 bits over the mesh's UV range
+};
+
 #endif

@@ -97,8 +97,7 @@ pub type Sphere = [f32; 4];
 /// Sentinel for "no group" (level-0 clusters have no creator group).
 pub const NO_GROUP: u32 = u32::MAX;
 
-/// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).
-pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
+pub use crate::shared::CLUSTER_FLAG_REFS_U32;
 
 /// One cluster as stored on the GPU (and in the file).
 ///
@@ -177,8 +176,7 @@ pub struct Group {
 }
 const _: () = assert!(size_of::<Group>() == 64);
 
-/// BVH node flag: the node is a leaf referencing groups `first .. first + count`.
-pub const BVH_FLAG_LEAF: u32 = 1;
+pub use crate::shared::BVH_FLAG_LEAF;
 
 /// A BVH node (fanout <= 8) over groups.
 #[repr(C)]

@@ -254,6 +254,35 @@ impl Cmd {
         }
     }
 
+    /// Begins dynamic rendering with no attachments over `width` x `height` (for passes whose
+    /// fragment shaders only write storage resources), with viewport and scissor set.
+    pub fn begin_rendering_no_attachments(&mut self, width: u32, height: u32) {
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D { width, height },
+        };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1);
+        // SAFETY: rendering without attachments is valid with dynamic rendering.
+        unsafe {
+            self.ctx
+                .inner
+                .dynamic_rendering
+                .cmd_begin_rendering(self.cb, &info);
+            let vp = vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: width as f32,
+                height: height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            };
+            self.dev().cmd_set_viewport(self.cb, 0, &[vp]);
+            self.dev().cmd_set_scissor(self.cb, 0, &[area]);
+        }
+    }
+
     /// Ends dynamic rendering.
     pub fn end_rendering(&mut self) {
         // SAFETY: rendering was begun on this command buffer.
@@ -404,6 +433,79 @@ impl Cmd {
                 first_instance,
             )
         };
+    }
+
+    /// Fills `size` bytes at `offset` of a buffer with a repeated u32.
+    pub fn fill_buffer_range(&mut self, buf: &Buffer, offset: u64, size: u64, value: u32) {
+        // SAFETY: valid buffer; offset and size are multiples of 4 within the buffer (callers).
+        unsafe {
+            self.dev()
+                .cmd_fill_buffer(self.cb, buf.raw, offset, size, value)
+        };
+    }
+
+    /// Writes small data (at most 65536 bytes, a multiple of 4) into a buffer, in command order.
+    pub fn update_buffer(&mut self, buf: &Buffer, offset: u64, data: &[u8]) {
+        assert!(
+            data.len() <= 65536 && data.len() % 4 == 0,
+            "vkCmdUpdateBuffer limits"
+        );
+        // SAFETY: valid buffer with TRANSFER_DST usage; size limits asserted above.
+        unsafe { self.dev().cmd_update_buffer(self.cb, buf.raw, offset, data) };
+    }
+
+    /// Clears a colour/integer image to zero (it ends in `GENERAL` layout, ready for storage use).
+    pub fn clear_image_zero(&mut self, image: &Image) {
+        self.transition(image, vk::ImageLayout::GENERAL);
+        let range = vk::ImageSubresourceRange {
+            aspect_mask: image.aspect,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let clear = vk::ClearColorValue { uint32: [0; 4] };
+        // SAFETY: the image is in GENERAL layout and was created with TRANSFER_DST usage.
+        unsafe {
+            self.dev().cmd_clear_color_image(
+                self.cb,
+                image.raw,
+                vk::ImageLayout::GENERAL,
+                &clear,
+                &[range],
+            )
+        };
+    }
+
+    /// `vkCmdDispatchIndirect` with arguments at `offset` of `args`.
+    pub fn dispatch_indirect(&mut self, args: &Buffer, offset: u64) {
+        // SAFETY: a compute pipeline is bound; `args` has INDIRECT usage (callers).
+        unsafe { self.dev().cmd_dispatch_indirect(self.cb, args.raw, offset) };
+    }
+
+    /// `vkCmdDrawIndirect` of one draw with arguments at `offset` of `args`.
+    pub fn draw_indirect(&mut self, args: &Buffer, offset: u64) {
+        // SAFETY: a graphics pipeline is bound inside a rendering pass; `args` has INDIRECT usage.
+        unsafe {
+            self.dev()
+                .cmd_draw_indirect(self.cb, args.raw, offset, 1, 16)
+        };
+    }
+
+    /// `vkCmdDraw`.
+    pub fn draw(&mut self, vertex_count: u32, instance_count: u32) {
+        // SAFETY: a graphics pipeline is bound inside a rendering pass.
+        unsafe {
+            self.dev()
+                .cmd_draw(self.cb, vertex_count, instance_count, 0, 0)
+        };
+    }
+
+    /// Moves `image` to `GENERAL` layout for storage access (no-op if it is already there).
+    pub fn to_general(&mut self, image: &Image) {
+        if image.layout.load(Ordering::Relaxed) != vk::ImageLayout::GENERAL.as_raw() {
+            self.transition(image, vk::ImageLayout::GENERAL);
+        }
     }
 
     /// `vkCmdDispatch`.

@@ -1,0 +1,155 @@
+//! The passes of the vgeo frame, one file each (file, shader, debug label, timer scope and pipeline
+//! share the pass's name), and the per-frame buffers they share ([`FrameBuffers`]).
+//!
+//! Data flow of one frame (see `crate::frame`):
+//! `instance_cull` -> `cluster_cull` -> (`raster_sw`, `raster_hw`) -> `debug_view`.
+//! - the work queue: u64 items `instance << 32 | bvh node` (global node index), empty = all ones;
+//! - the visible-cluster list: `uvec2(instance, global cluster index)`;
+//! - the SW and HW lists: u32 indices into the visible list;
+//! - [`CullCounters`]: counts, overflow flags and the indirect arguments of the rasterizers;
+//! - the visibility buffer: 64 bits per pixel, `depth bits << 32 | visible index << 7 | triangle`.
+
+pub mod view;
+
+use crate::gpu::{Buffer, Context, GpuResult, Image, MemoryKind, vk};
+use crate::shared::{CullCounters, ViewGpu};
+
+/// Where the 64-bit visibility buffer lives.
+pub enum VisBuffer {
+    /// `uint64_t` storage buffer with `atomicMax` (VK_KHR_shader_atomic_int64; lavapipe).
+    Buffer(Buffer),
+    /// `R64_UINT` storage image with `imageAtomicMax` (VK_EXT_shader_image_atomic_int64).
+    Image(Image),
+}
+
+/// Which visibility-buffer path to use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VisPath {
+    Buffer,
+    Image,
+}
+
+impl VisPath {
+    /// The path for this device: the image path where 64-bit image atomics exist, else the buffer
+    /// path; `VGEO_VISBUFFER=buffer|image` forces one (image without support is an error).
+    pub fn choose(ctx: &Context) -> Result<Self, String> {
+        let has_image = ctx.caps().image_int64_atomics;
+        match std::env::var("VGEO_VISBUFFER").ok().as_deref() {
+            None | Some("") => Ok(if has_image {
+                VisPath::Image
+            } else {
+                VisPath::Buffer
+            }),
+            Some("buffer") => Ok(VisPath::Buffer),
+            Some("image") if has_image => Ok(VisPath::Image),
+            Some("image") => Err(
+                "VGEO_VISBUFFER=image but the device lacks VK_EXT_shader_image_atomic_int64".into(),
+            ),
+            Some(other) => Err(format!(
+                "VGEO_VISBUFFER={other:?}: expected `buffer` or `image`"
+            )),
+        }
+    }
+}
+
+/// The per-frame buffers shared by the passes. Sized once for a resolution and capacities.
+pub struct FrameBuffers {
+    pub width: u32,
+    pub height: u32,
+    /// [`ViewGpu`] (host-visible, written each frame).
+    pub view: Buffer,
+    /// [`CullCounters`] (device-local; cleared each frame).
+    pub counters: Buffer,
+    /// Work queue of `cluster_cull` (`queue_capacity` u64 items).
+    pub queue: Buffer,
+    /// Visible clusters, `uvec2(instance, cluster)`, `visible_capacity` entries.
+    pub visible: Buffer,
+    /// Indices into `visible` of the clusters each rasterizer draws.
+    pub sw_list: Buffer,
+    pub hw_list: Buffer,
+    pub visbuffer: VisBuffer,
+    pub queue_capacity: u32,
+    pub visible_capacity: u32,
+}
+
+impl FrameBuffers {
+    /// Creates the buffers for a `width` x `height` frame.
+    pub fn new(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        path: VisPath,
+        queue_capacity: u32,
+        visible_capacity: u32,
+    ) -> GpuResult<Self> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let dst = vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
+        let gpu = |name: &str, size: u64, extra: vk::BufferUsageFlags| {
+            Buffer::new(ctx, name, size, storage | dst | extra, MemoryKind::Gpu)
+        };
+        let visbuffer = match path {
+            VisPath::Buffer => VisBuffer::Buffer(gpu(
+                "visbuffer",
+                8 * width as u64 * height as u64,
+                vk::BufferUsageFlags::empty(),
+            )?),
+            VisPath::Image => VisBuffer::Image(Image::new(
+                ctx,
+                "visbuffer",
+                width,
+                height,
+                vk::Format::R64_UINT,
+                vk::ImageUsageFlags::STORAGE
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+                    | vk::ImageUsageFlags::TRANSFER_DST,
+            )?),
+        };
+        Ok(Self {
+            width,
+            height,
+            view: Buffer::new(
+                ctx,
+                "view",
+                size_of::<ViewGpu>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER | storage,
+                MemoryKind::Upload,
+            )?,
+            counters: gpu(
+                "cull counters",
+                size_of::<CullCounters>() as u64,
+                vk::BufferUsageFlags::INDIRECT_BUFFER,
+            )?,
+            queue: gpu(
+                "cull queue",
+                8 * queue_capacity as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            visible: gpu(
+                "visible clusters",
+                8 * visible_capacity as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            sw_list: gpu(
+                "sw clusters",
+                4 * visible_capacity as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            hw_list: gpu(
+                "hw clusters",
+                4 * visible_capacity as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            visbuffer,
+            queue_capacity,
+            visible_capacity,
+        })
+    }
+
+    /// The path in use.
+    pub fn vis_path(&self) -> VisPath {
+        match self.visbuffer {
+            VisBuffer::Buffer(_) => VisPath::Buffer,
+            VisBuffer::Image(_) => VisPath::Image,
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! The per-frame view of the vgeo path ([`ViewGpu`]) from a camera and the LOD settings.
+
+use glam::{Mat4, Vec4};
+
+use crate::builder::cut::proj_scale;
+use crate::camera::Camera;
+use crate::scene_gpu::split_f64;
+use crate::shared::ViewGpu;
+
+/// Settings of one vgeo frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameSettings {
+    /// LOD threshold: the largest projected error allowed, in pixels.
+    pub error_px: f32,
+    /// Clusters whose projected size exceeds this many pixels go to the HW rasterizer.
+    pub hw_threshold_px: f32,
+    /// `VIEW_FLAG_*` (force SW / HW, no frustum culling).
+    pub flags: u32,
+}
+
+impl Default for FrameSettings {
+    fn default() -> Self {
+        Self {
+            error_px: 1.0,
+            hw_threshold_px: 32.0,
+            flags: 0,
+        }
+    }
+}
+
+/// Frustum planes of a camera-relative view-projection (inside: `dot(n, p) + d >= 0`), normalized:
+/// left, right, top, bottom, near. The far plane is at infinity.
+pub fn frustum_planes(vp: &Mat4) -> [Vec4; 5] {
+    let r0 = vp.row(0);
+    let r1 = vp.row(1);
+    let r2 = vp.row(2);
+    let r3 = vp.row(3);
+    // Reverse-Z infinite: depth = z/w in [0, 1] means z <= w (near plane) and z >= 0 (always).
+    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 - r2].map(|p| p / p.truncate().length().max(1e-30))
+}
+
+/// The [`ViewGpu`] of `camera` for a `width` x `height` image.
+pub fn view_gpu(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    settings: &FrameSettings,
+    instance_count: u32,
+    queue_capacity: u32,
+    visible_capacity: u32,
+) -> ViewGpu {
+    let vp = camera.view_proj(width, height);
+    let (hx, lx) = split_f64(camera.position.x);
+    let (hy, ly) = split_f64(camera.position.y);
+    let (hz, lz) = split_f64(camera.position.z);
+    ViewGpu {
+        view_proj: vp.to_cols_array_2d(),
+        frustum: frustum_planes(&vp).map(|p| p.to_array()),
+        camera_hi: [hx, hy, hz, 0.0],
+        camera_lo: [lx, ly, lz, 0.0],
+        viewport: [
+            width as f32,
+            height as f32,
+            1.0 / width as f32,
+            1.0 / height as f32,
+        ],
+        proj_scale: proj_scale(height as f32, camera.fov_y),
+        error_px: settings.error_px,
+        hw_threshold_px: settings.hw_threshold_px,
+        near: camera.near,
+        instance_count,
+        flags: settings.flags,
+        queue_capacity,
+        visible_capacity,
+    }
+}

@@ -1,0 +1,170 @@
+//! The vgeo path's scene on the GPU: every mesh's cluster DAG in shared buffers (uploaded once) and
+//! the instances. Nothing here changes per frame; the per-frame data is [`crate::shared::ViewGpu`].
+
+use glam::{DMat4, DVec3, Mat3};
+
+use crate::builder::BuiltMesh;
+use crate::gpu::{Buffer, Context, GpuError, GpuResult, vk};
+use crate::render::Placement;
+use crate::shared::{InstanceVgeo, MeshGpu};
+
+/// Splits an f64 into a high f32 and the f32 of the remainder (`hi + lo` is exact to ~1e-14 relative).
+pub fn split_f64(v: f64) -> (f32, f32) {
+    let hi = v as f32;
+    (hi, (v - hi as f64) as f32)
+}
+
+/// The GPU form of one placement.
+pub fn instance_gpu(p: &Placement) -> InstanceVgeo {
+    let m: DMat4 = p.transform;
+    let lin = Mat3::from_cols(
+        m.x_axis.truncate().as_vec3(),
+        m.y_axis.truncate().as_vec3(),
+        m.z_axis.truncate().as_vec3(),
+    );
+    let t: DVec3 = m.w_axis.truncate();
+    let (hx, lx) = split_f64(t.x);
+    let (hy, ly) = split_f64(t.y);
+    let (hz, lz) = split_f64(t.z);
+    let max_scale = lin
+        .x_axis
+        .length()
+        .max(lin.y_axis.length())
+        .max(lin.z_axis.length());
+    InstanceVgeo {
+        linear: [
+            lin.x_axis.extend(0.0).into(),
+            lin.y_axis.extend(0.0).into(),
+            lin.z_axis.extend(0.0).into(),
+        ],
+        translation_hi: [hx, hy, hz],
+        mesh: p.mesh,
+        translation_lo: [lx, ly, lz],
+        max_scale,
+        color: [p.color[0], p.color[1], p.color[2], 1.0],
+    }
+}
+
+/// Bounding sphere (center, radius) of a built mesh's level-0 bounds.
+fn mesh_sphere(m: &BuiltMesh) -> ([f32; 3], f32) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for c in &m.clusters {
+        for k in 0..3 {
+            lo[k] = lo[k].min(c.bounds_min[k]);
+            hi[k] = hi[k].max(c.bounds_max[k]);
+        }
+    }
+    if !lo[0].is_finite() {
+        return ([0.0; 3], 0.0);
+    }
+    let c = [
+        (lo[0] + hi[0]) * 0.5,
+        (lo[1] + hi[1]) * 0.5,
+        (lo[2] + hi[2]) * 0.5,
+    ];
+    let r =
+        ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt() * 0.5;
+    (c, r * 1.0001)
+}
+
+/// All meshes' DAG data and the instances, in GPU buffers.
+pub struct GpuScene {
+    pub meshes: Buffer,
+    pub instances: Buffer,
+    pub clusters: Buffer,
+    pub groups: Buffer,
+    pub bvh: Buffer,
+    pub vertices: Buffer,
+    pub vertex_refs: Buffer,
+    /// Local triangle indices, 3 bytes per triangle, packed into u32 words (little-endian).
+    pub triangles: Buffer,
+    pub mesh_table: Vec<MeshGpu>,
+    pub instance_count: u32,
+    pub total_clusters: u32,
+}
+
+impl GpuScene {
+    /// Uploads `built` meshes and `placements` (whose `mesh` indexes `built`).
+    pub fn new(ctx: &Context, built: &[BuiltMesh], placements: &[Placement]) -> GpuResult<Self> {
+        if let Some(p) = placements.iter().find(|p| p.mesh as usize >= built.len()) {
+            return Err(GpuError::Other(format!(
+                "placement refers to mesh {} of {}",
+                p.mesh,
+                built.len()
+            )));
+        }
+        let mut table = Vec::with_capacity(built.len());
+        let (mut clusters, mut groups, mut bvh, mut vertices, mut refs, mut tris) = (
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+        );
+        for m in built {
+            let (center, radius) = mesh_sphere(m);
+            let q = &m.quantization;
+            table.push(MeshGpu {
+                cluster_offset: clusters.len() as u32,
+                group_offset: groups.len() as u32,
+                bvh_offset: bvh.len() as u32,
+                vertex_offset: vertices.len() as u32,
+                vertex_ref_offset: refs.len() as u32,
+                triangle_offset: tris.len() as u32,
+                cluster_count: m.clusters.len() as u32,
+                bvh_root: 0,
+                quant_origin: [q.origin[0] as f32, q.origin[1] as f32, q.origin[2] as f32],
+                quant_step: q.step as f32,
+                bounds_center: center,
+                bounds_radius: radius,
+            });
+            clusters.extend_from_slice(&m.clusters);
+            groups.extend_from_slice(&m.groups);
+            bvh.extend_from_slice(&m.bvh);
+            vertices.extend_from_slice(&m.vertices);
+            refs.extend_from_slice(&m.vertex_refs);
+            tris.extend_from_slice(&m.triangles);
+        }
+        while tris.len() % 4 != 0 {
+            tris.push(0);
+        }
+        if clusters.len() as u64 >= (1 << 31) || tris.len() as u64 >= u32::MAX as u64 {
+            return Err(GpuError::Other(
+                "scene geometry exceeds 32-bit offsets".into(),
+            ));
+        }
+        let instances: Vec<InstanceVgeo> = placements.iter().map(instance_gpu).collect();
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let up = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes, usage);
+        Ok(Self {
+            meshes: up("scene meshes", bytemuck::cast_slice(&table))?,
+            instances: up("scene instances", bytemuck::cast_slice(&instances))?,
+            clusters: up("scene clusters", bytemuck::cast_slice(&clusters))?,
+            groups: up("scene groups", bytemuck::cast_slice(&groups))?,
+            bvh: up("scene bvh", bytemuck::cast_slice(&bvh))?,
+            vertices: up("scene vertices", bytemuck::cast_slice(&vertices))?,
+            vertex_refs: up("scene vertex refs", bytemuck::cast_slice(&refs))?,
+            triangles: up("scene triangles", &tris)?,
+            total_clusters: clusters.len() as u32,
+            mesh_table: table,
+            instance_count: placements.len() as u32,
+        })
+    }
+
+    /// GPU bytes of geometry (clusters, groups, BVH, vertices, references, triangles).
+    pub fn geometry_bytes(&self) -> u64 {
+        [
+            &self.clusters,
+            &self.groups,
+            &self.bvh,
+            &self.vertices,
+            &self.vertex_refs,
+            &self.triangles,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
+    }
+}
