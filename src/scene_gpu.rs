@@ -127,7 +127,7 @@ impl GpuScene {
             refs.extend_from_slice(&m.vertex_refs);
             tris.extend_from_slice(&m.triangles);
         }
-        while tris.len() % 4 != 0 {
+        while !tris.len().is_multiple_of(4) {
             tris.push(0);
         }
         if clusters.len() as u64 >= (1 << 31) || tris.len() as u64 >= u32::MAX as u64 {

@@ -447,7 +447,7 @@ impl Cmd {
     /// Writes small data (at most 65536 bytes, a multiple of 4) into a buffer, in command order.
     pub fn update_buffer(&mut self, buf: &Buffer, offset: u64, data: &[u8]) {
         assert!(
-            data.len() <= 65536 && data.len() % 4 == 0,
+            data.len() <= 65536 && data.len().is_multiple_of(4),
             "vkCmdUpdateBuffer limits"
         );
         // SAFETY: valid buffer with TRANSFER_DST usage; size limits asserted above.
