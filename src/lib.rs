@@ -12,6 +12,7 @@ pub mod builder;
 pub mod camera;
 pub mod cmd_build;
 pub mod format;
+pub mod frame;
 pub mod gpu;
 pub mod mesh;
 pub mod passes;

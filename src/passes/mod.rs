@@ -9,6 +9,8 @@
 //! - [`CullCounters`]: counts, overflow flags and the indirect arguments of the rasterizers;
 //! - the visibility buffer: 64 bits per pixel, `depth bits << 32 | visible index << 7 | triangle`.
 
+pub mod cluster_cull;
+pub mod instance_cull;
 pub mod view;
 
 use crate::gpu::{Buffer, Context, GpuResult, Image, MemoryKind, vk};

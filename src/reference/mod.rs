@@ -4,6 +4,7 @@
 //!   [`SUBPIXEL_BITS`](crate::shared::SUBPIXEL_BITS) sub-pixel bits, top-left fill rule, near-plane
 //!   clipping, reverse-Z depth test `GREATER`), so GPU readbacks can be compared pixel by pixel.
 
+pub mod cut;
 pub mod raster;
 
 pub use raster::{

@@ -1,0 +1,206 @@
+#version 460
+// Pass `cluster_cull`: persistent workgroups over a global queue of (instance, BVH node) items.
+// Each iteration one lane claims up to CLUSTER_CULL_WORKGROUP_SIZE items for the workgroup (shared
+// through shared memory; the loop is workgroup-uniform with barriers inside), every lane processes
+// one: frustum and LOD tests of the node, children pushed back to the queue, or for a leaf the cut
+// rule per cluster and an append to the visible list and the SW or HW list. The end is detected by
+// a counter of outstanding items (pushed but not processed), never by an empty queue alone; a
+// watchdog bounds the loop. The last workgroup to finish writes the rasterizers' indirect arguments.
+//
+// The queue is a bounded array per frame (slots start empty, all ones): a push reserves a slot with
+// atomicAdd and publishes the item with an atomic exchange; a consumer waits for the publish. A
+// producer never waits, so no lane waits on a lane that cannot run.
+#extension GL_EXT_shader_atomic_int64 : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#include "shared.glsl"
+#include "cull.glsl"
+
+layout(local_size_x = CLUSTER_CULL_WORKGROUP_SIZE) in;
+
+layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
+layout(set = 0, binding = 1, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
+layout(set = 0, binding = 2, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
+layout(set = 0, binding = 3, scalar) coherent buffer Counters { CullCounters counters; };
+layout(set = 0, binding = 4) coherent buffer Queue { uint64_t queue[]; };
+layout(set = 0, binding = 5, scalar) readonly buffer Bvh { BvhNode bvh[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Groups { Group groups[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 8) writeonly buffer Visible { uvec2 visible[]; };
+layout(set = 0, binding = 9) writeonly buffer SwList { uint sw_list[]; };
+layout(set = 0, binding = 10) writeonly buffer HwList { uint hw_list[]; };
+
+const uint64_t EMPTY = ~uint64_t(0);
+
+shared uint s_first;
+shared uint s_count;
+shared uint s_done;
+
+uint load_counter_tail() {
+    return min(atomicAdd(counters.queue_tail, 0u), view.queue_capacity);
+}
+
+void push(uint instance, uint node) {
+    atomicAdd(counters.outstanding, 1u);
+    uint slot = atomicAdd(counters.queue_tail, 1u);
+    if (slot >= view.queue_capacity) {
+        atomicAdd(counters.queue_overflow, 1u);
+        atomicAdd(counters.outstanding, 0xffffffffu);
+        return;
+    }
+    atomicExchange(queue[slot], (uint64_t(instance) << 32) | uint64_t(node));
+}
+
+void emit_cluster(uint instance, uint cluster_index, Cluster cl, vec3 center, float radius) {
+    uint v = atomicAdd(counters.visible_count, 1u);
+    if (v >= view.visible_capacity) {
+        atomicAdd(counters.visible_overflow, 1u);
+        return;
+    }
+    visible[v] = uvec2(instance, cluster_index);
+    // Rasterizer choice: clusters reaching the near plane always go to HW (the SW rasterizer
+    // cannot clip); otherwise by projected size, unless forced.
+    float dist = length(center) - radius;
+    bool near_crossing = dist <= view.near;
+    bool hw;
+    if (near_crossing) {
+        hw = true;
+    } else if ((view.flags & VIEW_FLAG_FORCE_HW) != 0u) {
+        hw = true;
+    } else if ((view.flags & VIEW_FLAG_FORCE_SW) != 0u) {
+        hw = false;
+    } else {
+        hw = 2.0 * radius * view.proj_scale / dist > view.hw_threshold_px;
+    }
+    if (hw) {
+        uint h = atomicAdd(counters.hw_count, 1u);
+        hw_list[h] = v;
+    } else {
+        uint s = atomicAdd(counters.sw_count, 1u);
+        sw_list[s] = v;
+    }
+    atomicAdd(counters.triangles, (cl.counts >> 8) & 0xffu);
+}
+
+void process(uint64_t item) {
+    uint instance = uint(item >> 32);
+    uint node_index = uint(item & 0xffffffffu);
+    atomicAdd(counters.nodes_visited, 1u);
+    InstanceVgeo inst = instances[instance];
+    MeshGpu mesh = meshes[inst.mesh];
+    BvhNode node = bvh[node_index];
+    float scale = inst.max_scale;
+    bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
+
+    if (frustum) {
+        vec3 bc = relative_position(inst, view, (node.bounds_min + node.bounds_max) * 0.5);
+        float br = length(node.bounds_max - node.bounds_min) * 0.5 * scale;
+        if (!sphere_in_frustum(view, bc, br)) {
+            return;
+        }
+    }
+    // No cluster below can be drawn when even the largest parent error is already fine.
+    vec3 lc = relative_position(inst, view, node.lod_sphere.xyz);
+    if (lod_error_px(node.max_parent_error * scale, lc, node.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
+        return;
+    }
+    if ((node.flags & BVH_FLAG_LEAF) == 0u) {
+        for (uint k = 0u; k < node.count; k++) {
+            push(instance, mesh.bvh_offset + node.first + k);
+        }
+        return;
+    }
+    for (uint g = 0u; g < node.count; g++) {
+        Group group = groups[mesh.group_offset + node.first + g];
+        for (uint k = 0u; k < group.cluster_count; k++) {
+            uint ci = mesh.cluster_offset + group.first_cluster + k;
+            Cluster cl = clusters[ci];
+            atomicAdd(counters.clusters_tested, 1u);
+            vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
+            vec3 pc = relative_position(inst, view, cl.parent_sphere.xyz);
+            bool fine = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) <= view.error_px;
+            bool parent_coarse =
+                lod_error_px(cl.parent_error * scale, pc, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
+            if (!(fine && parent_coarse)) {
+                continue;
+            }
+            vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
+            float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * scale;
+            if (frustum && !sphere_in_frustum(view, cc, cr)) {
+                continue;
+            }
+            emit_cluster(instance, ci, cl, cc, cr);
+        }
+    }
+}
+
+void main() {
+    uint lane = gl_LocalInvocationID.x;
+    uint iterations = 0u;
+    for (;;) {
+        if (lane == 0u) {
+            s_count = 0u;
+            s_done = 0u;
+            // Claim up to a workgroup's worth of published-or-reserved items.
+            uint h = atomicAdd(counters.queue_head, 0u);
+            for (uint tries = 0u; tries < 64u; tries++) {
+                uint t = load_counter_tail();
+                if (h >= t) {
+                    break;
+                }
+                uint k = min(t - h, uint(CLUSTER_CULL_WORKGROUP_SIZE));
+                uint prev = atomicCompSwap(counters.queue_head, h, h + k);
+                if (prev == h) {
+                    s_first = h;
+                    s_count = k;
+                    break;
+                }
+                h = prev;
+            }
+            if (s_count == 0u && atomicAdd(counters.outstanding, 0u) == 0u) {
+                s_done = 1u;
+            }
+            iterations++;
+            if (iterations > CLUSTER_CULL_WATCHDOG) {
+                atomicOr(counters.watchdog, 1u);
+                s_done = 1u;
+            }
+        }
+        barrier();
+        memoryBarrierShared();
+        if (s_done != 0u) {
+            break;
+        }
+        uint count = s_count;
+        uint first = s_first;
+        barrier();
+        if (lane < count) {
+            // Wait for the producer's publish (it reserved the slot and publishes right away).
+            uint64_t item = EMPTY;
+            for (uint spin = 0u; spin < CLUSTER_CULL_WATCHDOG; spin++) {
+                item = atomicExchange(queue[first + lane], EMPTY);
+                if (item != EMPTY) {
+                    break;
+                }
+            }
+            if (item == EMPTY) {
+                atomicOr(counters.watchdog, 2u);
+            } else {
+                process(item);
+            }
+            memoryBarrierBuffer();
+            atomicAdd(counters.outstanding, 0xffffffffu);
+        }
+        barrier();
+    }
+    // The last workgroup to finish writes the rasterizers' indirect arguments.
+    if (lane == 0u) {
+        memoryBarrierBuffer();
+        uint finished = atomicAdd(counters.finished_workgroups, 1u);
+        if (finished == gl_NumWorkGroups.x - 1u) {
+            uint sw = atomicAdd(counters.sw_count, 0u);
+            uint hw = atomicAdd(counters.hw_count, 0u);
+            counters.sw_dispatch = uvec4(min(sw, 65535u), 1u, 1u, 0u);
+            counters.hw_draw = uvec4(MAX_CLUSTER_TRIANGLES * 3u, hw, 0u, 0u);
+        }
+    }
+}

@@ -1,0 +1,237 @@
+//! One vgeo frame: orders the passes, owns the per-frame buffers, reads back results and stats.
+//!
+//! `instance_cull` -> `cluster_cull` -> `raster_sw` + `raster_hw` -> `debug_view`. The CPU records a
+//! fixed command buffer: nothing in it depends on the number of instances or clusters, the counts
+//! live on the GPU and reach the rasterizers through indirect arguments.
+
+use crate::builder::BuiltMesh;
+use crate::camera::Camera;
+use crate::gpu::{Cmd, Context, GpuError, GpuResult, Timer, vk};
+use crate::passes::cluster_cull::{ClusterCull, default_workgroups};
+use crate::passes::instance_cull::InstanceCull;
+use crate::passes::view::{FrameSettings, view_gpu};
+use crate::passes::{FrameBuffers, VisPath};
+use crate::render::Placement;
+use crate::scene_gpu::GpuScene;
+use crate::shared::CullCounters;
+
+/// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits.
+pub const MAX_VISIBLE: u32 = 1 << crate::shared::VISBUFFER_CLUSTER_BITS;
+/// Largest cull work queue (items of 8 bytes).
+pub const MAX_QUEUE: u32 = 1 << 25;
+
+/// Culling results read back from the GPU.
+#[derive(Clone, Debug)]
+pub struct CullResult {
+    pub counters: CullCounters,
+    /// `(instance, global cluster)` of every drawn cluster, in the GPU's (unspecified) order.
+    pub visible: Vec<[u32; 2]>,
+    /// Visible-list indices per rasterizer.
+    pub sw: Vec<u32>,
+    pub hw: Vec<u32>,
+    pub gpu_ms: Vec<(String, f64)>,
+}
+
+impl CullResult {
+    /// Fails when a capacity overflowed or the watchdog tripped: results would be incomplete.
+    pub fn check(&self) -> Result<(), String> {
+        let c = &self.counters;
+        if c.watchdog != 0 {
+            return Err(format!(
+                "cluster_cull watchdog tripped (code {}): the work queue did not drain",
+                c.watchdog
+            ));
+        }
+        if c.queue_overflow != 0 {
+            return Err(format!(
+                "cull work queue overflowed: {} items dropped",
+                c.queue_overflow
+            ));
+        }
+        if c.visible_overflow != 0 {
+            return Err(format!(
+                "visible-cluster list overflowed: {} clusters dropped",
+                c.visible_overflow
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The vgeo renderer: the scene on the GPU, the pass pipelines and the frame buffers.
+pub struct VgeoRenderer {
+    ctx: Context,
+    pub scene: GpuScene,
+    instance_cull: InstanceCull,
+    cluster_cull: ClusterCull,
+    fb: Option<FrameBuffers>,
+    vis_path: VisPath,
+    queue_capacity: u32,
+    visible_capacity: u32,
+}
+
+impl VgeoRenderer {
+    /// Uploads the scene and creates the pipelines.
+    pub fn new(ctx: &Context, built: &[BuiltMesh], placements: &[Placement]) -> GpuResult<Self> {
+        let scene = GpuScene::new(ctx, built, placements)?;
+        let vis_path = VisPath::choose(ctx).map_err(GpuError::Other)?;
+        // Every BVH node is visited at most once per instance, and at most every cluster drawn.
+        let nodes: u64 = placements
+            .iter()
+            .map(|p| built[p.mesh as usize].bvh.len() as u64)
+            .sum();
+        let clusters: u64 = placements
+            .iter()
+            .map(|p| built[p.mesh as usize].clusters.len() as u64)
+            .sum();
+        let queue_capacity = nodes.clamp(64, MAX_QUEUE as u64) as u32;
+        let visible_capacity = clusters.clamp(64, MAX_VISIBLE as u64) as u32;
+        Ok(Self {
+            ctx: ctx.clone(),
+            scene,
+            instance_cull: InstanceCull::new(ctx)?,
+            cluster_cull: ClusterCull::new(ctx, default_workgroups(ctx.caps()))?,
+            fb: None,
+            vis_path,
+            queue_capacity,
+            visible_capacity,
+        })
+    }
+
+    /// Replaces the number of persistent `cluster_cull` workgroups.
+    pub fn set_cull_workgroups(&mut self, n: u32) -> GpuResult<()> {
+        self.cluster_cull = ClusterCull::new(&self.ctx, n)?;
+        Ok(())
+    }
+
+    /// The visibility-buffer path in use.
+    pub fn vis_path(&self) -> VisPath {
+        self.vis_path
+    }
+
+    fn frame_buffers(&mut self, width: u32, height: u32) -> GpuResult<()> {
+        let ok = self
+            .fb
+            .as_ref()
+            .is_some_and(|f| f.width == width && f.height == height);
+        if !ok {
+            self.fb = Some(FrameBuffers::new(
+                &self.ctx,
+                width,
+                height,
+                self.vis_path,
+                self.queue_capacity,
+                self.visible_capacity,
+            )?);
+        }
+        Ok(())
+    }
+
+    /// Records the culling passes (with their clears and barriers).
+    fn record_cull(&self, cmd: &mut Cmd, timer: &mut Timer, fb: &FrameBuffers) {
+        cmd.fill_buffer(&fb.counters, 0);
+        cmd.fill_buffer(&fb.queue, u32::MAX);
+        let transfer_to_compute = (
+            (
+                vk::PipelineStageFlags2::ALL_TRANSFER,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+        );
+        cmd.barrier(transfer_to_compute.0, transfer_to_compute.1);
+        self.instance_cull.record(cmd, timer, &self.scene, fb);
+        let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+        cmd.barrier(
+            (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+            (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+        );
+        self.cluster_cull.record(cmd, timer, &self.scene, fb);
+        cmd.barrier(
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER
+                    | vk::PipelineStageFlags2::DRAW_INDIRECT
+                    | vk::PipelineStageFlags2::VERTEX_SHADER
+                    | vk::PipelineStageFlags2::FRAGMENT_SHADER
+                    | vk::PipelineStageFlags2::ALL_TRANSFER,
+                vk::AccessFlags2::SHADER_STORAGE_READ
+                    | vk::AccessFlags2::INDIRECT_COMMAND_READ
+                    | vk::AccessFlags2::TRANSFER_READ,
+            ),
+        );
+    }
+
+    fn write_view(
+        &mut self,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+    ) -> GpuResult<()> {
+        self.frame_buffers(width, height)?;
+        let view = view_gpu(
+            camera,
+            width,
+            height,
+            settings,
+            self.scene.instance_count,
+            self.queue_capacity,
+            self.visible_capacity,
+        );
+        let fb = self
+            .fb
+            .as_mut()
+            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+        fb.view.write(0, bytemuck::bytes_of(&view))
+    }
+
+    /// Runs only the culling passes and reads back their results (tests compare them with the CPU cut).
+    pub fn cull(
+        &mut self,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+    ) -> GpuResult<CullResult> {
+        self.write_view(camera, width, height, settings)?;
+        let fb = self
+            .fb
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+        let mut timer = Timer::new(&self.ctx, 8)?;
+        self.ctx.submit_and_wait("vgeo cull", |cmd| {
+            timer.reset(cmd);
+            self.record_cull(cmd, &mut timer, fb);
+        })?;
+        let gpu_ms = timer.results()?;
+        read_cull(fb, gpu_ms)
+    }
+}
+
+/// Reads the counters and lists back.
+fn read_cull(fb: &FrameBuffers, gpu_ms: Vec<(String, f64)>) -> GpuResult<CullResult> {
+    let counters: CullCounters =
+        *bytemuck::from_bytes(&fb.counters.download()?[..size_of::<CullCounters>()]);
+    let n_vis = counters.visible_count.min(fb.visible_capacity) as usize;
+    let vis_bytes = fb.visible.download()?;
+    let visible: Vec<[u32; 2]> =
+        bytemuck::cast_slice::<u8, [u32; 2]>(&vis_bytes[..8 * n_vis]).to_vec();
+    let list = |b: &crate::gpu::Buffer, n: u32| -> GpuResult<Vec<u32>> {
+        let bytes = b.download()?;
+        let n = (n.min(fb.visible_capacity)) as usize;
+        Ok(bytemuck::cast_slice::<u8, u32>(&bytes[..4 * n]).to_vec())
+    };
+    Ok(CullResult {
+        sw: list(&fb.sw_list, counters.sw_count)?,
+        hw: list(&fb.hw_list, counters.hw_count)?,
+        counters,
+        visible,
+        gpu_ms,
+    })
+}

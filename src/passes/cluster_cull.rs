@@ -1,0 +1,90 @@
+//! Pass `cluster_cull`: persistent workgroups traverse every visible instance's BVH from a global
+//! work queue (frustum and LOD tests per node), apply the cut rule per cluster and append the drawn
+//! clusters to the visible list and to the SW or HW rasterizer's list. See the shader's header for
+//! the queue protocol and termination.
+
+use crate::gpu::{Caps, Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, Timer, vk};
+use crate::passes::FrameBuffers;
+use crate::scene_gpu::GpuScene;
+
+/// The `cluster_cull` pipeline and its persistent workgroup count.
+pub struct ClusterCull {
+    pipeline: ComputePipeline,
+    workgroups: u32,
+}
+
+/// How many persistent workgroups to launch: `VGEO_CULL_WORKGROUPS` if set, else what the device
+/// can keep resident: a CPU device (lavapipe) runs one workgroup per worker thread, so its thread
+/// count; a GPU gets 256 (far below what one H100 keeps resident).
+pub fn default_workgroups(caps: &Caps) -> u32 {
+    if let Some(n) = std::env::var("VGEO_CULL_WORKGROUPS")
+        .ok()
+        .and_then(|v| v.parse::<u32>().ok())
+    {
+        return n.max(1);
+    }
+    if caps.device_type == "cpu" {
+        std::env::var("LP_NUM_THREADS")
+            .ok()
+            .and_then(|v| v.parse::<u32>().ok())
+            .unwrap_or_else(|| {
+                std::thread::available_parallelism()
+                    .map(|n| n.get() as u32)
+                    .unwrap_or(1)
+            })
+            .max(1)
+    } else {
+        256
+    }
+}
+
+impl ClusterCull {
+    /// Creates the pipeline with `workgroups` persistent workgroups.
+    pub fn new(ctx: &Context, workgroups: u32) -> GpuResult<Self> {
+        use vk::DescriptorType as D;
+        let mut bindings = vec![D::UNIFORM_BUFFER];
+        bindings.extend([D::STORAGE_BUFFER; 10]);
+        let pipeline = ComputePipeline::new(
+            ctx,
+            ShaderStage {
+                name: "cluster_cull",
+                spirv: crate::shaders::CLUSTER_CULL_COMP,
+            },
+            &bindings,
+            0,
+        )?;
+        Ok(Self {
+            pipeline,
+            workgroups: workgroups.max(1),
+        })
+    }
+
+    /// Persistent workgroups launched.
+    pub fn workgroups(&self) -> u32 {
+        self.workgroups
+    }
+
+    /// Records the pass.
+    pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, scene: &GpuScene, fb: &FrameBuffers) {
+        timer.begin(cmd, "cluster_cull");
+        cmd.bind_compute(&self.pipeline);
+        cmd.push_compute_descriptors(
+            &self.pipeline,
+            &[
+                Desc::Uniform(&fb.view),
+                Desc::Storage(&scene.meshes),
+                Desc::Storage(&scene.instances),
+                Desc::Storage(&fb.counters),
+                Desc::Storage(&fb.queue),
+                Desc::Storage(&scene.bvh),
+                Desc::Storage(&scene.groups),
+                Desc::Storage(&scene.clusters),
+                Desc::Storage(&fb.visible),
+                Desc::Storage(&fb.sw_list),
+                Desc::Storage(&fb.hw_list),
+            ],
+        );
+        cmd.dispatch(self.workgroups, 1, 1);
+        timer.end(cmd);
+    }
+}

@@ -1,0 +1,208 @@
+//! GPU culling (`instance_cull` + persistent `cluster_cull`) against the CPU cut, on lavapipe with
+//! validation on: the drawn (instance, cluster) set must equal the CPU reference cut (frustum off)
+//! for several cameras and thresholds, with 1 and several persistent workgroups.
+
+mod common;
+
+use std::collections::BTreeSet;
+
+use common::{assert_no_validation_errors, assets, gpu, shared_assets};
+use glam::{DMat4, DQuat, DVec3, Vec3};
+use vgeo::builder::{BuildOptions, BuiltMesh, build};
+use vgeo::camera::Camera;
+use vgeo::frame::VgeoRenderer;
+use vgeo::passes::view::FrameSettings;
+use vgeo::reference::cut::{reference_cut, view_for};
+use vgeo::render::Placement;
+use vgeo::shared::VIEW_FLAG_NO_FRUSTUM;
+
+fn built(path: &std::path::Path) -> BuiltMesh {
+    let (mesh, _) = vgeo::mesh::load_mesh(path).expect("mesh loads");
+    build(&mesh, &BuildOptions::default()).expect("mesh builds")
+}
+
+/// Compares GPU and CPU cuts; returns (cut size, borderline differences).
+fn compare(
+    r: &mut VgeoRenderer,
+    meshes: &[BuiltMesh],
+    placements: &[Placement],
+    camera: &Camera,
+    error_px: f32,
+) -> (usize, usize) {
+    let (w, h) = (320, 240);
+    let settings = FrameSettings {
+        error_px,
+        flags: VIEW_FLAG_NO_FRUSTUM,
+        ..Default::default()
+    };
+    let res = r.cull(camera, w, h, &settings).expect("cull runs");
+    res.check().expect("no overflow, no watchdog");
+    let gpu: BTreeSet<(u32, u32)> = res.visible.iter().map(|v| (v[0], v[1])).collect();
+    assert_eq!(gpu.len(), res.visible.len(), "a cluster was emitted twice");
+    assert_eq!(
+        res.sw.len() + res.hw.len(),
+        res.visible.len(),
+        "every visible cluster goes to one rasterizer"
+    );
+    let view = view_for(camera, w, h, &settings);
+    let (cut, borderline) = reference_cut(meshes, placements, &view, 1e-4);
+    let cpu: BTreeSet<(u32, u32)> = cut.iter().map(|e| (e.instance, e.cluster)).collect();
+    let border: BTreeSet<(u32, u32)> = borderline.iter().map(|e| (e.instance, e.cluster)).collect();
+    let diff: Vec<_> = gpu.symmetric_difference(&cpu).collect();
+    let hard: Vec<_> = diff.iter().filter(|d| !border.contains(d)).collect();
+    assert!(
+        hard.is_empty(),
+        "GPU cut differs from the CPU cut at tau={error_px} on {} clusters (not borderline), e.g. {:?}; gpu {} cpu {}",
+        hard.len(),
+        &hard[..hard.len().min(5)],
+        gpu.len(),
+        cpu.len()
+    );
+    let tris: u32 = res.visible.iter().map(|v| r_triangles(meshes, v[1])).sum();
+    assert_eq!(res.counters.triangles, tris, "triangle counter");
+    (cpu.len(), diff.len())
+}
+
+fn r_triangles(meshes: &[BuiltMesh], global: u32) -> u32 {
+    let mut g = global as usize;
+    for m in meshes {
+        if g < m.clusters.len() {
+            return m.clusters[g].triangle_count();
+        }
+        g -= m.clusters.len();
+    }
+    panic!("cluster index {global} out of range")
+}
+
+#[test]
+fn gpu_cut_equals_cpu_cut_on_bunny() {
+    let ctx = gpu();
+    let bunny = built(&shared_assets().join("scanned/bunny.ply"));
+    let meshes = vec![bunny];
+    let placements = vec![Placement {
+        mesh: 0,
+        transform: DMat4::IDENTITY,
+        color: [1.0; 3],
+    }];
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    let center = DVec3::new(-0.017, 0.11, 0.0);
+    let level0 = meshes[0].clusters.iter().filter(|c| c.level == 0).count();
+    for (k, dist) in [0.25, 0.6, 2.0, 10.0].into_iter().enumerate() {
+        let eye = center + DVec3::new(0.3, 0.2, 1.0).normalize() * dist;
+        let camera = Camera::look_at(eye, center, Vec3::Y, 45f32.to_radians(), 0.01);
+        for tau in [0.0, 0.5, 1.0, 4.0, 32.0] {
+            let workgroups = [1, 3][k % 2];
+            r.set_cull_workgroups(workgroups).unwrap();
+            let (n, border) = compare(&mut r, &meshes, &placements, &camera, tau);
+            if tau == 0.0 {
+                assert_eq!(n, level0, "threshold 0 draws exactly level 0");
+            }
+            eprintln!(
+                "bunny d={dist} tau={tau} wg={workgroups}: cut {n} clusters, {border} borderline differences"
+            );
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn gpu_cut_equals_cpu_cut_on_many_instances() {
+    let ctx = gpu();
+    let spot = built(&assets().join("spot.obj"));
+    let meshes = vec![spot];
+    let mut placements = Vec::new();
+    for i in 0..6 {
+        for j in 0..5 {
+            let t = DVec3::new(i as f64 * 2.5, 0.0, -(j as f64) * 3.0);
+            let rot = DQuat::from_rotation_y(0.7 * (i * 5 + j) as f64);
+            let s = 0.5 + 0.25 * ((i + j) % 4) as f64;
+            placements.push(Placement {
+                mesh: 0,
+                transform: DMat4::from_scale_rotation_translation(DVec3::splat(s), rot, t),
+                color: [1.0; 3],
+            });
+        }
+    }
+    // One instance far from the origin, with the camera near it too.
+    placements.push(Placement {
+        mesh: 0,
+        transform: DMat4::from_translation(DVec3::new(1.0e6, 2.0e5, -3.0e6)),
+        color: [1.0; 3],
+    });
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    let cams = [
+        Camera::look_at(
+            DVec3::new(6.0, 4.0, 8.0),
+            DVec3::new(6.0, 0.0, -6.0),
+            Vec3::Y,
+            50f32.to_radians(),
+            0.05,
+        ),
+        Camera::look_at(
+            DVec3::new(-2.0, 1.0, 2.0),
+            DVec3::new(0.0, 0.0, 0.0),
+            Vec3::Y,
+            60f32.to_radians(),
+            0.05,
+        ),
+        Camera::look_at(
+            DVec3::new(1.0e6 + 2.0, 2.0e5 + 1.0, -3.0e6 + 3.0),
+            DVec3::new(1.0e6, 2.0e5, -3.0e6),
+            Vec3::Y,
+            45f32.to_radians(),
+            0.05,
+        ),
+    ];
+    for (k, camera) in cams.iter().enumerate() {
+        for tau in [0.0, 1.0, 2.0, 8.0] {
+            r.set_cull_workgroups([1, 2, 4][k]).unwrap();
+            let (n, border) = compare(&mut r, &meshes, &placements, camera, tau);
+            eprintln!(
+                "spot x31 camera {k} tau={tau}: cut {n} clusters, {border} borderline differences"
+            );
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn frustum_culling_removes_what_is_behind_the_camera() {
+    let ctx = gpu();
+    let spot = built(&assets().join("spot.obj"));
+    let meshes = vec![spot];
+    let placements: Vec<Placement> = (0..8)
+        .map(|i| Placement {
+            mesh: 0,
+            // Instances 0..4 in front of the camera (looking down -z), 4..8 behind it.
+            transform: DMat4::from_translation(DVec3::new(
+                (i % 4) as f64 * 1.5 - 2.0,
+                0.0,
+                if i < 4 { -6.0 } else { 6.0 },
+            )),
+            color: [1.0; 3],
+        })
+        .collect();
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    let camera = Camera::look_at(
+        DVec3::ZERO,
+        DVec3::new(0.0, 0.0, -1.0),
+        Vec3::Y,
+        60f32.to_radians(),
+        0.05,
+    );
+    let res = r
+        .cull(&camera, 320, 240, &FrameSettings::default())
+        .expect("cull");
+    res.check().unwrap();
+    assert_eq!(res.counters.instances_tested, 8);
+    assert_eq!(
+        res.counters.instances_visible, 4,
+        "the 4 instances behind the camera are culled"
+    );
+    assert!(
+        res.visible.iter().all(|v| v[0] < 4),
+        "no cluster of an instance behind the camera"
+    );
+    assert!(!res.visible.is_empty());
+    assert_no_validation_errors(&ctx);
+}
