@@ -73,6 +73,8 @@ pub struct LoadedScene {
     pub scene: crate::scene::Scene,
     /// `meshes[i]` is `scene.meshes[i]`, imported (all parts merged).
     pub meshes: Vec<crate::mesh::Mesh>,
+    /// Cluster DAGs: loaded `.vgeo` files, or filled in by [`LoadedScene::built_meshes`].
+    pub built: Vec<Option<crate::builder::BuiltMesh>>,
     pub placements: Vec<Placement>,
     pub light: Light,
     /// Import warnings, prefixed with the mesh file.
@@ -91,16 +93,22 @@ impl LoadedScene {
             crate::scene::Scene::single_mesh(path)
         };
         let mut meshes = Vec::with_capacity(scene.meshes.len());
+        let mut built = Vec::with_capacity(scene.meshes.len());
         let mut warnings = Vec::new();
         for m in &scene.meshes {
-            let (mesh, report) = crate::mesh::load_mesh(&m.path)?;
-            warnings.extend(
-                report
-                    .warnings
-                    .iter()
-                    .map(|w| format!("{}: {w}", m.path.display())),
-            );
-            meshes.push(mesh);
+            if m.path.extension().is_some_and(|e| e.eq_ignore_ascii_case("vgeo")) {
+                let bytes = std::fs::read(&m.path)
+                    .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", m.path.display()))?;
+                let b = crate::format::load(&bytes)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", m.path.display()))?;
+                meshes.push(b.level_mesh(0));
+                built.push(Some(b));
+            } else {
+                let (mesh, report) = crate::mesh::load_mesh(&m.path)?;
+                warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", m.path.display())));
+                meshes.push(mesh);
+                built.push(None);
+            }
         }
         let placements = scene
             .instances
@@ -114,13 +122,42 @@ impl LoadedScene {
         let light = Light {
             direction: scene.light_dir,
         };
-        Ok(Self {
-            scene,
-            meshes,
-            placements,
-            light,
-            warnings,
-        })
+        Ok(Self { scene, meshes, built, placements, light, warnings })
+    }
+
+    /// The cluster DAG of every mesh: loaded from `.vgeo` files, built (in parallel, default
+    /// options) for the others. `progress` receives one line per mesh built.
+    pub fn built_meshes(&mut self, progress: &(dyn Fn(&str) + Sync)) -> anyhow::Result<Vec<crate::builder::BuiltMesh>> {
+        use rayon::prelude::*;
+        let opts = crate::builder::BuildOptions::default();
+        let results: Vec<anyhow::Result<crate::builder::BuiltMesh>> = self
+            .meshes
+            .par_iter()
+            .zip(self.built.par_iter())
+            .zip(self.scene.meshes.par_iter())
+            .map(|((mesh, b), sm)| match b {
+                Some(b) => Ok(b.clone()),
+                None => {
+                    let t = std::time::Instant::now();
+                    let b = crate::builder::build(mesh, &opts)
+                        .map_err(|e| anyhow::anyhow!("{}: {e}", sm.path.display()))?;
+                    progress(&format!(
+                        "built {} ({} triangles, {} clusters, {} levels) in {:.2} s",
+                        sm.name,
+                        mesh.triangle_count(),
+                        b.clusters.len(),
+                        b.stats.levels.len(),
+                        t.elapsed().as_secs_f64()
+                    ));
+                    Ok(b)
+                }
+            })
+            .collect();
+        let built: Vec<_> = results.into_iter().collect::<anyhow::Result<_>>()?;
+        for (slot, b) in self.built.iter_mut().zip(&built) {
+            *slot = Some(b.clone());
+        }
+        Ok(built)
     }
 
     /// The scene's camera for an image of `width` x `height`.
