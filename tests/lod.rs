@@ -355,7 +355,11 @@ fn bias_and_bad_input() {
     let placements = bunny_row(&LodChain::build(&meshes[0]));
     let cam = camera();
     let fine = Lod::new(&ctx, &meshes, &LodOptions::default()).expect("lod");
-    let coarse = Lod::new(&ctx, &meshes, &LodOptions { lod_bias: 8.0 }).expect("lod");
+    let opts = LodOptions {
+        lod_bias: 8.0,
+        ..Default::default()
+    };
+    let coarse = Lod::new(&ctx, &meshes, &opts).expect("lod");
     // A high image (2000 px) so the far bunnies are not all at the coarsest level already.
     let a = fine
         .selection(&placements, &cam, 2000, 1.0)
@@ -388,5 +392,58 @@ fn bias_and_bad_input() {
         .render(&[], &cam, &Light::default(), 32, 32, 1.0)
         .expect("empty frame");
     assert_eq!((f.triangles, f.covered()), (0, 0));
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn frustum_culling_skips_only_invisible_instances() {
+    let ctx = gpu();
+    let meshes = vec![bunny()];
+    let chain = LodChain::build(&meshes[0]);
+    let c = DVec3::from(Vec3::from_slice(&chain.sphere[..3]));
+    let cam = camera();
+    let light = Light::default();
+    let (w, h) = (64, 48);
+    // In view, behind the camera, far to the side, and one straddling the left edge.
+    let at = |p: DVec3| placement_at(p - c);
+    let placements = vec![
+        at(DVec3::new(0.0, 0.0, -0.5)),
+        at(DVec3::new(0.0, 0.0, 0.5)),
+        at(DVec3::new(5.0, 0.0, -0.5)),
+        at(DVec3::new(0.0, -5.0, -0.5)),
+        at(DVec3::new(-0.5 * 0.414 * 64.0 / 48.0 - 0.02, 0.0, -0.5)),
+    ];
+    let culling = Lod::new(&ctx, &meshes, &LodOptions::default()).expect("lod");
+    let all = Lod::new(
+        &ctx,
+        &meshes,
+        &LodOptions {
+            frustum_cull: false,
+            ..Default::default()
+        },
+    )
+    .expect("lod");
+    let a = culling
+        .render(&placements, &cam, &light, w, h, 0.0)
+        .expect("render");
+    let b = all
+        .render(&placements, &cam, &light, w, h, 0.0)
+        .expect("render");
+    let full = meshes[0].triangle_count() as u64;
+    assert_eq!(
+        b.triangles,
+        5 * full,
+        "without culling every instance is drawn"
+    );
+    assert_eq!(
+        a.triangles,
+        2 * full,
+        "the centred and the straddling instances remain"
+    );
+    assert!(a.covered() > 100, "something is visible: {}", a.covered());
+    assert!(
+        a.color == b.color && a.depth == b.depth,
+        "culling changed the image"
+    );
     assert_no_validation_errors(&ctx);
 }

@@ -5,10 +5,11 @@
 //! error meshoptimizer reports (absolute). All levels of a mesh share one vertex buffer and one index
 //! buffer (per-level index ranges). Per instance and frame, on the CPU, the coarsest level whose
 //! error projected at the instance's bounding sphere ([`lod_error_px`], the cut's formula) stays
-//! within `error_px * lod_bias` pixels is drawn; instances are grouped per (mesh, level) into one
+//! within `error_px * lod_bias` pixels is drawn (instances outside the frustum are skipped,
+//! [`LodOptions::frustum_cull`]); instances are grouped per (mesh, level) into one
 //! instanced draw each, with the `brute` pipeline and shading so images compare.
 
-use glam::{DMat4, DVec3, Vec3};
+use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::brute::{Draw, GpuMesh, check_placements, classic_pipeline, instance_gpu, render_draws};
@@ -18,6 +19,9 @@ use crate::gpu::{Context, GpuResult, GraphicsPipeline};
 use crate::mesh::Mesh;
 use crate::render::{Frame, Light, Placement};
 use crate::shared::InstanceGpu;
+
+/// Bucket of an instance culled by the frustum.
+const CULLED: u32 = u32::MAX;
 
 /// Levels per mesh.
 pub const LOD_COUNT: usize = 4;
@@ -31,11 +35,18 @@ pub struct LodOptions {
     /// Factor on the pixel threshold: a level is fine while its projected error is at most
     /// `error_px * lod_bias` (larger: coarser levels sooner). The benchmark sweeps it.
     pub lod_bias: f32,
+    /// Skip instances whose bounding sphere lies outside the view frustum (side and near planes),
+    /// as engines do. Culled instances are not drawn and not counted in `Frame::triangles`; the
+    /// image is the same either way.
+    pub frustum_cull: bool,
 }
 
 impl Default for LodOptions {
     fn default() -> Self {
-        Self { lod_bias: 1.0 }
+        Self {
+            lod_bias: 1.0,
+            frustum_cull: true,
+        }
     }
 }
 
@@ -143,6 +154,23 @@ struct LodInfo {
     sphere: [f32; 4],
 }
 
+/// `sphere` (object space) placed by `transform`, relative to `camera_pos`: (camera-relative
+/// centre, radius, largest axis scale of the transform).
+fn world_sphere(sphere: &[f32; 4], transform: &DMat4, camera_pos: DVec3) -> (Vec3, f32, f32) {
+    let center = transform.transform_point3(DVec3::new(
+        sphere[0] as f64,
+        sphere[1] as f64,
+        sphere[2] as f64,
+    ));
+    let scale = transform
+        .x_axis
+        .truncate()
+        .length()
+        .max(transform.y_axis.truncate().length())
+        .max(transform.z_axis.truncate().length()) as f32;
+    ((center - camera_pos).as_vec3(), sphere[3] * scale, scale)
+}
+
 /// The level of an instance of a mesh with per-level `errors` and object-space bounding `sphere`,
 /// placed by `transform`, seen from `camera_pos` (world), for threshold `tau` pixels: the coarsest
 /// level whose error, scaled by the transform's largest axis scale, projects to at most `tau` at
@@ -157,28 +185,57 @@ pub fn select_lod(
     proj_scale: f32,
     tau: f32,
 ) -> u8 {
+    let (rel, radius, scale) = world_sphere(sphere, transform, camera_pos);
+    level_for(errors, rel, radius, scale, proj_scale, tau)
+}
+
+fn level_for(
+    errors: &[f32; LOD_COUNT],
+    rel: Vec3,
+    radius: f32,
+    scale: f32,
+    proj_scale: f32,
+    tau: f32,
+) -> u8 {
     if tau.is_nan() || tau <= 0.0 {
         return 0;
     }
-    let center = transform.transform_point3(DVec3::new(
-        sphere[0] as f64,
-        sphere[1] as f64,
-        sphere[2] as f64,
-    ));
-    let rel = (center - camera_pos).as_vec3();
-    let scale = transform
-        .x_axis
-        .truncate()
-        .length()
-        .max(transform.y_axis.truncate().length())
-        .max(transform.z_axis.truncate().length()) as f32;
-    let radius = sphere[3] * scale;
     for k in (1..LOD_COUNT).rev() {
         if lod_error_px(errors[k] * scale, rel, radius, Vec3::ZERO, proj_scale) <= tau {
             return k as u8;
         }
     }
     0
+}
+
+/// The side and near planes of a camera-relative `view_proj` (reverse-Z, infinite far), as
+/// `(normal, d)` with `dot(normal, p) + d >= 0` inside and unit normals.
+fn frustum_planes(view_proj: &Mat4) -> [Vec4; 5] {
+    let r = [
+        view_proj.row(0),
+        view_proj.row(1),
+        view_proj.row(2),
+        view_proj.row(3),
+    ];
+    // x >= -w, x <= w, y >= -w, y <= w, z <= w (reverse-Z: depth 1 at the near plane).
+    [
+        r[3] + r[0],
+        r[3] - r[0],
+        r[3] + r[1],
+        r[3] - r[1],
+        r[3] - r[2],
+    ]
+    .map(|p| {
+        let n = p.truncate().length();
+        if n > 0.0 { p / n } else { p }
+    })
+}
+
+/// Whether a camera-relative sphere lies entirely outside one of `planes`.
+fn outside(planes: &[Vec4; 5], center: Vec3, radius: f32) -> bool {
+    planes
+        .iter()
+        .any(|p| p.truncate().dot(center) + p.w < -radius)
 }
 
 /// The discrete-LOD renderer: the classic pipeline plus every mesh's levels on the GPU.
@@ -240,7 +297,8 @@ impl Lod {
     }
 
     /// The level each placement gets when rendered from `camera` into an image `height` pixels
-    /// high at threshold `error_px` (times the options' `lod_bias`), in placement order.
+    /// high at threshold `error_px` (times the options' `lod_bias`), in placement order. Frustum
+    /// culling is not applied here: a culled instance still reports the level it would get.
     pub fn selection(
         &self,
         placements: &[Placement],
@@ -277,7 +335,7 @@ impl Lod {
 
     /// Renders `placements` seen from `camera` into a `width` x `height` frame at threshold
     /// `error_px` and reads it back. `Frame::triangles` counts the triangles drawn (selected
-    /// levels times instances).
+    /// levels times instances not culled).
     pub fn render(
         &self,
         placements: &[Placement],
@@ -291,10 +349,18 @@ impl Lod {
         let (ps, tau) = self.threshold(camera, height, error_px);
         // Counting sort by (mesh, level): O(instances + meshes), allocations per frame only.
         let buckets = self.meshes.len() * LOD_COUNT;
+        let planes = frustum_planes(&camera.view_proj(width, height));
         let mut selected = Vec::with_capacity(placements.len());
         let mut counts = vec![0u32; buckets];
         for p in placements {
-            let b = p.mesh as usize * LOD_COUNT + self.select(p, camera, ps, tau) as usize;
+            let info = &self.infos[p.mesh as usize];
+            let (rel, radius, scale) = world_sphere(&info.sphere, &p.transform, camera.position);
+            if self.opts.frustum_cull && outside(&planes, rel, radius) {
+                selected.push(CULLED);
+                continue;
+            }
+            let level = level_for(&info.errors, rel, radius, scale, ps, tau);
+            let b = p.mesh as usize * LOD_COUNT + level as usize;
             counts[b] += 1;
             selected.push(b as u32);
         }
@@ -316,8 +382,11 @@ impl Lod {
             }
             first += n;
         }
-        let mut instances = vec![bytemuck::Zeroable::zeroed(); placements.len()];
+        let mut instances = vec![bytemuck::Zeroable::zeroed(); first as usize];
         for (p, &b) in placements.iter().zip(&selected) {
+            if b == CULLED {
+                continue;
+            }
             let slot = &mut cursor[b as usize];
             instances[*slot as usize] = instance_gpu(camera, p);
             *slot += 1;
