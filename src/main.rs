@@ -49,9 +49,13 @@ struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 720)]
     height: u32,
-    /// Rendering path: `brute` (every triangle, classic draws).
+    /// Rendering path: `brute` (every triangle, classic draws) or `lod` (discrete LODs per mesh,
+    /// one per instance chosen by projected error).
     #[arg(long, default_value = "brute")]
     mode: String,
+    /// Pixel error threshold of `--mode lod`.
+    #[arg(long, default_value_t = 1.0)]
+    error_px: f32,
     /// Print per-pass GPU times and counters.
     #[arg(long)]
     stats: bool,
@@ -66,6 +70,7 @@ fn main() -> ExitCode {
             width: 1280,
             height: 720,
             mode: "brute".into(),
+            error_px: 1.0,
             stats: true,
         }),
         Some(Command::Render(a)) => render(&a),
@@ -112,8 +117,11 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
         anyhow::bail!("--width and --height must be between 1 and 16384");
     }
-    if a.mode != "brute" {
-        anyhow::bail!("unknown --mode `{}` (available: brute)", a.mode);
+    if a.mode != "brute" && a.mode != "lod" {
+        anyhow::bail!("unknown --mode `{}` (available: brute, lod)", a.mode);
+    }
+    if a.error_px.is_nan() || a.error_px < 0.0 || a.error_px.is_infinite() {
+        anyhow::bail!("--error-px must be a finite number >= 0");
     }
     let t0 = std::time::Instant::now();
     let loaded = LoadedScene::load(&a.input)?;
@@ -123,14 +131,18 @@ fn render(a: &RenderArgs) -> Result<()> {
     let camera = loaded.camera(a.width, a.height);
     let load_s = t0.elapsed().as_secs_f64();
     let ctx = context()?;
-    let brute = vgeo::baseline::brute::Brute::new(&ctx, &loaded.meshes)?;
-    let frame = brute.render(
-        &loaded.placements,
-        &camera,
-        &loaded.light,
-        a.width,
-        a.height,
-    )?;
+    let (l, c) = (&loaded, &camera);
+    let frame = match a.mode.as_str() {
+        "lod" => {
+            let opts = vgeo::baseline::lod::LodOptions::default();
+            let lod = vgeo::baseline::lod::Lod::new(&ctx, &l.meshes, &opts)?;
+            lod.render(&l.placements, c, &l.light, a.width, a.height, a.error_px)?
+        }
+        _ => {
+            let brute = vgeo::baseline::brute::Brute::new(&ctx, &l.meshes)?;
+            brute.render(&l.placements, c, &l.light, a.width, a.height)?
+        }
+    };
     frame.save_png(&a.out)?;
     println!("device:     {}", ctx.caps().device_name);
     println!("resolution: {}x{}", a.width, a.height);

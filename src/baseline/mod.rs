@@ -1,4 +1,5 @@
-//! What a user would use instead of vgeo: `brute` (every triangle, classic draws). The discrete-LOD
-//! baseline (`lod`) comes with the benchmark work.
+//! What a user would use instead of vgeo: `brute` (every triangle, classic draws) and `lod`
+//! (discrete levels of detail per mesh, one per instance chosen by projected error).
 
 pub mod brute;
+pub mod lod;

@@ -1,0 +1,408 @@
+//! Pass `lod`: the discrete-LOD baseline, what engines do without virtualized geometry.
+//!
+//! Per mesh, [`LOD_COUNT`] levels made with meshoptimizer's simplifier (the one the builder uses):
+//! [`LOD_FRACTIONS`] of the triangles, each simplified from the full mesh, with the object-space
+//! error meshoptimizer reports (absolute). All levels of a mesh share one vertex buffer and one index
+//! buffer (per-level index ranges). Per instance and frame, on the CPU, the coarsest level whose
+//! error projected at the instance's bounding sphere ([`lod_error_px`], the cut's formula) stays
+//! within `error_px * lod_bias` pixels is drawn (instances outside the frustum are skipped,
+//! [`LodOptions::frustum_cull`]); instances are grouped per (mesh, level) into one
+//! instanced draw each, with the `brute` pipeline and shading so images compare.
+
+use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
+use rayon::prelude::*;
+
+use super::brute::{Draw, GpuMesh, check_placements, classic_pipeline, instance_gpu, render_draws};
+use crate::builder::cut::{lod_error_px, proj_scale};
+use crate::camera::Camera;
+use crate::gpu::{Context, GpuResult, GraphicsPipeline};
+use crate::mesh::Mesh;
+use crate::render::{Frame, Light, Placement};
+use crate::shared::InstanceGpu;
+
+/// Bucket of an instance culled by the frustum.
+const CULLED: u32 = u32::MAX;
+
+/// Levels per mesh.
+pub const LOD_COUNT: usize = 4;
+
+/// Share of the full mesh's triangles each level aims for.
+pub const LOD_FRACTIONS: [f32; LOD_COUNT] = [1.0, 0.5, 0.25, 0.125];
+
+/// Options of the discrete-LOD path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LodOptions {
+    /// Factor on the pixel threshold: a level is fine while its projected error is at most
+    /// `error_px * lod_bias` (larger: coarser levels sooner). The benchmark sweeps it.
+    pub lod_bias: f32,
+    /// Skip instances whose bounding sphere lies outside the view frustum (side and near planes),
+    /// as engines do. Culled instances are not drawn and not counted in `Frame::triangles`; the
+    /// image is the same either way.
+    pub frustum_cull: bool,
+}
+
+impl Default for LodOptions {
+    fn default() -> Self {
+        Self {
+            lod_bias: 1.0,
+            frustum_cull: true,
+        }
+    }
+}
+
+/// The levels of one mesh on the CPU: what simplification produced and what selection needs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LodChain {
+    /// Every level's triangles, concatenated (indices into the mesh's vertices).
+    pub indices: Vec<u32>,
+    /// Per level, `(first_index, index_count)` in `indices`. A level that could not be made smaller
+    /// than the previous one shares its range (equal counts).
+    pub ranges: [(u32, u32); LOD_COUNT],
+    /// Per level, the object-space error (0 for level 0), non-decreasing.
+    pub errors: [f32; LOD_COUNT],
+    /// Object-space bounding sphere of the mesh: centre xyz, radius w.
+    pub sphere: [f32; 4],
+}
+
+impl LodChain {
+    /// Simplifies `mesh` into [`LOD_COUNT`] levels (deterministic).
+    ///
+    /// Level `k` targets `LOD_FRACTIONS[k]` of the triangles, simplified from the full mesh with no
+    /// error limit; its error is meshoptimizer's absolute error, raised to the previous level's
+    /// error where smaller so errors never decrease. A level meshoptimizer cannot make smaller than
+    /// the previous one, or only makes empty (tiny meshes), reuses the previous level: counts never
+    /// grow and no level of a non-empty mesh is empty.
+    pub fn build(mesh: &Mesh) -> Self {
+        let full = &mesh.indices;
+        let mut indices: Vec<u32> = full.clone();
+        let mut ranges = [(0u32, full.len() as u32); LOD_COUNT];
+        let mut errors = [0.0f32; LOD_COUNT];
+        let positions: &[u8] = bytemuck::cast_slice(&mesh.positions);
+        let adapter = meshopt::VertexDataAdapter::new(positions, 12, 0);
+        for k in 1..LOD_COUNT {
+            let prev = ranges[k - 1];
+            let tri_target = (full.len() / 3) as f32 * LOD_FRACTIONS[k];
+            let target = (tri_target.round() as usize).max(1) * 3;
+            let lod = match &adapter {
+                Ok(vertices) if !full.is_empty() => {
+                    let mut err = 0.0f32;
+                    let out = meshopt::simplify(
+                        full,
+                        vertices,
+                        target,
+                        f32::MAX,
+                        meshopt::SimplifyOptions::ErrorAbsolute,
+                        Some(&mut err),
+                    );
+                    let err = if err.is_finite() {
+                        err.max(0.0)
+                    } else {
+                        f32::MAX
+                    };
+                    Some((out, err))
+                }
+                _ => None,
+            };
+            match lod {
+                // Smaller but not empty: meshoptimizer may collapse a tiny closed mesh to nothing,
+                // and an instance must never vanish because it is far.
+                Some((out, err)) if !out.is_empty() && (out.len() as u32) < prev.1 => {
+                    ranges[k] = (indices.len() as u32, out.len() as u32);
+                    errors[k] = err.max(errors[k - 1]);
+                    indices.extend_from_slice(&out);
+                }
+                _ => {
+                    ranges[k] = prev;
+                    errors[k] = errors[k - 1];
+                }
+            }
+        }
+        Self {
+            indices,
+            ranges,
+            errors,
+            sphere: bounding_sphere(mesh),
+        }
+    }
+
+    /// Triangles per level.
+    pub fn triangle_counts(&self) -> [u32; LOD_COUNT] {
+        self.ranges.map(|(_, n)| n / 3)
+    }
+}
+
+/// A sphere around every vertex: the bounding box's centre and the farthest vertex from it.
+fn bounding_sphere(mesh: &Mesh) -> [f32; 4] {
+    let Some((lo, hi)) = mesh.bounds() else {
+        return [0.0; 4];
+    };
+    let c = (Vec3::from(lo) + Vec3::from(hi)) * 0.5;
+    let r2 = mesh
+        .positions
+        .iter()
+        .map(|p| (Vec3::from(*p) - c).length_squared())
+        .fold(0.0f32, f32::max);
+    // A hair larger so f32 rounding never leaves a vertex outside.
+    [c.x, c.y, c.z, r2.sqrt() * (1.0 + 1e-6)]
+}
+
+/// What selection needs of one mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct LodInfo {
+    ranges: [(u32, u32); LOD_COUNT],
+    errors: [f32; LOD_COUNT],
+    sphere: [f32; 4],
+}
+
+/// `sphere` (object space) placed by `transform`, relative to `camera_pos`: (camera-relative
+/// centre, radius, largest axis scale of the transform).
+fn world_sphere(sphere: &[f32; 4], transform: &DMat4, camera_pos: DVec3) -> (Vec3, f32, f32) {
+    let center = transform.transform_point3(DVec3::new(
+        sphere[0] as f64,
+        sphere[1] as f64,
+        sphere[2] as f64,
+    ));
+    let scale = transform
+        .x_axis
+        .truncate()
+        .length()
+        .max(transform.y_axis.truncate().length())
+        .max(transform.z_axis.truncate().length()) as f32;
+    ((center - camera_pos).as_vec3(), sphere[3] * scale, scale)
+}
+
+/// The level of an instance of a mesh with per-level `errors` and object-space bounding `sphere`,
+/// placed by `transform`, seen from `camera_pos` (world), for threshold `tau` pixels: the coarsest
+/// level whose error, scaled by the transform's largest axis scale, projects to at most `tau` at
+/// the nearest point of the transformed sphere ([`lod_error_px`]). Level 0 when `tau <= 0` (or
+/// NaN), so a zero threshold always draws full detail. Monotonic: a farther instance never gets a
+/// finer level (errors are non-decreasing).
+pub fn select_lod(
+    errors: &[f32; LOD_COUNT],
+    sphere: &[f32; 4],
+    transform: &DMat4,
+    camera_pos: DVec3,
+    proj_scale: f32,
+    tau: f32,
+) -> u8 {
+    let (rel, radius, scale) = world_sphere(sphere, transform, camera_pos);
+    level_for(errors, rel, radius, scale, proj_scale, tau)
+}
+
+fn level_for(
+    errors: &[f32; LOD_COUNT],
+    rel: Vec3,
+    radius: f32,
+    scale: f32,
+    proj_scale: f32,
+    tau: f32,
+) -> u8 {
+    if tau.is_nan() || tau <= 0.0 {
+        return 0;
+    }
+    for k in (1..LOD_COUNT).rev() {
+        if lod_error_px(errors[k] * scale, rel, radius, Vec3::ZERO, proj_scale) <= tau {
+            return k as u8;
+        }
+    }
+    0
+}
+
+/// The side and near planes of a camera-relative `view_proj` (reverse-Z, infinite far), as
+/// `(normal, d)` with `dot(normal, p) + d >= 0` inside and unit normals.
+fn frustum_planes(view_proj: &Mat4) -> [Vec4; 5] {
+    let r = [
+        view_proj.row(0),
+        view_proj.row(1),
+        view_proj.row(2),
+        view_proj.row(3),
+    ];
+    // x >= -w, x <= w, y >= -w, y <= w, z <= w (reverse-Z: depth 1 at the near plane).
+    [
+        r[3] + r[0],
+        r[3] - r[0],
+        r[3] + r[1],
+        r[3] - r[1],
+        r[3] - r[2],
+    ]
+    .map(|p| {
+        let n = p.truncate().length();
+        if n > 0.0 { p / n } else { p }
+    })
+}
+
+/// Whether a camera-relative sphere lies entirely outside one of `planes`.
+fn outside(planes: &[Vec4; 5], center: Vec3, radius: f32) -> bool {
+    planes
+        .iter()
+        .any(|p| p.truncate().dot(center) + p.w < -radius)
+}
+
+/// The discrete-LOD renderer: the classic pipeline plus every mesh's levels on the GPU.
+pub struct Lod {
+    ctx: Context,
+    pipeline: GraphicsPipeline,
+    meshes: Vec<GpuMesh>,
+    infos: Vec<LodInfo>,
+    opts: LodOptions,
+}
+
+impl Lod {
+    /// Simplifies every mesh into its levels (in parallel), uploads them and creates the pipeline.
+    pub fn new(ctx: &Context, meshes: &[Mesh], opts: &LodOptions) -> GpuResult<Self> {
+        let chains: Vec<LodChain> = meshes.par_iter().map(LodChain::build).collect();
+        let pipeline = classic_pipeline(ctx, "lod")?;
+        let gpu = meshes
+            .iter()
+            .zip(&chains)
+            .map(|(m, c)| GpuMesh::upload_with_indices(ctx, m, &c.indices))
+            .collect::<GpuResult<Vec<_>>>()?;
+        let infos = chains
+            .iter()
+            .map(|c| LodInfo {
+                ranges: c.ranges,
+                errors: c.errors,
+                sphere: c.sphere,
+            })
+            .collect();
+        Ok(Self {
+            ctx: ctx.clone(),
+            pipeline,
+            meshes: gpu,
+            infos,
+            opts: *opts,
+        })
+    }
+
+    /// The options this renderer was made with.
+    pub fn options(&self) -> &LodOptions {
+        &self.opts
+    }
+
+    /// Triangles of each level of mesh `mesh` (an index into the meshes given to [`Lod::new`];
+    /// panics when out of range).
+    pub fn lod_triangle_counts(&self, mesh: usize) -> [u32; LOD_COUNT] {
+        self.infos[mesh].ranges.map(|(_, n)| n / 3)
+    }
+
+    /// Object-space error of each level of mesh `mesh` (non-decreasing, 0 for level 0; panics
+    /// when out of range).
+    pub fn lod_errors(&self, mesh: usize) -> [f32; LOD_COUNT] {
+        self.infos[mesh].errors
+    }
+
+    /// GPU bytes of geometry (all levels).
+    pub fn geometry_bytes(&self) -> u64 {
+        self.meshes.iter().map(GpuMesh::bytes).sum()
+    }
+
+    /// The level each placement gets when rendered from `camera` into an image `height` pixels
+    /// high at threshold `error_px` (times the options' `lod_bias`), in placement order. Frustum
+    /// culling is not applied here: a culled instance still reports the level it would get.
+    pub fn selection(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        height: u32,
+        error_px: f32,
+    ) -> GpuResult<Vec<u8>> {
+        check_placements(placements, self.meshes.len())?;
+        let (ps, tau) = self.threshold(camera, height, error_px);
+        Ok(placements
+            .iter()
+            .map(|p| self.select(p, camera, ps, tau))
+            .collect())
+    }
+
+    fn threshold(&self, camera: &Camera, height: u32, error_px: f32) -> (f32, f32) {
+        (
+            proj_scale(height as f32, camera.fov_y),
+            error_px * self.opts.lod_bias,
+        )
+    }
+
+    fn select(&self, p: &Placement, camera: &Camera, ps: f32, tau: f32) -> u8 {
+        let info = &self.infos[p.mesh as usize];
+        select_lod(
+            &info.errors,
+            &info.sphere,
+            &p.transform,
+            camera.position,
+            ps,
+            tau,
+        )
+    }
+
+    /// Renders `placements` seen from `camera` into a `width` x `height` frame at threshold
+    /// `error_px` and reads it back. `Frame::triangles` counts the triangles drawn (selected
+    /// levels times instances not culled).
+    pub fn render(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        width: u32,
+        height: u32,
+        error_px: f32,
+    ) -> GpuResult<Frame> {
+        check_placements(placements, self.meshes.len())?;
+        let (ps, tau) = self.threshold(camera, height, error_px);
+        // Counting sort by (mesh, level): O(instances + meshes), allocations per frame only.
+        let buckets = self.meshes.len() * LOD_COUNT;
+        let planes = frustum_planes(&camera.view_proj(width, height));
+        let mut selected = Vec::with_capacity(placements.len());
+        let mut counts = vec![0u32; buckets];
+        for p in placements {
+            let info = &self.infos[p.mesh as usize];
+            let (rel, radius, scale) = world_sphere(&info.sphere, &p.transform, camera.position);
+            if self.opts.frustum_cull && outside(&planes, rel, radius) {
+                selected.push(CULLED);
+                continue;
+            }
+            let level = level_for(&info.errors, rel, radius, scale, ps, tau);
+            let b = p.mesh as usize * LOD_COUNT + level as usize;
+            counts[b] += 1;
+            selected.push(b as u32);
+        }
+        let mut cursor = Vec::with_capacity(buckets);
+        let mut draws = Vec::new();
+        let mut first = 0u32;
+        for (b, &n) in counts.iter().enumerate() {
+            cursor.push(first);
+            if n > 0 {
+                let mesh = b / LOD_COUNT;
+                let (first_index, index_count) = self.infos[mesh].ranges[b % LOD_COUNT];
+                draws.push(Draw {
+                    mesh: mesh as u32,
+                    first_index,
+                    index_count,
+                    first_instance: first,
+                    instance_count: n,
+                });
+            }
+            first += n;
+        }
+        let mut instances = vec![bytemuck::Zeroable::zeroed(); first as usize];
+        for (p, &b) in placements.iter().zip(&selected) {
+            if b == CULLED {
+                continue;
+            }
+            let slot = &mut cursor[b as usize];
+            instances[*slot as usize] = instance_gpu(camera, p);
+            *slot += 1;
+        }
+        let instances: Vec<InstanceGpu> = instances;
+        render_draws(
+            &self.ctx,
+            "lod",
+            &self.pipeline,
+            &self.meshes,
+            &instances,
+            &draws,
+            camera,
+            light,
+            width,
+            height,
+        )
+    }
+}

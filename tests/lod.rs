@@ -1,0 +1,449 @@
+//! The discrete-LOD baseline (`lod`): its levels (counts, errors), per-instance selection, and its
+//! images against `brute` on the GPU (lavapipe in CI) with the validation layer on.
+
+mod common;
+
+use common::{assert_no_validation_errors, gpu, shared_assets};
+use glam::{DMat4, DVec3, Vec3};
+use vgeo::baseline::brute::Brute;
+use vgeo::baseline::lod::{LOD_COUNT, LOD_FRACTIONS, Lod, LodChain, LodOptions, select_lod};
+use vgeo::camera::Camera;
+use vgeo::mesh::Mesh;
+use vgeo::render::{Frame, Light, LoadedScene, Placement};
+
+fn load(rel: &str) -> Mesh {
+    let path = shared_assets().join(rel);
+    let scene = LoadedScene::load(&path).unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
+    scene.meshes.into_iter().next().expect("one mesh")
+}
+
+fn bunny() -> Mesh {
+    load("scanned/bunny.ply")
+}
+
+/// A mesh from triangles with face normals (welded nothing: tests only need positions).
+fn mesh_from(positions: Vec<[f32; 3]>, indices: Vec<u32>) -> Mesh {
+    let n = positions.len();
+    Mesh {
+        name: "test".into(),
+        normals: vec![[0.0, 0.0, 1.0]; n],
+        uvs: vec![[0.0; 2]; n],
+        material_ids: vec![0; indices.len() / 3],
+        materials: vec![Default::default()],
+        positions,
+        indices,
+        has_normals: false,
+        has_uvs: false,
+    }
+}
+
+fn placement_at(p: DVec3) -> Placement {
+    Placement {
+        mesh: 0,
+        transform: DMat4::from_translation(p),
+        color: [0.8, 0.7, 0.6],
+    }
+}
+
+/// Camera at the origin looking down -z.
+fn camera() -> Camera {
+    Camera::look_at(
+        DVec3::ZERO,
+        DVec3::new(0.0, 0.0, -1.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.01,
+    )
+}
+
+fn check_chain(name: &str, chain: &LodChain, full: u32) {
+    let counts = chain.triangle_counts();
+    assert_eq!(counts[0], full, "{name}: level 0 is the full mesh");
+    for k in 1..LOD_COUNT {
+        let target = full as f32 * LOD_FRACTIONS[k];
+        let ratio = counts[k] as f32 / target;
+        assert!(
+            (0.9..=1.02).contains(&ratio),
+            "{name}: level {k} has {} triangles, target {target:.0} (ratio {ratio:.3}); counts {counts:?}",
+            counts[k]
+        );
+    }
+    assert_eq!(chain.errors[0], 0.0, "{name}: level 0 is exact");
+    for k in 1..LOD_COUNT {
+        assert!(
+            chain.errors[k] >= chain.errors[k - 1] && chain.errors[k].is_finite(),
+            "{name}: errors must not decrease: {:?}",
+            chain.errors
+        );
+    }
+    assert!(
+        chain.errors[LOD_COUNT - 1] > 0.0,
+        "{name}: the coarsest level must report an error: {:?}",
+        chain.errors
+    );
+    // Ranges lie inside the index buffer and hold whole triangles.
+    for &(first, count) in &chain.ranges {
+        assert!(first as usize + count as usize <= chain.indices.len());
+        assert_eq!(count % 3, 0);
+    }
+    eprintln!("{name}: counts {counts:?}, errors {:?}", chain.errors);
+}
+
+#[test]
+fn level_counts_follow_fractions_and_errors_grow() {
+    let b = bunny();
+    check_chain("bunny", &LodChain::build(&b), b.triangle_count() as u32);
+    // With UV seams and normals (split vertices).
+    let s = load("scanned/spot.obj");
+    check_chain("spot", &LodChain::build(&s), s.triangle_count() as u32);
+    // Deterministic.
+    assert_eq!(LodChain::build(&b), LodChain::build(&b));
+}
+
+#[test]
+fn tiny_meshes_keep_equal_levels() {
+    // One triangle cannot shrink: every level is that triangle, sharing one range, error 0.
+    let tri = mesh_from(
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        vec![0, 1, 2],
+    );
+    let c = LodChain::build(&tri);
+    assert_eq!(c.triangle_counts(), [1; LOD_COUNT]);
+    assert_eq!(c.ranges, [(0, 3); LOD_COUNT], "no duplicated indices");
+    assert_eq!(c.errors, [0.0; LOD_COUNT]);
+    assert_eq!(c.indices, vec![0, 1, 2]);
+
+    // A closed tetrahedron (4 triangles): levels never grow, errors never shrink.
+    let tet = mesh_from(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        vec![0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3],
+    );
+    let c = LodChain::build(&tet);
+    let counts = c.triangle_counts();
+    eprintln!("tetrahedron: counts {counts:?}, errors {:?}", c.errors);
+    assert_eq!(counts[0], 4);
+    // meshoptimizer would collapse it to nothing at 1 triangle: no level is ever empty.
+    assert!(counts.iter().all(|&n| n > 0), "an empty level: {counts:?}");
+    for k in 1..LOD_COUNT {
+        assert!(counts[k] <= counts[k - 1], "counts grow: {counts:?}");
+        assert!(
+            c.errors[k] >= c.errors[k - 1],
+            "errors shrink: {:?}",
+            c.errors
+        );
+        if counts[k] == counts[k - 1] {
+            assert_eq!(
+                c.ranges[k],
+                c.ranges[k - 1],
+                "an equal level shares its range"
+            );
+        }
+    }
+
+    // An empty mesh has empty levels.
+    let empty = mesh_from(Vec::new(), Vec::new());
+    let c = LodChain::build(&empty);
+    assert_eq!(c.triangle_counts(), [0; LOD_COUNT]);
+    assert_eq!(c.errors, [0.0; LOD_COUNT]);
+}
+
+#[test]
+fn selection_follows_distance() {
+    let chain = LodChain::build(&bunny());
+    let cam = camera();
+    let ps = vgeo::builder::cut::proj_scale(720.0, cam.fov_y);
+    let pick = |d: f64, tau: f32, t: DMat4| {
+        let t = DMat4::from_translation(DVec3::new(0.0, 0.0, -d)) * t;
+        select_lod(&chain.errors, &chain.sphere, &t, cam.position, ps, tau)
+    };
+    let mut levels = Vec::new();
+    let mut d = 0.05;
+    while d < 1000.0 {
+        levels.push((d, pick(d, 1.0, DMat4::IDENTITY)));
+        d *= 1.25;
+    }
+    assert_eq!(
+        levels[0].1, 0,
+        "up close (camera inside the sphere): level 0"
+    );
+    assert_eq!(
+        levels.last().unwrap().1,
+        (LOD_COUNT - 1) as u8,
+        "far away: the coarsest level"
+    );
+    for w in levels.windows(2) {
+        assert!(
+            w[1].1 >= w[0].1,
+            "not monotonic in distance: {:?} then {:?}",
+            w[0],
+            w[1]
+        );
+    }
+    // Every level is used somewhere along the way.
+    for k in 0..LOD_COUNT as u8 {
+        assert!(
+            levels.iter().any(|l| l.1 == k),
+            "level {k} never picked: {levels:?}"
+        );
+    }
+    // The threshold decides: exactly at the switch distance of level 3 and 1 px.
+    let (r, e) = (chain.sphere[3], chain.errors[3]);
+    let center = Vec3::from_slice(&chain.sphere[..3]);
+    let px_at = |d: f64| {
+        vgeo::builder::cut::lod_error_px(
+            e,
+            center + Vec3::new(0.0, 0.0, -d as f32),
+            r,
+            Vec3::ZERO,
+            ps,
+        )
+    };
+    for &(d, lvl) in &levels {
+        assert_eq!(
+            lvl == 3,
+            px_at(d) <= 1.0,
+            "level 3 iff its error is within 1 px (d {d}, {} px)",
+            px_at(d)
+        );
+    }
+    // Zero threshold: full detail everywhere.
+    assert!(
+        levels
+            .iter()
+            .all(|&(d, _)| pick(d, 0.0, DMat4::IDENTITY) == 0)
+    );
+    // A larger threshold never picks a finer level; scaling the instance up picks finer ones.
+    for &(d, lvl) in &levels {
+        assert!(pick(d, 4.0, DMat4::IDENTITY) >= lvl);
+        assert!(pick(d, 1.0, DMat4::from_scale(DVec3::splat(3.0))) <= lvl);
+    }
+}
+
+/// Share of pixels where both frames agree on coverage, and share of those covered by both whose
+/// depth agrees within a relative `tol`.
+fn agreement(a: &Frame, b: &Frame, tol: f32) -> (f64, f64) {
+    let n = a.depth.len();
+    let (mut same, mut both, mut depth_ok) = (0usize, 0usize, 0usize);
+    for (&x, &y) in a.depth.iter().zip(&b.depth) {
+        if (x > 0.0) == (y > 0.0) {
+            same += 1;
+        }
+        if x > 0.0 && y > 0.0 {
+            both += 1;
+            if (x - y).abs() <= tol * x.max(y) {
+                depth_ok += 1;
+            }
+        }
+    }
+    (same as f64 / n as f64, depth_ok as f64 / both.max(1) as f64)
+}
+
+/// A row of bunnies at growing distances, all in view: the first one around the camera (inside its
+/// bounding sphere, so level 0 at any threshold), the others from 0.15 to 2.4 units away.
+fn bunny_row(chain: &LodChain) -> Vec<Placement> {
+    let c = DVec3::new(
+        chain.sphere[0] as f64,
+        chain.sphere[1] as f64,
+        chain.sphere[2] as f64,
+    );
+    let r = chain.sphere[3] as f64;
+    let mut centers = vec![DVec3::new(0.7 * r, 0.0, -0.5 * r)];
+    centers.extend((0..5).map(|i| {
+        let d = 0.15 * 2f64.powi(i);
+        DVec3::new(-0.3 * d, -0.05 * d, -d)
+    }));
+    centers.into_iter().map(|p| placement_at(p - c)).collect()
+}
+
+#[test]
+fn zero_threshold_matches_brute_exactly() {
+    let ctx = gpu();
+    let meshes = vec![bunny()];
+    let lod = Lod::new(&ctx, &meshes, &LodOptions::default()).expect("lod renderer");
+    let brute = Brute::new(&ctx, &meshes).expect("brute renderer");
+    let placements = bunny_row(&LodChain::build(&meshes[0]));
+    let cam = camera();
+    let light = Light::default();
+    let (w, h) = (96, 64);
+    // The scene is meaningful: at 1 px the levels differ between instances.
+    let sel = lod.selection(&placements, &cam, h, 1.0).expect("selection");
+    assert!(
+        sel.contains(&0) && sel.iter().any(|&l| l > 0),
+        "the row should mix levels at 1 px: {sel:?}"
+    );
+    let sel0 = lod.selection(&placements, &cam, h, 0.0).expect("selection");
+    assert!(sel0.iter().all(|&l| l == 0), "{sel0:?}");
+
+    let b = brute
+        .render(&placements, &cam, &light, w, h)
+        .expect("brute");
+    let l0 = lod
+        .render(&placements, &cam, &light, w, h, 0.0)
+        .expect("lod");
+    assert!(b.covered() > 200, "the row is visible: {}", b.covered());
+    assert_eq!(l0.triangles, b.triangles);
+    assert!(l0.color == b.color, "colour differs from brute at 0 px");
+    assert!(l0.depth == b.depth, "depth differs from brute at 0 px");
+
+    let l1 = lod
+        .render(&placements, &cam, &light, w, h, 1.0)
+        .expect("lod");
+    let counts = lod.lod_triangle_counts(0);
+    let expect: u64 = sel.iter().map(|&l| counts[l as usize] as u64).sum();
+    assert_eq!(l1.triangles, expect, "triangles drawn = selected levels");
+    assert!(l1.triangles < b.triangles);
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn far_bunny_stays_close_to_brute() {
+    let ctx = gpu();
+    let path = shared_assets().join("scanned/bunny.ply");
+    let scene = LoadedScene::load(&path).expect("bunny loads");
+    let (w, h) = (128, 128);
+    let cam = scene.camera(w, h);
+    let lod = Lod::new(&ctx, &scene.meshes, &LodOptions::default()).expect("lod renderer");
+    let brute = Brute::new(&ctx, &scene.meshes).expect("brute renderer");
+    let sel = lod
+        .selection(&scene.placements, &cam, h, 1.0)
+        .expect("selection");
+    let counts = lod.lod_triangle_counts(0);
+    let errors = lod.lod_errors(0);
+    assert_eq!(
+        counts,
+        vgeo::baseline::lod::LodChain::build(&scene.meshes[0]).triangle_counts()
+    );
+    assert!(
+        sel[0] >= 2,
+        "auto-framed bunny at {w}x{h} should get a coarse level at 1 px: level {}, errors {errors:?}",
+        sel[0]
+    );
+    let b = brute
+        .render(&scene.placements, &cam, &scene.light, w, h)
+        .expect("brute");
+    let l = lod
+        .render(&scene.placements, &cam, &scene.light, w, h, 1.0)
+        .expect("lod");
+    assert_eq!(l.triangles, counts[sel[0] as usize] as u64);
+    let (cover, depth) = agreement(&b, &l, 1e-3);
+    let msg = format!(
+        "level {} ({} of {} triangles): coverage agreement {cover:.4}, depth agreement {depth:.4} \
+         (brute covers {} px, lod {} px)",
+        sel[0],
+        l.triangles,
+        b.triangles,
+        b.covered(),
+        l.covered()
+    );
+    eprintln!("{msg}");
+    assert!(b.covered() > 2000, "{msg}");
+    // Measured on lavapipe: coverage 0.9995, depth 0.951 (level 3, 8,681 triangles).
+    assert!(cover >= 0.995, "{msg}");
+    assert!(depth >= 0.9, "{msg}");
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn bias_and_bad_input() {
+    let ctx = gpu();
+    let meshes = vec![bunny()];
+    let placements = bunny_row(&LodChain::build(&meshes[0]));
+    let cam = camera();
+    let fine = Lod::new(&ctx, &meshes, &LodOptions::default()).expect("lod");
+    let opts = LodOptions {
+        lod_bias: 8.0,
+        ..Default::default()
+    };
+    let coarse = Lod::new(&ctx, &meshes, &opts).expect("lod");
+    // A high image (2000 px) so the far bunnies are not all at the coarsest level already.
+    let a = fine
+        .selection(&placements, &cam, 2000, 1.0)
+        .expect("selection");
+    let b = coarse
+        .selection(&placements, &cam, 2000, 1.0)
+        .expect("selection");
+    eprintln!("selection at 2000 px high, bias 1: {a:?}, bias 8: {b:?}");
+    assert!(a.iter().zip(&b).all(|(x, y)| y >= x), "{a:?} vs {b:?}");
+    assert!(
+        b.iter().sum::<u8>() > a.iter().sum::<u8>(),
+        "{a:?} vs {b:?}"
+    );
+    // Same as threshold 8 px with bias 1.
+    assert_eq!(
+        b,
+        fine.selection(&placements, &cam, 2000, 8.0)
+            .expect("selection")
+    );
+
+    let mut bad = placements.clone();
+    bad[2].mesh = 7;
+    let err = fine
+        .render(&bad, &cam, &Light::default(), 32, 32, 1.0)
+        .expect_err("a placement of a missing mesh is an error");
+    assert!(err.to_string().contains("mesh 7"), "{err}");
+    assert!(fine.selection(&bad, &cam, 32, 1.0).is_err());
+    // No placements: a cleared frame.
+    let f = fine
+        .render(&[], &cam, &Light::default(), 32, 32, 1.0)
+        .expect("empty frame");
+    assert_eq!((f.triangles, f.covered()), (0, 0));
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn frustum_culling_skips_only_invisible_instances() {
+    let ctx = gpu();
+    let meshes = vec![bunny()];
+    let chain = LodChain::build(&meshes[0]);
+    let c = DVec3::from(Vec3::from_slice(&chain.sphere[..3]));
+    let cam = camera();
+    let light = Light::default();
+    let (w, h) = (64, 48);
+    // In view, behind the camera, far to the side, and one straddling the left edge.
+    let at = |p: DVec3| placement_at(p - c);
+    let placements = vec![
+        at(DVec3::new(0.0, 0.0, -0.5)),
+        at(DVec3::new(0.0, 0.0, 0.5)),
+        at(DVec3::new(5.0, 0.0, -0.5)),
+        at(DVec3::new(0.0, -5.0, -0.5)),
+        at(DVec3::new(-0.5 * 0.414 * 64.0 / 48.0 - 0.02, 0.0, -0.5)),
+    ];
+    let culling = Lod::new(&ctx, &meshes, &LodOptions::default()).expect("lod");
+    let all = Lod::new(
+        &ctx,
+        &meshes,
+        &LodOptions {
+            frustum_cull: false,
+            ..Default::default()
+        },
+    )
+    .expect("lod");
+    let a = culling
+        .render(&placements, &cam, &light, w, h, 0.0)
+        .expect("render");
+    let b = all
+        .render(&placements, &cam, &light, w, h, 0.0)
+        .expect("render");
+    let full = meshes[0].triangle_count() as u64;
+    assert_eq!(
+        b.triangles,
+        5 * full,
+        "without culling every instance is drawn"
+    );
+    assert_eq!(
+        a.triangles,
+        2 * full,
+        "the centred and the straddling instances remain"
+    );
+    assert!(a.covered() > 100, "something is visible: {}", a.covered());
+    assert!(
+        a.color == b.color && a.depth == b.depth,
+        "culling changed the image"
+    );
+    assert_no_validation_errors(&ctx);
+}
