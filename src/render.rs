@@ -96,7 +96,10 @@ impl LoadedScene {
         let mut built = Vec::with_capacity(scene.meshes.len());
         let mut warnings = Vec::new();
         for m in &scene.meshes {
-            if m.path.extension().is_some_and(|e| e.eq_ignore_ascii_case("vgeo")) {
+            if m.path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("vgeo"))
+            {
                 let bytes = std::fs::read(&m.path)
                     .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", m.path.display()))?;
                 let b = crate::format::load(&bytes)
@@ -105,7 +108,12 @@ impl LoadedScene {
                 built.push(Some(b));
             } else {
                 let (mesh, report) = crate::mesh::load_mesh(&m.path)?;
-                warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", m.path.display())));
+                warnings.extend(
+                    report
+                        .warnings
+                        .iter()
+                        .map(|w| format!("{}: {w}", m.path.display())),
+                );
                 meshes.push(mesh);
                 built.push(None);
             }
@@ -122,12 +130,22 @@ impl LoadedScene {
         let light = Light {
             direction: scene.light_dir,
         };
-        Ok(Self { scene, meshes, built, placements, light, warnings })
+        Ok(Self {
+            scene,
+            meshes,
+            built,
+            placements,
+            light,
+            warnings,
+        })
     }
 
     /// The cluster DAG of every mesh: loaded from `.vgeo` files, built (in parallel, default
     /// options) for the others. `progress` receives one line per mesh built.
-    pub fn built_meshes(&mut self, progress: &(dyn Fn(&str) + Sync)) -> anyhow::Result<Vec<crate::builder::BuiltMesh>> {
+    pub fn built_meshes(
+        &mut self,
+        progress: &(dyn Fn(&str) + Sync),
+    ) -> anyhow::Result<Vec<crate::builder::BuiltMesh>> {
         use rayon::prelude::*;
         let opts = crate::builder::BuildOptions::default();
         let results: Vec<anyhow::Result<crate::builder::BuiltMesh>> = self

@@ -10,6 +10,7 @@
 //! - the visibility buffer: 64 bits per pixel, `depth bits << 32 | visible index << 7 | triangle`.
 
 pub mod cluster_cull;
+pub mod depth_pyramid;
 pub mod instance_cull;
 pub mod view;
 

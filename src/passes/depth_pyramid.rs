@@ -1,0 +1,162 @@
+//! Pass `depth_pyramid`: the hierarchical depth buffer (HZB) from the visibility buffer, one
+//! dispatch per level, stored as one f32 storage buffer with the levels one after another. Each
+//! texel holds the farthest depth (reverse-Z minimum) of the pixels below it; empty pixels count as
+//! infinitely far. Level `k` is `ceil(w / 2^(k+1)) x ceil(h / 2^(k+1))`.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::gpu::{
+    Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, MemoryKind, ShaderStage, Timer, vk,
+};
+use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::shared::TILE_WORKGROUP_SIZE;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Push {
+    src_offset: u32,
+    src_w: u32,
+    src_h: u32,
+    dst_offset: u32,
+    dst_w: u32,
+    dst_h: u32,
+    from_visbuffer: u32,
+    _pad: u32,
+}
+
+/// Sizes and offsets (in f32 texels) of the levels of an HZB for a `width` x `height` frame.
+pub fn hzb_levels(width: u32, height: u32) -> Vec<(u32, u32, u32)> {
+    let mut levels = Vec::new();
+    let (mut w, mut h, mut offset) = (width.div_ceil(2).max(1), height.div_ceil(2).max(1), 0u32);
+    loop {
+        levels.push((w, h, offset));
+        offset += w * h;
+        if w == 1 && h == 1 {
+            break;
+        }
+        w = w.div_ceil(2);
+        h = h.div_ceil(2);
+    }
+    levels
+}
+
+/// The pipeline and the HZB storage for one frame size.
+pub struct DepthPyramid {
+    pipeline: ComputePipeline,
+    /// All levels, one after another (see [`hzb_levels`]).
+    pub hzb: Buffer,
+    pub levels: Vec<(u32, u32, u32)>,
+    width: u32,
+    height: u32,
+}
+
+impl DepthPyramid {
+    /// Creates the pipeline (for the frame buffers' visibility-buffer path) and the HZB buffer.
+    pub fn new(ctx: &Context, fb: &FrameBuffers) -> GpuResult<Self> {
+        let (spirv, vis_desc) = match fb.vis_path() {
+            VisPath::Buffer => (
+                crate::shaders::DEPTH_PYRAMID_COMP,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
+            VisPath::Image => (
+                crate::shaders::DEPTH_PYRAMID_COMP_IMAGE,
+                vk::DescriptorType::STORAGE_IMAGE,
+            ),
+        };
+        let pipeline = ComputePipeline::new(
+            ctx,
+            ShaderStage {
+                name: "depth_pyramid",
+                spirv,
+            },
+            &[vis_desc, vk::DescriptorType::STORAGE_BUFFER],
+            size_of::<Push>() as u32,
+        )?;
+        let levels = hzb_levels(fb.width, fb.height);
+        let texels: u64 = levels.iter().map(|l| (l.0 * l.1) as u64).sum();
+        let hzb = Buffer::new(
+            ctx,
+            "hzb",
+            4 * texels,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryKind::Gpu,
+        )?;
+        Ok(Self {
+            pipeline,
+            hzb,
+            levels,
+            width: fb.width,
+            height: fb.height,
+        })
+    }
+
+    /// Records the pass (the visibility buffer must be visible to compute shaders).
+    pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, fb: &FrameBuffers) {
+        timer.begin(cmd, "depth_pyramid");
+        cmd.bind_compute(&self.pipeline);
+        let vis = match &fb.visbuffer {
+            VisBuffer::Buffer(b) => Desc::Storage(b),
+            VisBuffer::Image(i) => {
+                cmd.to_general(i);
+                Desc::StorageImage(i)
+            }
+        };
+        cmd.push_compute_descriptors(&self.pipeline, &[vis, Desc::Storage(&self.hzb)]);
+        let (mut sw, mut sh, mut so) = (self.width, self.height, 0u32);
+        for (k, &(w, h, offset)) in self.levels.iter().enumerate() {
+            let push = Push {
+                src_offset: so,
+                src_w: sw,
+                src_h: sh,
+                dst_offset: offset,
+                dst_w: w,
+                dst_h: h,
+                from_visbuffer: (k == 0) as u32,
+                _pad: 0,
+            };
+            cmd.compute_push_constants(&self.pipeline, bytemuck::bytes_of(&push));
+            cmd.dispatch(
+                w.div_ceil(TILE_WORKGROUP_SIZE),
+                h.div_ceil(TILE_WORKGROUP_SIZE),
+                1,
+            );
+            let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+            cmd.barrier(
+                (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+                (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+            );
+            (sw, sh, so) = (w, h, offset);
+        }
+        timer.end(cmd);
+    }
+}
+
+/// The same pyramid on the CPU from per-pixel depths (0 = empty), for tests.
+pub fn hzb_reference(depth: &[f32], width: u32, height: u32) -> Vec<f32> {
+    let levels = hzb_levels(width, height);
+    let mut out = vec![0f32; levels.iter().map(|l| (l.0 * l.1) as usize).sum()];
+    let (mut sw, mut sh, mut so) = (width, height, usize::MAX);
+    for (k, &(w, h, offset)) in levels.iter().enumerate() {
+        for y in 0..h {
+            for x in 0..w {
+                let mut d = 1.0f32;
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let (sx, sy) = (2 * x + dx, 2 * y + dy);
+                    if sx < sw && sy < sh {
+                        let v = if k == 0 {
+                            depth[(sy * sw + sx) as usize]
+                        } else {
+                            out[so + (sy * sw + sx) as usize]
+                        };
+                        d = d.min(v);
+                    }
+                }
+                out[offset as usize + (y * w + x) as usize] = d;
+            }
+        }
+        (sw, sh, so) = (w, h, offset as usize);
+    }
+    out
+}
