@@ -10,24 +10,9 @@
 // The queue is a bounded array per frame (slots start empty, all ones): a push reserves a slot with
 // atomicAdd and publishes the item with an atomic exchange; a consumer waits for the publish. A
 // producer never waits, so no lane waits on a lane that cannot run.
-#extension GL_EXT_shader_atomic_int64 : require
-#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-#include "shared.glsl"
-#include "cull.glsl"
+#include "cull_bindings.glsl"
 
 layout(local_size_x = CLUSTER_CULL_WORKGROUP_SIZE) in;
-
-layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
-layout(set = 0, binding = 1, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 2, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
-layout(set = 0, binding = 3, scalar) coherent buffer Counters { CullCounters counters; };
-layout(set = 0, binding = 4) coherent buffer Queue { uint64_t queue[]; };
-layout(set = 0, binding = 5, scalar) readonly buffer Bvh { BvhNode bvh[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Groups { Group groups[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer Clusters { Cluster clusters[]; };
-layout(set = 0, binding = 8) writeonly buffer Visible { uvec2 visible[]; };
-layout(set = 0, binding = 9) writeonly buffer SwList { uint sw_list[]; };
-layout(set = 0, binding = 10) writeonly buffer HwList { uint hw_list[]; };
 
 const uint64_t EMPTY = ~uint64_t(0);
 
@@ -35,50 +20,8 @@ shared uint s_first;
 shared uint s_count;
 shared uint s_done;
 
-uint load_counter_tail() {
+uint load_queue_tail() {
     return min(atomicAdd(counters.queue_tail, 0u), view.queue_capacity);
-}
-
-void push(uint instance, uint node) {
-    atomicAdd(counters.outstanding, 1u);
-    uint slot = atomicAdd(counters.queue_tail, 1u);
-    if (slot >= view.queue_capacity) {
-        atomicAdd(counters.queue_overflow, 1u);
-        atomicAdd(counters.outstanding, 0xffffffffu);
-        return;
-    }
-    atomicExchange(queue[slot], (uint64_t(instance) << 32) | uint64_t(node));
-}
-
-void emit_cluster(uint instance, uint cluster_index, Cluster cl, vec3 center, float radius) {
-    uint v = atomicAdd(counters.visible_count, 1u);
-    if (v >= view.visible_capacity) {
-        atomicAdd(counters.visible_overflow, 1u);
-        return;
-    }
-    visible[v] = uvec2(instance, cluster_index);
-    // Rasterizer choice: clusters reaching the near plane always go to HW (the SW rasterizer
-    // cannot clip); otherwise by projected size, unless forced.
-    float dist = length(center) - radius;
-    bool near_crossing = dist <= view.near;
-    bool hw;
-    if (near_crossing) {
-        hw = true;
-    } else if ((view.flags & VIEW_FLAG_FORCE_HW) != 0u) {
-        hw = true;
-    } else if ((view.flags & VIEW_FLAG_FORCE_SW) != 0u) {
-        hw = false;
-    } else {
-        hw = 2.0 * radius * view.proj_scale / dist > view.hw_threshold_px;
-    }
-    if (hw) {
-        uint h = atomicAdd(counters.hw_count, 1u);
-        hw_list[h] = v;
-    } else {
-        uint s = atomicAdd(counters.sw_count, 1u);
-        sw_list[s] = v;
-    }
-    atomicAdd(counters.triangles, (cl.counts >> 8) & 0xffu);
 }
 
 void process(uint64_t item) {
@@ -98,6 +41,21 @@ void process(uint64_t item) {
             return;
         }
     }
+    // Occlusion: in the main phase against the previous frame's HZB (rejected items wait for the
+    // post phase), in the post phase against this frame's (rejected for good).
+    if (hzb_occluded(inst, node.bounds_min, node.bounds_max)) {
+        if (pc.phase == 0u) {
+            uint j = atomicAdd(counters.post_node_count, 1u);
+            if (j < view.queue_capacity) {
+                post_nodes[j] = item;
+            } else {
+                atomicAdd(counters.queue_overflow, 1u);
+            }
+        } else {
+            atomicAdd(counters.occluded_nodes, 1u);
+        }
+        return;
+    }
     // No cluster below can be drawn when even the largest parent error is already fine.
     vec3 lc = relative_position(inst, view, node.lod_sphere.xyz);
     if (lod_error_px(node.max_parent_error * scale, lc, node.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
@@ -105,7 +63,7 @@ void process(uint64_t item) {
     }
     if ((node.flags & BVH_FLAG_LEAF) == 0u) {
         for (uint k = 0u; k < node.count; k++) {
-            push(instance, mesh.bvh_offset + node.first + k);
+            push_item((uint64_t(instance) << 32) | uint64_t(mesh.bvh_offset + node.first + k));
         }
         return;
     }
@@ -116,10 +74,10 @@ void process(uint64_t item) {
             Cluster cl = clusters[ci];
             atomicAdd(counters.clusters_tested, 1u);
             vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
-            vec3 pc = relative_position(inst, view, cl.parent_sphere.xyz);
+            vec3 pcen = relative_position(inst, view, cl.parent_sphere.xyz);
             bool fine = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) <= view.error_px;
             bool parent_coarse =
-                lod_error_px(cl.parent_error * scale, pc, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
+                lod_error_px(cl.parent_error * scale, pcen, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
             if (!(fine && parent_coarse)) {
                 continue;
             }
@@ -128,7 +86,20 @@ void process(uint64_t item) {
             if (frustum && !sphere_in_frustum(view, cc, cr)) {
                 continue;
             }
-            emit_cluster(instance, ci, cl, cc, cr);
+            if (hzb_occluded(inst, cl.bounds_min, cl.bounds_max)) {
+                if (pc.phase == 0u) {
+                    uint j = atomicAdd(counters.post_cluster_count, 1u);
+                    if (j < view.visible_capacity) {
+                        post_clusters[j] = uvec2(instance, ci);
+                    } else {
+                        atomicAdd(counters.visible_overflow, 1u);
+                    }
+                } else {
+                    atomicAdd(counters.occluded_clusters, 1u);
+                }
+                continue;
+            }
+            emit_cluster(instance, ci, cc, cr);
         }
     }
 }
@@ -143,7 +114,7 @@ void main() {
             // Claim up to a workgroup's worth of published-or-reserved items.
             uint h = atomicAdd(counters.queue_head, 0u);
             for (uint tries = 0u; tries < 64u; tries++) {
-                uint t = load_counter_tail();
+                uint t = load_queue_tail();
                 if (h >= t) {
                     break;
                 }

@@ -1,25 +1,16 @@
 #version 460
-// Pass `instance_cull`: a thread per instance; frustum test of the mesh's bounding sphere; visible
-// instances push their mesh's BVH root into the cluster_cull work queue.
-#extension GL_EXT_shader_atomic_int64 : require
-#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-#include "shared.glsl"
-#include "cull.glsl"
+// Pass `instance_cull`.
+// Main phase: a thread per instance; frustum test of the mesh's bounding sphere, then the previous
+// frame's HZB: visible instances push their BVH root into cluster_cull's queue, occluded ones wait
+// in `post_instances` for the post phase.
+// Post phase: grid-stride over what the main phase deferred: instances (tested against this frame's
+// HZB, pushed if visible), BVH-node items (pushed back: cluster_cull tests them again) and clusters
+// (tested against this frame's HZB, emitted if visible).
+#include "cull_bindings.glsl"
 
 layout(local_size_x = INSTANCE_CULL_WORKGROUP_SIZE) in;
 
-layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
-layout(set = 0, binding = 1, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 2, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
-layout(set = 0, binding = 3, scalar) coherent buffer Counters { CullCounters counters; };
-layout(set = 0, binding = 4) coherent buffer Queue { uint64_t queue[]; };
-
-void main() {
-    // 2D grid of workgroups for more than 65535 * 64 instances.
-    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * INSTANCE_CULL_WORKGROUP_SIZE + gl_LocalInvocationID.x;
-    if (i >= view.instance_count) {
-        return;
-    }
+void instance_main(uint i) {
     atomicAdd(counters.instances_tested, 1u);
     InstanceVgeo inst = instances[i];
     MeshGpu mesh = meshes[inst.mesh];
@@ -28,14 +19,54 @@ void main() {
     if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, c, r)) {
         return;
     }
-    atomicAdd(counters.instances_visible, 1u);
-    atomicAdd(counters.outstanding, 1u);
-    uint slot = atomicAdd(counters.queue_tail, 1u);
-    if (slot >= view.queue_capacity) {
-        atomicAdd(counters.queue_overflow, 1u);
-        atomicAdd(counters.outstanding, 0xffffffffu);
+    vec3 rr = vec3(mesh.bounds_radius);
+    if (hzb_occluded(inst, mesh.bounds_center - rr, mesh.bounds_center + rr)) {
+        post_instances[atomicAdd(counters.post_instance_count, 1u)] = i;
         return;
     }
-    uint64_t item = (uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root);
-    atomicExchange(queue[slot], item);
+    atomicAdd(counters.instances_visible, 1u);
+    push_item((uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root));
+}
+
+void main() {
+    uint threads = gl_NumWorkGroups.x * gl_NumWorkGroups.y * INSTANCE_CULL_WORKGROUP_SIZE;
+    uint gid = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * INSTANCE_CULL_WORKGROUP_SIZE
+        + gl_LocalInvocationID.x;
+    if (pc.phase == 0u) {
+        if (gid < view.instance_count) {
+            instance_main(gid);
+        }
+        return;
+    }
+    uint n_inst = main_counters.post_instance_count;
+    uint n_nodes = min(main_counters.post_node_count, view.queue_capacity);
+    uint n_clusters = min(main_counters.post_cluster_count, view.visible_capacity);
+    for (uint j = gid; j < n_inst; j += threads) {
+        uint i = post_instances[j];
+        InstanceVgeo inst = instances[i];
+        MeshGpu mesh = meshes[inst.mesh];
+        vec3 rr = vec3(mesh.bounds_radius);
+        atomicAdd(counters.instances_tested, 1u);
+        if (hzb_occluded(inst, mesh.bounds_center - rr, mesh.bounds_center + rr)) {
+            atomicAdd(counters.occluded_instances, 1u);
+            continue;
+        }
+        atomicAdd(counters.instances_visible, 1u);
+        push_item((uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root));
+    }
+    for (uint j = gid; j < n_nodes; j += threads) {
+        push_item(post_nodes[j]);
+    }
+    for (uint j = gid; j < n_clusters; j += threads) {
+        uvec2 e = post_clusters[j];
+        InstanceVgeo inst = instances[e.x];
+        Cluster cl = clusters[e.y];
+        if (hzb_occluded(inst, cl.bounds_min, cl.bounds_max)) {
+            atomicAdd(counters.occluded_clusters, 1u);
+            continue;
+        }
+        vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
+        float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * inst.max_scale;
+        emit_cluster(e.x, e.y, cc, cr);
+    }
 }

@@ -6,14 +6,16 @@
 
 use crate::builder::BuiltMesh;
 use crate::camera::Camera;
-use crate::gpu::{Cmd, Context, GpuError, GpuResult, Timer, vk};
+use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Timer, vk};
 use crate::passes::cluster_cull::{ClusterCull, default_workgroups};
+use crate::passes::cull::Phase;
+use crate::passes::depth_pyramid::DepthPyramid;
 use crate::passes::instance_cull::InstanceCull;
 use crate::passes::view::{FrameSettings, view_gpu};
 use crate::passes::{FrameBuffers, VisPath};
 use crate::render::Placement;
 use crate::scene_gpu::GpuScene;
-use crate::shared::CullCounters;
+use crate::shared::{CullCounters, OcclusionGpu};
 
 /// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits.
 pub const MAX_VISIBLE: u32 = 1 << crate::shared::VISBUFFER_CLUSTER_BITS;
@@ -65,6 +67,7 @@ pub struct VgeoRenderer {
     instance_cull: InstanceCull,
     cluster_cull: ClusterCull,
     fb: Option<FrameBuffers>,
+    pyramid: Option<DepthPyramid>,
     vis_path: VisPath,
     queue_capacity: u32,
     visible_capacity: u32,
@@ -92,6 +95,7 @@ impl VgeoRenderer {
             instance_cull: InstanceCull::new(ctx)?,
             cluster_cull: ClusterCull::new(ctx, default_workgroups(ctx.caps()))?,
             fb: None,
+            pyramid: None,
             vis_path,
             queue_capacity,
             visible_capacity,
@@ -115,40 +119,57 @@ impl VgeoRenderer {
             .as_ref()
             .is_some_and(|f| f.width == width && f.height == height);
         if !ok {
-            self.fb = Some(FrameBuffers::new(
+            let fb = FrameBuffers::new(
                 &self.ctx,
                 width,
                 height,
                 self.vis_path,
                 self.queue_capacity,
                 self.visible_capacity,
-            )?);
+                self.scene.instance_count,
+            )?;
+            self.pyramid = Some(DepthPyramid::new(&self.ctx, &fb)?);
+            self.fb = Some(fb);
         }
         Ok(())
     }
 
-    /// Records the culling passes (with their clears and barriers).
-    fn record_cull(&self, cmd: &mut Cmd, timer: &mut Timer, fb: &FrameBuffers) {
-        cmd.fill_buffer(&fb.counters, 0);
+    /// Records one phase's culling passes (with their clears and barriers). The post phase keeps
+    /// numbering visible clusters after the main phase's.
+    fn record_cull(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        fb: &FrameBuffers,
+        hzb: &Buffer,
+        phase: Phase,
+    ) {
+        let counters = match phase {
+            Phase::Main => &fb.counters,
+            Phase::Post => &fb.counters_post,
+        };
+        cmd.fill_buffer(counters, 0);
         cmd.fill_buffer(&fb.queue, u32::MAX);
-        let transfer_to_compute = (
+        if phase == Phase::Post {
+            let off = std::mem::offset_of!(CullCounters, visible_count) as u64;
+            cmd.copy_buffer_region(&fb.counters, off, &fb.counters_post, off, 4);
+        }
+        let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+        cmd.barrier(
             (
                 vk::PipelineStageFlags2::ALL_TRANSFER,
                 vk::AccessFlags2::TRANSFER_WRITE,
             ),
-            (
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            ),
+            (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
         );
-        cmd.barrier(transfer_to_compute.0, transfer_to_compute.1);
-        self.instance_cull.record(cmd, timer, &self.scene, fb);
-        let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+        self.instance_cull
+            .record(cmd, timer, &self.scene, fb, hzb, phase);
         cmd.barrier(
             (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
             (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
         );
-        self.cluster_cull.record(cmd, timer, &self.scene, fb);
+        self.cluster_cull
+            .record(cmd, timer, &self.scene, fb, hzb, phase);
         cmd.barrier(
             (
                 vk::PipelineStageFlags2::COMPUTE_SHADER,
@@ -188,7 +209,11 @@ impl VgeoRenderer {
             .fb
             .as_mut()
             .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
-        fb.view.write(0, bytemuck::bytes_of(&view))
+        fb.view.write(0, bytemuck::bytes_of(&view))?;
+        // Culling only: no HZB, nothing occluded.
+        let off = OcclusionGpu::default();
+        fb.occ_main.write(0, bytemuck::bytes_of(&off))?;
+        fb.occ_post.write(0, bytemuck::bytes_of(&off))
     }
 
     /// Runs only the culling passes and reads back their results (tests compare them with the CPU cut).
@@ -204,10 +229,15 @@ impl VgeoRenderer {
             .fb
             .as_ref()
             .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+        let hzb = &self
+            .pyramid
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("HZB missing".into()))?
+            .hzb;
         let mut timer = Timer::new(&self.ctx, 8)?;
         self.ctx.submit_and_wait("vgeo cull", |cmd| {
             timer.reset(cmd);
-            self.record_cull(cmd, &mut timer, fb);
+            self.record_cull(cmd, &mut timer, fb, hzb, Phase::Main);
         })?;
         let gpu_ms = timer.results()?;
         read_cull(fb, gpu_ms)

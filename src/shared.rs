@@ -176,5 +176,35 @@ pub struct CullCounters {
     pub sw_dispatch: [u32; 4],
     /// `vkCmdDrawIndirect` arguments of `raster_hw` (vertices, instances, first vertex, first instance).
     pub hw_draw: [u32; 4],
+    /// Main phase: instances, BVH-node items and clusters the previous frame's HZB rejected; they
+    /// wait for the post phase (two-pass occlusion culling).
+    pub post_instance_count: u32,
+    pub post_node_count: u32,
+    pub post_cluster_count: u32,
+    /// Post phase: what the current HZB rejected for good.
+    pub occluded_instances: u32,
+    pub occluded_nodes: u32,
+    pub occluded_clusters: u32,
+    pub _pad1: [u32; 2],
 }
-const _: () = assert!(size_of::<CullCounters>() == 96);
+const _: () = assert!(size_of::<CullCounters>() == 128);
+
+/// The HZB an occlusion test reads, and the view it was built from. The main phase tests against
+/// the previous frame's HZB (with that frame's view), the post phase against this frame's.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct OcclusionGpu {
+    /// Camera-relative view-projection of the frame that built the HZB.
+    pub view_proj: [[f32; 4]; 4],
+    pub camera_hi: [f32; 4],
+    pub camera_lo: [f32; 4],
+    /// Width and height of that frame (the HZB's level 0 is half of it), unused, unused.
+    pub viewport: [f32; 4],
+    pub near: f32,
+    /// Levels in the HZB buffer.
+    pub levels: u32,
+    /// 0: no HZB (first frame or occlusion off): nothing is occluded.
+    pub enabled: u32,
+    pub _pad: u32,
+}
+const _: () = assert!(size_of::<OcclusionGpu>() == 128);

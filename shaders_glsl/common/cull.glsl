@@ -1,21 +1,27 @@
-// Shared by instance_cull and cluster_cull: camera-relative transforms, frustum test, the LOD
-// error projection (mirrors src/builder/cut.rs::lod_error_px operation for operation) and the
-// work-queue push.
+// Shared by instance_cull and cluster_cull: camera-relative transforms, frustum and HZB tests, the
+// LOD error projection (mirrors src/builder/cut.rs::lod_error_px operation for operation), queue
+// pushes and cluster emission. The including shader declares, before including this file:
+// `view` (ViewGpu), `counters` (CullCounters), `queue` (uint64_t[]), `occ` (OcclusionGpu),
+// `hzb` (float[]), `clusters`, `visible`, `sw_list`, `hw_list`.
 #ifndef VGEO_CULL_GLSL
 #define VGEO_CULL_GLSL
 
-// Camera-relative position of object-space point p of an instance: hi/lo translation minus the
-// camera first (exact for large coordinates), then the linear part, column by column.
-vec3 relative_position(InstanceVgeo inst, ViewGpu view, vec3 p) {
-    precise vec3 t = (inst.translation_hi - view.camera_hi.xyz) + (inst.translation_lo - view.camera_lo.xyz);
+// Camera-relative position of object-space point p of an instance for a camera at hi + lo:
+// translation minus camera first (exact for large coordinates), then the linear part by column.
+vec3 relative_to(InstanceVgeo inst, vec3 cam_hi, vec3 cam_lo, vec3 p) {
+    precise vec3 t = (inst.translation_hi - cam_hi) + (inst.translation_lo - cam_lo);
     precise vec3 l = inst.linear[0].xyz * p.x + inst.linear[1].xyz * p.y + inst.linear[2].xyz * p.z;
     return t + l;
 }
 
+vec3 relative_position(InstanceVgeo inst, ViewGpu v, vec3 p) {
+    return relative_to(inst, v.camera_hi.xyz, v.camera_lo.xyz, p);
+}
+
 // Whether a camera-relative sphere touches the frustum (far plane at infinity).
-bool sphere_in_frustum(ViewGpu view, vec3 c, float r) {
+bool sphere_in_frustum(ViewGpu v, vec3 c, float r) {
     for (int i = 0; i < 5; i++) {
-        if (dot(view.frustum[i].xyz, c) + view.frustum[i].w < -r) {
+        if (dot(v.frustum[i].xyz, c) + v.frustum[i].w < -r) {
             return false;
         }
     }
@@ -33,6 +39,99 @@ float lod_error_px(float error, vec3 center, float radius, float proj_scale) {
     }
     precise float e = error * proj_scale;
     return e / d;
+}
+
+// Whether an instance's object-space box lies entirely behind the HZB in `occ` (conservative: a box
+// reaching the near plane or leaving the screen entirely is never called occluded here).
+bool hzb_occluded(InstanceVgeo inst, vec3 bmin, vec3 bmax) {
+    if (occ.enabled == 0u) {
+        return false;
+    }
+    vec2 lo = vec2(1e30);
+    vec2 hi = vec2(-1e30);
+    float nearest = 0.0;
+    for (int i = 0; i < 8; i++) {
+        vec3 p = vec3((i & 1) != 0 ? bmax.x : bmin.x, (i & 2) != 0 ? bmax.y : bmin.y, (i & 4) != 0 ? bmax.z : bmin.z);
+        vec4 c = occ.view_proj * vec4(relative_to(inst, occ.camera_hi.xyz, occ.camera_lo.xyz, p), 1.0);
+        if (c.w <= occ.near) {
+            return false;
+        }
+        vec3 n = c.xyz / c.w;
+        vec2 px = (n.xy * 0.5 + 0.5) * occ.viewport.xy;
+        lo = min(lo, px);
+        hi = max(hi, px);
+        nearest = max(nearest, n.z);
+    }
+    lo = max(lo, vec2(0.0));
+    hi = min(hi, occ.viewport.xy - 1.0);
+    if (hi.x < lo.x || hi.y < lo.y) {
+        return false;
+    }
+    float size = max(hi.x - lo.x, hi.y - lo.y);
+    // Level k texels cover 2^(k+1) pixels: pick the level where the box spans at most 2x2 texels.
+    uint k = uint(max(0, int(ceil(log2(max(size, 1.0)))) - 1));
+    k = min(k, occ.levels - 1u);
+    uint w = (uint(occ.viewport.x) + 1u) / 2u;
+    uint h = (uint(occ.viewport.y) + 1u) / 2u;
+    uint offset = 0u;
+    for (uint l = 0u; l < k; l++) {
+        offset += w * h;
+        w = (w + 1u) / 2u;
+        h = (h + 1u) / 2u;
+    }
+    float texel = float(1u << (k + 1u));
+    uvec2 t0 = min(uvec2(floor(lo / texel)), uvec2(w - 1u, h - 1u));
+    uvec2 t1 = min(uvec2(floor(hi / texel)), uvec2(w - 1u, h - 1u));
+    t1 = min(t1, t0 + 1u);
+    float farthest = 1.0;
+    for (uint y = t0.y; y <= t1.y; y++) {
+        for (uint x = t0.x; x <= t1.x; x++) {
+            farthest = min(farthest, hzb[offset + y * w + x]);
+        }
+    }
+    return nearest < farthest;
+}
+
+// Pushes an (instance, BVH node) item; a full queue counts an overflow (reported) instead.
+void push_item(uint64_t item) {
+    atomicAdd(counters.outstanding, 1u);
+    uint slot = atomicAdd(counters.queue_tail, 1u);
+    if (slot >= view.queue_capacity) {
+        atomicAdd(counters.queue_overflow, 1u);
+        atomicAdd(counters.outstanding, 0xffffffffu);
+        return;
+    }
+    atomicExchange(queue[slot], item);
+}
+
+// Appends a drawn cluster to the visible list and to the SW or HW list. `center`/`radius`: its
+// camera-relative bounding sphere.
+void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) {
+    uint v = atomicAdd(counters.visible_count, 1u);
+    if (v >= view.visible_capacity) {
+        atomicAdd(counters.visible_overflow, 1u);
+        return;
+    }
+    visible[v] = uvec2(instance, cluster_index);
+    // Clusters reaching the near plane always go to HW (the SW rasterizer cannot clip); otherwise
+    // by projected size, unless forced.
+    float dist = length(center) - radius;
+    bool hw;
+    if (dist <= view.near) {
+        hw = true;
+    } else if ((view.flags & VIEW_FLAG_FORCE_HW) != 0u) {
+        hw = true;
+    } else if ((view.flags & VIEW_FLAG_FORCE_SW) != 0u) {
+        hw = false;
+    } else {
+        hw = 2.0 * radius * view.proj_scale / dist > view.hw_threshold_px;
+    }
+    if (hw) {
+        hw_list[atomicAdd(counters.hw_count, 1u)] = v;
+    } else {
+        sw_list[atomicAdd(counters.sw_count, 1u)] = v;
+    }
+    atomicAdd(counters.triangles, (clusters[cluster_index].counts >> 8) & 0xffu);
 }
 
 #endif

@@ -76,6 +76,24 @@ struct CullCounters {
     uint _pad0;
     uvec4 sw_dispatch;
     uvec4 hw_draw;
+    uint post_instance_count;
+    uint post_node_count;
+    uint post_cluster_count;
+    uint occluded_instances;
+    uint occluded_nodes;
+    uint occluded_clusters;
+    uint _pad1[2];
+};
+
+struct OcclusionGpu {
+    mat4 view_proj;
+    vec4 camera_hi;
+    vec4 camera_lo;
+    vec4 viewport;
+    float near;
+    uint levels;
+    uint enabled;
+    uint _pad;
 };
 
 // Builder structs (src/builder/mod.rs), as stored in the .vgeo file.

@@ -120,6 +120,27 @@ impl Cmd {
         };
     }
 
+    /// Copies `size` bytes from `src` at `src_offset` to `dst` at `dst_offset`.
+    pub fn copy_buffer_region(
+        &mut self,
+        src: &Buffer,
+        src_offset: u64,
+        dst: &Buffer,
+        dst_offset: u64,
+        size: u64,
+    ) {
+        let region = vk::BufferCopy {
+            src_offset,
+            dst_offset,
+            size,
+        };
+        // SAFETY: both buffers are valid; the ranges lie inside them (callers).
+        unsafe {
+            self.dev()
+                .cmd_copy_buffer(self.cb, src.raw, dst.raw, &[region])
+        };
+    }
+
     /// Fills a whole buffer with a repeated u32.
     pub fn fill_buffer(&mut self, buf: &Buffer, value: u32) {
         // SAFETY: valid buffer; WHOLE_SIZE rounds down to a multiple of 4.

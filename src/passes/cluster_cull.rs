@@ -3,8 +3,9 @@
 //! clusters to the visible list and to the SW or HW rasterizer's list. See the shader's header for
 //! the queue protocol and termination.
 
-use crate::gpu::{Caps, Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, Timer, vk};
+use crate::gpu::{Buffer, Caps, Cmd, ComputePipeline, Context, GpuResult, ShaderStage, Timer};
 use crate::passes::FrameBuffers;
+use crate::passes::cull::{Phase, descriptors};
 use crate::scene_gpu::GpuScene;
 
 /// The `cluster_cull` pipeline and its persistent workgroup count.
@@ -41,17 +42,14 @@ pub fn default_workgroups(caps: &Caps) -> u32 {
 impl ClusterCull {
     /// Creates the pipeline with `workgroups` persistent workgroups.
     pub fn new(ctx: &Context, workgroups: u32) -> GpuResult<Self> {
-        use vk::DescriptorType as D;
-        let mut bindings = vec![D::UNIFORM_BUFFER];
-        bindings.extend([D::STORAGE_BUFFER; 10]);
         let pipeline = ComputePipeline::new(
             ctx,
             ShaderStage {
                 name: "cluster_cull",
                 spirv: crate::shaders::CLUSTER_CULL_COMP,
             },
-            &bindings,
-            0,
+            &crate::passes::cull::layout(),
+            4,
         )?;
         Ok(Self {
             pipeline,
@@ -65,25 +63,19 @@ impl ClusterCull {
     }
 
     /// Records the pass.
-    pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, scene: &GpuScene, fb: &FrameBuffers) {
-        timer.begin(cmd, "cluster_cull");
+    pub fn record(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+        hzb: &Buffer,
+        phase: Phase,
+    ) {
+        timer.begin(cmd, &format!("cluster_cull{}", phase.label()));
         cmd.bind_compute(&self.pipeline);
-        cmd.push_compute_descriptors(
-            &self.pipeline,
-            &[
-                Desc::Uniform(&fb.view),
-                Desc::Storage(&scene.meshes),
-                Desc::Storage(&scene.instances),
-                Desc::Storage(&fb.counters),
-                Desc::Storage(&fb.queue),
-                Desc::Storage(&scene.bvh),
-                Desc::Storage(&scene.groups),
-                Desc::Storage(&scene.clusters),
-                Desc::Storage(&fb.visible),
-                Desc::Storage(&fb.sw_list),
-                Desc::Storage(&fb.hw_list),
-            ],
-        );
+        cmd.push_compute_descriptors(&self.pipeline, &descriptors(scene, fb, hzb, phase));
+        cmd.compute_push_constants(&self.pipeline, &phase.push_constant());
         cmd.dispatch(self.workgroups, 1, 1);
         timer.end(cmd);
     }

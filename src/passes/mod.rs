@@ -14,8 +14,12 @@ pub mod depth_pyramid;
 pub mod instance_cull;
 pub mod view;
 
+/// The descriptors of `instance_cull` and `cluster_cull` (one layout for both, see
+/// `shaders_glsl/common/cull_bindings.glsl`).
+pub mod cull;
+
 use crate::gpu::{Buffer, Context, GpuResult, Image, MemoryKind, vk};
-use crate::shared::{CullCounters, ViewGpu};
+use crate::shared::{CullCounters, OcclusionGpu, ViewGpu};
 
 /// Where the 64-bit visibility buffer lives.
 pub enum VisBuffer {
@@ -71,6 +75,17 @@ pub struct FrameBuffers {
     pub sw_list: Buffer,
     pub hw_list: Buffer,
     pub visbuffer: VisBuffer,
+    /// Post phase (two-pass occlusion culling): its counters and rasterizer lists.
+    pub counters_post: Buffer,
+    pub sw_list_post: Buffer,
+    pub hw_list_post: Buffer,
+    /// What the main phase deferred: instance indices, queue items, `uvec2(instance, cluster)`.
+    pub post_instances: Buffer,
+    pub post_nodes: Buffer,
+    pub post_clusters: Buffer,
+    /// [`crate::shared::OcclusionGpu`] of each phase (host-visible, written each frame).
+    pub occ_main: Buffer,
+    pub occ_post: Buffer,
     pub queue_capacity: u32,
     pub visible_capacity: u32,
 }
@@ -84,6 +99,7 @@ impl FrameBuffers {
         path: VisPath,
         queue_capacity: u32,
         visible_capacity: u32,
+        instance_count: u32,
     ) -> GpuResult<Self> {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let dst = vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
@@ -143,6 +159,50 @@ impl FrameBuffers {
                 vk::BufferUsageFlags::empty(),
             )?,
             visbuffer,
+            counters_post: gpu(
+                "cull counters (post)",
+                size_of::<CullCounters>() as u64,
+                vk::BufferUsageFlags::INDIRECT_BUFFER,
+            )?,
+            sw_list_post: gpu(
+                "sw clusters (post)",
+                4 * visible_capacity as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            hw_list_post: gpu(
+                "hw clusters (post)",
+                4 * visible_capacity as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            post_instances: gpu(
+                "post instances",
+                4 * instance_count.max(1) as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            post_nodes: gpu(
+                "post nodes",
+                8 * queue_capacity as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            post_clusters: gpu(
+                "post clusters",
+                8 * visible_capacity as u64,
+                vk::BufferUsageFlags::empty(),
+            )?,
+            occ_main: Buffer::new(
+                ctx,
+                "occlusion (main)",
+                size_of::<OcclusionGpu>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                MemoryKind::Upload,
+            )?,
+            occ_post: Buffer::new(
+                ctx,
+                "occlusion (post)",
+                size_of::<OcclusionGpu>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                MemoryKind::Upload,
+            )?,
             queue_capacity,
             visible_capacity,
         })

@@ -1,0 +1,77 @@
+//! The descriptor set shared by `instance_cull` and `cluster_cull`, per phase of the two-pass
+//! occlusion culling.
+
+use crate::gpu::{Buffer, Desc, vk};
+use crate::passes::FrameBuffers;
+use crate::scene_gpu::GpuScene;
+
+/// Which half of the two-pass occlusion culling runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// Test against the previous frame's HZB; defer what it rejects.
+    Main,
+    /// Test what was deferred against this frame's HZB.
+    Post,
+}
+
+impl Phase {
+    /// The push constant the shaders read.
+    pub fn push_constant(self) -> [u8; 4] {
+        (self as u32).to_le_bytes()
+    }
+
+    /// The debug label suffix.
+    pub fn label(self) -> &'static str {
+        match self {
+            Phase::Main => "",
+            Phase::Post => " (post)",
+        }
+    }
+}
+
+/// Descriptor types of the shared layout, binding i = entry i.
+pub fn layout() -> Vec<vk::DescriptorType> {
+    use vk::DescriptorType as D;
+    let mut v = vec![D::UNIFORM_BUFFER];
+    v.extend([D::STORAGE_BUFFER; 10]);
+    v.push(D::UNIFORM_BUFFER);
+    v.extend([D::STORAGE_BUFFER; 5]);
+    v
+}
+
+/// The descriptors of one phase (`hzb`: the HZB the phase tests against).
+pub fn descriptors<'a>(
+    scene: &'a GpuScene,
+    fb: &'a FrameBuffers,
+    hzb: &'a Buffer,
+    phase: Phase,
+) -> Vec<Desc<'a>> {
+    let (counters, sw, hw, occ) = match phase {
+        Phase::Main => (&fb.counters, &fb.sw_list, &fb.hw_list, &fb.occ_main),
+        Phase::Post => (
+            &fb.counters_post,
+            &fb.sw_list_post,
+            &fb.hw_list_post,
+            &fb.occ_post,
+        ),
+    };
+    vec![
+        Desc::Uniform(&fb.view),
+        Desc::Storage(&scene.meshes),
+        Desc::Storage(&scene.instances),
+        Desc::Storage(counters),
+        Desc::Storage(&fb.queue),
+        Desc::Storage(&scene.bvh),
+        Desc::Storage(&scene.groups),
+        Desc::Storage(&scene.clusters),
+        Desc::Storage(&fb.visible),
+        Desc::Storage(sw),
+        Desc::Storage(hw),
+        Desc::Uniform(occ),
+        Desc::Storage(hzb),
+        Desc::Storage(&fb.counters),
+        Desc::Storage(&fb.post_instances),
+        Desc::Storage(&fb.post_nodes),
+        Desc::Storage(&fb.post_clusters),
+    ]
+}
