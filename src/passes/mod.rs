@@ -9,7 +9,11 @@
 //! - [`CullCounters`]: counts, overflow flags and the indirect arguments of the rasterizers;
 //! - the visibility buffer: 64 bits per pixel, `depth bits << 32 | visible index << 7 | triangle`.
 
+pub mod debug_view;
+pub mod raster_hw;
+pub mod raster_sw;
 pub mod view;
+pub mod visbuffer;
 
 use crate::gpu::{Buffer, Context, GpuResult, Image, MemoryKind, vk};
 use crate::shared::{CullCounters, ViewGpu};
