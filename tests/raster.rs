@@ -48,7 +48,9 @@ enum Split {
 
 /// Two spot instances (the second turned, scaled and shifted so that they overlap on screen),
 /// offset by `origin`, and a camera framing them from `origin` + the same offset.
-fn scene(origin: DVec3) -> (Vec<Placement>, Camera) {
+/// `zoom` scales the camera's distance to the scene's centre (and the near plane's by its square,
+/// keeping the meshes in front of it).
+fn scene(origin: DVec3, zoom: f64) -> (Vec<Placement>, Camera) {
     let p0 = DMat4::from_translation(origin);
     let p1 = DMat4::from_translation(origin + DVec3::new(0.7, 0.05, -0.5))
         * DMat4::from_rotation_y(0.7)
@@ -65,21 +67,21 @@ fn scene(origin: DVec3) -> (Vec<Placement>, Camera) {
             color: [0.4, 0.7, 0.9],
         },
     ];
-    let b = spot()
-        .clusters
-        .iter()
-        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), c| {
+    let b = spot().clusters.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), c| {
             (
                 lo.min(Vec3::from(c.bounds_min)),
                 hi.max(Vec3::from(c.bounds_max)),
             )
-        });
+        },
+    );
     let lo = b.0.as_dvec3() + origin + DVec3::new(0.0, 0.0, -0.6);
     let hi = b.1.as_dvec3() + origin + DVec3::new(0.7, 0.0, 0.0);
-    // Closer than framing: the meshes fill most of the frame, some parts leave it.
     let mut cam = Camera::frame_bounds(lo, hi, W as f32 / H as f32);
     let centre = (lo + hi) * 0.5;
-    cam.position = centre + (cam.position - centre) * 0.6;
+    cam.position = centre + (cam.position - centre) * zoom;
+    cam.near *= (zoom * zoom) as f32;
     (placements, cam)
 }
 
@@ -109,12 +111,17 @@ struct Rig {
 }
 
 impl Rig {
+    /// The usual view: closer than framing, the meshes fill much of the frame, some parts leave it.
     fn new(origin: DVec3, levels: &[u32]) -> Self {
+        Self::with_zoom(origin, levels, 0.6)
+    }
+
+    fn with_zoom(origin: DVec3, levels: &[u32], zoom: f64) -> Self {
         let ctx = gpu();
         let path = VisPath::choose(&ctx).expect("visibility-buffer path");
-        let (placements, camera) = scene(origin);
-        let gpu_scene = GpuScene::new(&ctx, std::slice::from_ref(spot()), &placements)
-            .expect("scene upload");
+        let (placements, camera) = scene(origin, zoom);
+        let gpu_scene =
+            GpuScene::new(&ctx, std::slice::from_ref(spot()), &placements).expect("scene upload");
         let visible = visible_list(levels);
         let fb = FrameBuffers::new(&ctx, W, H, path, 64, visible.len() as u32).expect("buffers");
         let sw = RasterSw::new(&ctx, path).expect("raster_sw pipeline");
@@ -215,7 +222,10 @@ impl Rig {
             sw.record(cmd, &mut timer, scene, fb);
             cmd.barrier(
                 (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
-                (S::FRAGMENT_SHADER, A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE),
+                (
+                    S::FRAGMENT_SHADER,
+                    A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+                ),
             );
             hw.record(cmd, &mut timer, scene, fb);
             if let Some((dv, mode)) = debug {
@@ -288,7 +298,10 @@ fn compare(gpu: &[u64], r: &RasterTarget) -> (f64, f64, f64, f32, usize) {
 }
 
 fn check_against_reference(split: Split) {
-    let mut rig = Rig::new(DVec3::ZERO, &[0, 0]);
+    check_rig_against_reference(&mut Rig::new(DVec3::ZERO, &[0, 0]), split);
+}
+
+fn check_rig_against_reference(rig: &mut Rig, split: Split) {
     let gpu = rig.render(split, None);
     let r = rig.reference();
     let (cover, depth, ids, max_rel, both) = compare(&gpu, &r);
@@ -303,8 +316,14 @@ fn check_against_reference(split: Split) {
         "the scene should cover a good part of the frame: {both} pixels"
     );
     assert!(both < gpu.len(), "the scene should not cover every pixel");
-    assert!(cover >= 0.999, "{split:?}: coverage agreement {cover:.5} < 99.9%");
-    assert!(depth >= 0.999, "{split:?}: depth agreement {depth:.5} < 99.9%");
+    assert!(
+        cover >= 0.999,
+        "{split:?}: coverage agreement {cover:.5} < 99.9%"
+    );
+    assert!(
+        depth >= 0.999,
+        "{split:?}: depth agreement {depth:.5} < 99.9%"
+    );
     assert!(ids >= 0.99, "{split:?}: id agreement {ids:.5} < 99%");
 }
 
@@ -316,6 +335,78 @@ fn sw_matches_reference() {
 #[test]
 fn hw_matches_reference() {
     check_against_reference(Split::AllHw);
+}
+
+/// The coarsest DAG level close up: triangles of tens of pixels, which `raster_sw` walks by scanline.
+#[test]
+fn large_triangles_match_reference() {
+    let top = spot().level_count() as u32 - 1;
+    let mut rig = Rig::with_zoom(DVec3::ZERO, &[top, top], 0.5);
+    let tris: usize = rig
+        .visible
+        .iter()
+        .map(|&[_, c]| spot().clusters[c as usize].triangle_count() as usize)
+        .sum();
+    eprintln!("level {top}: {tris} triangles");
+    assert!(
+        tris < 1000,
+        "level {top} should be coarse: {tris} triangles"
+    );
+    check_rig_against_reference(&mut rig, Split::AllHw);
+    check_rig_against_reference(&mut rig, Split::AllSw);
+    let sw = rig.render(Split::AllSw, None);
+    let hw = rig.render(Split::AllHw, None);
+    let differ = (0..sw.len()).filter(|&i| sw[i] != hw[i]).count();
+    eprintln!("large triangles, SW vs HW: {differ} pixels differ");
+    assert!(differ as f64 <= 1e-4 * sw.len() as f64);
+}
+
+/// A camera so close that triangles cross the near plane: HW clips them like the reference, SW
+/// skips them (only ever covering a subset of the reference's pixels, never garbage).
+#[test]
+fn near_plane_crossing() {
+    let mut rig = Rig::with_zoom(DVec3::ZERO, &[0, 0], 0.4);
+    // The near plane through the middle of the nearer instance.
+    rig.camera.near = rig.camera.position.length() as f32 * 0.85;
+    let r = rig.reference();
+    let vp = rig.camera.view_proj(W, H);
+    let behind = rig
+        .visible
+        .iter()
+        .flat_map(|&[inst, c]| {
+            let model = rig
+                .camera
+                .relative_model(&rig.placements[inst as usize].transform);
+            let m = spot();
+            let cl = &m.clusters[c as usize];
+            (0..cl.vertex_count()).map(move |i| {
+                let p = model.transform_point3(Vec3::from(m.position(m.vertex_ref(cl, i))));
+                vp * p.extend(1.0)
+            })
+        })
+        .filter(|c| c.z > c.w)
+        .count();
+    eprintln!("{behind} cluster vertices behind the near plane");
+    assert!(
+        behind > 0,
+        "the camera should cut the near plane through the mesh"
+    );
+    let hw = rig.render(Split::AllHw, None);
+    let (cover, depth, _, max_rel, both) = compare(&hw, &r);
+    eprintln!(
+        "near plane, HW: coverage agreement {cover:.5}, depth within 1e-4 {depth:.5} (max {max_rel:.2e}), {both} covered"
+    );
+    assert!(both as u32 > W * H / 4);
+    assert!(cover >= 0.999, "HW coverage agreement {cover:.5}");
+    let sw = rig.render(Split::AllSw, None);
+    let outside = (0..sw.len())
+        .filter(|&i| sw[i] != 0 && r.id[i] == u32::MAX)
+        .count();
+    let missing = (0..sw.len())
+        .filter(|&i| sw[i] == 0 && r.id[i] != u32::MAX)
+        .count();
+    eprintln!("near plane, SW: {outside} pixels outside the reference, {missing} skipped");
+    assert_eq!(outside, 0, "SW drew pixels the reference does not cover");
 }
 
 #[test]
@@ -368,10 +459,12 @@ fn far_from_origin_renders_the_same() {
         let max_rel = a
             .iter()
             .zip(&b)
-            .filter_map(|(&x, &y)| match (visbuffer::unpack(x), visbuffer::unpack(y)) {
-                (Some((dx, ..)), Some((dy, ..))) => Some((dx - dy).abs() / dx),
-                _ => None,
-            })
+            .filter_map(
+                |(&x, &y)| match (visbuffer::unpack(x), visbuffer::unpack(y)) {
+                    (Some((dx, ..)), Some((dy, ..))) => Some((dx - dy).abs() / dx),
+                    _ => None,
+                },
+            )
             .fold(0f32, f32::max);
         eprintln!(
             "{split:?}: origin vs 1e6 away: {differ} of {} pixels differ, max rel depth diff {max_rel:.2e}",
@@ -395,6 +488,10 @@ fn every_view_mode_renders() {
         rig.render(Split::Mixed, Some((&dv, mode)));
         let img = dv.download().expect("debug image");
         assert_eq!(img.len(), (W * H * 4) as usize);
+        if let Ok(dir) = std::env::var("VGEO_TEST_DUMP") {
+            let path = std::path::Path::new(&dir).join(format!("raster_{}.png", mode.name()));
+            image::save_buffer(&path, &img, W, H, image::ColorType::Rgba8).expect("save dump");
+        }
         let distinct: std::collections::BTreeSet<&[u8]> = img.chunks(4).collect();
         let bg = img[..4].to_vec();
         let background = img.chunks(4).filter(|c| *c == bg.as_slice()).count();

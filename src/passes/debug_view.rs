@@ -209,7 +209,10 @@ impl DebugView {
         cmd.fill_buffer(&self.hw_flags, 0);
         cmd.barrier(
             (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-            (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE),
+            (
+                S::COMPUTE_SHADER,
+                A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+            ),
         );
         cmd.bind_compute(&self.mark);
         cmd.push_compute_descriptors(

@@ -79,7 +79,11 @@ impl RasterHw {
                 Desc::StorageImage(i)
             }
         };
-        debug_assert_eq!(fb.vis_path(), self.path, "raster_hw: pipeline for another path");
+        debug_assert_eq!(
+            fb.vis_path(),
+            self.path,
+            "raster_hw: pipeline for another path"
+        );
         cmd.begin_rendering_no_attachments(fb.width, fb.height);
         cmd.bind_graphics(&self.pipeline);
         cmd.push_graphics_descriptors(
@@ -97,7 +101,10 @@ impl RasterHw {
                 vis,
             ],
         );
-        cmd.draw_indirect(&fb.counters, std::mem::offset_of!(CullCounters, hw_draw) as u64);
+        cmd.draw_indirect(
+            &fb.counters,
+            std::mem::offset_of!(CullCounters, hw_draw) as u64,
+        );
         cmd.end_rendering();
         timer.end(cmd);
     }

@@ -61,7 +61,11 @@ impl RasterSw {
                 Desc::StorageImage(i)
             }
         };
-        debug_assert_eq!(fb.vis_path(), self.path, "raster_sw: pipeline for another path");
+        debug_assert_eq!(
+            fb.vis_path(),
+            self.path,
+            "raster_sw: pipeline for another path"
+        );
         cmd.bind_compute(&self.pipeline);
         cmd.push_compute_descriptors(
             &self.pipeline,
@@ -79,7 +83,10 @@ impl RasterSw {
                 vis,
             ],
         );
-        cmd.dispatch_indirect(&fb.counters, std::mem::offset_of!(CullCounters, sw_dispatch) as u64);
+        cmd.dispatch_indirect(
+            &fb.counters,
+            std::mem::offset_of!(CullCounters, sw_dispatch) as u64,
+        );
         timer.end(cmd);
     }
 }
