@@ -10,9 +10,13 @@
 //! - the visibility buffer: 64 bits per pixel, `depth bits << 32 | visible index << 7 | triangle`.
 
 pub mod cluster_cull;
+pub mod debug_view;
 pub mod depth_pyramid;
 pub mod instance_cull;
+pub mod raster_hw;
+pub mod raster_sw;
 pub mod view;
+pub mod visbuffer;
 
 /// The descriptors of `instance_cull` and `cluster_cull` (one layout for both, see
 /// `shaders_glsl/common/cull_bindings.glsl`).

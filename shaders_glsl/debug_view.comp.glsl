@@ -1,0 +1,166 @@
+#version 460
+// Pass `debug_view`: the visibility buffer as colours (RGBA8 storage image), one thread per pixel.
+// Modes (push constant, DebugViewPush::mode; src/passes/debug_view.rs ViewMode): 0 lit, 1 depth,
+// 2 triangles, 3 clusters, 4 instances, 5 LOD level, 6 HW/SW. Empty pixels get the background.
+// The `mark` variant is the pass's first step: it flags every visible entry that is in the HW list
+// (flags[] cleared to 0 before), which the HW/SW mode reads.
+//! variant image VISBUFFER_IMAGE
+//! variant mark DEBUG_VIEW_MARK
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#include "shared.glsl"
+
+#ifdef DEBUG_VIEW_MARK
+
+layout(local_size_x = 64) in;
+layout(set = 0, binding = 0, scalar) readonly buffer Counters { CullCounters counters; };
+layout(set = 0, binding = 1, scalar) readonly buffer HwList { uint hw_list[]; };
+layout(set = 0, binding = 2, scalar) buffer Flags { uint hw_flags[]; };
+layout(push_constant, scalar) uniform Push { uint visible_capacity; };
+
+void main() {
+    uint n = counters.hw_count;
+    for (uint i = gl_GlobalInvocationID.x; i < n; i += gl_NumWorkGroups.x * 64u) {
+        uint v = hw_list[i];
+        if (v < visible_capacity) {
+            hw_flags[v] = 1u;
+        }
+    }
+}
+
+#else
+
+#define VISBUFFER_BINDING 10
+#define VISBUFFER_READONLY
+#include "visbuffer.glsl"
+#include "shading.glsl"
+
+layout(local_size_x = TILE_WORKGROUP_SIZE, local_size_y = TILE_WORKGROUP_SIZE) in;
+
+layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
+layout(set = 0, binding = 1, scalar) readonly buffer Visible { uvec2 visible[]; };
+layout(set = 0, binding = 2, scalar) readonly buffer Flags { uint hw_flags[]; };
+layout(set = 0, binding = 3, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
+layout(set = 0, binding = 4, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
+layout(set = 0, binding = 5, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Vertices { PackedVertex vertices[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
+layout(set = 0, binding = 8, scalar) readonly buffer Triangles { uint triangle_words[]; };
+layout(set = 0, binding = 9, rgba8) uniform writeonly image2D out_image;
+
+layout(push_constant, scalar) uniform Push {
+    vec4 background;  // sRGB-encoded
+    vec4 light_dir;   // towards the light, world space
+    uint mode;
+    uint visible_capacity;
+    uint _pad0;
+    uint _pad1;
+};
+
+#include "raster.glsl"
+
+vec3 hash_color(uint x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return vec3(uvec3(x, x >> 8, x >> 16) & 0xffu) / 255.0 * 0.8 + 0.2;
+}
+
+vec3 level_color(uint level) {
+    const vec3 palette[8] = vec3[8](vec3(0.10, 0.35, 0.95), vec3(0.10, 0.75, 0.85),
+                                    vec3(0.15, 0.80, 0.25), vec3(0.70, 0.85, 0.10),
+                                    vec3(0.95, 0.75, 0.10), vec3(0.95, 0.45, 0.10),
+                                    vec3(0.90, 0.15, 0.15), vec3(0.85, 0.20, 0.80));
+    return palette[min(level, 7u)];
+}
+
+// Lambert shading with the interpolated vertex normal at the pixel centre (barycentrics from the
+// view ray through the pixel, camera-relative space).
+vec3 lit_color(uvec2 entry, uint tri, ivec2 px) {
+    InstanceVgeo inst = instances[entry.x];
+    MeshGpu mesh = meshes[inst.mesh];
+    Cluster c = clusters[entry.y];
+    uvec3 t = cluster_triangle(mesh, c, tri);
+    vec3 p[3];
+    vec3 n[3];
+    for (uint k = 0u; k < 3u; k++) {
+        PackedVertex pv = vertices[cluster_vertex(mesh, c, t[k])];
+        p[k] = relative_position(inst, decode_position(mesh, pv));
+        n[k] = decode_normal(pv.normal);
+    }
+    vec2 ndc = (vec2(px) + 0.5) * view.viewport.zw * 2.0 - 1.0;
+    vec4 a = inverse(view.view_proj) * vec4(ndc, 1.0, 1.0);
+    vec3 dir = a.xyz / a.w;
+    vec3 e1 = p[1] - p[0];
+    vec3 e2 = p[2] - p[0];
+    vec3 pv = cross(dir, e2);
+    float det = dot(e1, pv);
+    mat3 lin = mat3(inst.linear[0].xyz, inst.linear[1].xyz, inst.linear[2].xyz);
+    mat3 normal_matrix = transpose(inverse(lin));
+    vec3 normal;
+    if (abs(det) > 1e-30) {
+        vec3 tv = -p[0];
+        float u = clamp(dot(tv, pv) / det, 0.0, 1.0);
+        float v = clamp(dot(dir, cross(tv, e1)) / det, 0.0, 1.0 - u);
+        normal = normal_matrix * (n[0] * (1.0 - u - v) + n[1] * u + n[2] * v);
+    } else {
+        normal = cross(e1, e2);
+    }
+    if (!(dot(normal, normal) > 0.0)) {
+        normal = cross(e1, e2);
+    }
+    return encode_srgb(shade_lambert(inst.color.rgb, normal, light_dir.xyz));
+}
+
+void main() {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    uint width = uint(view.viewport.x);
+    uint height = uint(view.viewport.y);
+    if (px.x >= int(width) || px.y >= int(height)) {
+        return;
+    }
+    uint64_t value = vis_read(px, width);
+    vec3 color = background.rgb;
+    if (value != 0ul) {
+        float depth = uintBitsToFloat(uint(value >> 32));
+        uint lo = uint(value);
+        uint tri = lo & ((1u << VISBUFFER_TRIANGLE_BITS) - 1u);
+        uint visible_index = lo >> VISBUFFER_TRIANGLE_BITS;
+        uvec2 entry = visible_index < visible_capacity ? visible[visible_index] : uvec2(0u);
+        switch (mode) {
+        case 0u:
+            color = lit_color(entry, tri, px);
+            break;
+        case 1u:
+        {
+            // Reverse-Z depth is near / distance: t = log2(distance / near) in stops from the near
+            // plane. Brightness falls over 16 stops, the hue cycles 4 times per stop.
+            float t = clamp(-log2(max(depth, 1e-30)), 0.0, 16.0);
+            vec3 hue = 0.75 + 0.25 * cos(6.2831853 * (fract(t * 4.0) + vec3(0.0, 0.333, 0.667)));
+            color = (1.0 - t / 16.0) * hue;
+            break;
+        }
+        case 2u:
+            color = hash_color(lo);
+            break;
+        case 3u:
+            color = hash_color(entry.y * 0x9e3779b9u + entry.x);
+            break;
+        case 4u:
+            color = hash_color(entry.x);
+            break;
+        case 5u:
+            color = level_color(clusters[entry.y].level);
+            break;
+        default: {
+            bool hw = visible_index < visible_capacity && hw_flags[visible_index] != 0u;
+            color = hw ? vec3(0.95, 0.45, 0.10) : vec3(0.15, 0.45, 0.95);
+            break;
+        }
+        }
+    }
+    imageStore(out_image, px, vec4(color, 1.0));
+}
+
+#endif

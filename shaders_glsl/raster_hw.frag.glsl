@@ -1,0 +1,46 @@
+#version 460
+// Pass `raster_hw`, fragment stage: no attachments; the hardware's coverage, the depth recomputed
+// from the snapped vertices with raster_sw's exact integer edge functions and float operations (so
+// both rasterizers write bit-identical values), atomicMax into the visibility buffer. Triangles
+// with a vertex that cannot be snapped (behind the near plane) use the hardware's depth.
+//! variant image VISBUFFER_IMAGE
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#define VISBUFFER_BINDING 9
+#include "shared.glsl"
+#include "visbuffer.glsl"
+
+layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
+
+layout(location = 0) flat in uint in_id;
+layout(location = 1) flat in uint in_snapped;
+layout(location = 2) flat in ivec4 in_xy01;
+layout(location = 3) flat in ivec2 in_xy2;
+layout(location = 4) flat in vec3 in_z;
+
+#define RASTER_NO_SCENE
+#include "raster.glsl"
+
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    float depth = gl_FragCoord.z;
+    if (in_snapped != 0u) {
+        ivec2 v[3] = ivec2[3](in_xy01.xy, in_xy01.zw, in_xy2);
+        vec3 z = in_z;
+        int64_t area = edge_fn(v[0], v[1], v[2]);
+        if (area < 0) {
+            ivec2 t = v[1]; v[1] = v[2]; v[2] = t;
+            z = z.xzy;
+            area = -area;
+        }
+        if (area > 0) {
+            ivec2 centre = px * (1 << SUBPIXEL_BITS) + (1 << (SUBPIXEL_BITS - 1));
+            precise float inv_area = 1.0 / float(area);
+            float e0 = float(edge_fn(v[1], v[2], centre));
+            float e1 = float(edge_fn(v[2], v[0], centre));
+            float e2 = float(edge_fn(v[0], v[1], centre));
+            depth = raster_depth(e0, e1, e2, z, inv_area);
+        }
+    }
+    vis_write(px, uint(view.viewport.x), vis_pack(depth, in_id >> VISBUFFER_TRIANGLE_BITS,
+                                                   in_id & ((1u << VISBUFFER_TRIANGLE_BITS) - 1u)));
+}

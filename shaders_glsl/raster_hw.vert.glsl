@@ -1,0 +1,63 @@
+#version 460
+// Pass `raster_hw`, vertex stage: vertex pulling for one vkCmdDrawIndirect over the HW list
+// (gl_InstanceIndex = HW list index, gl_VertexIndex / 3 = triangle, % 3 = corner). Each corner also
+// snaps all three vertices of its triangle (flat outputs) so that the fragment stage computes depth
+// exactly as raster_sw does.
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#include "shared.glsl"
+
+layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
+layout(set = 0, binding = 1, scalar) readonly buffer Visible { uvec2 visible[]; };
+layout(set = 0, binding = 2, scalar) readonly buffer HwList { uint hw_list[]; };
+layout(set = 0, binding = 3, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
+layout(set = 0, binding = 4, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
+layout(set = 0, binding = 5, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Vertices { PackedVertex vertices[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
+layout(set = 0, binding = 8, scalar) readonly buffer Triangles { uint triangle_words[]; };
+
+#include "raster.glsl"
+
+layout(location = 0) flat out uint out_id;      // visible index << 7 | triangle
+layout(location = 1) flat out uint out_snapped; // 1: the three snapped vertices below are valid
+layout(location = 2) flat out ivec4 out_xy01;
+layout(location = 3) flat out ivec2 out_xy2;
+layout(location = 4) flat out vec3 out_z;
+
+void main() {
+    uint visible_index = hw_list[gl_InstanceIndex];
+    uvec2 entry = visible[visible_index];
+    InstanceVgeo inst = instances[entry.x];
+    MeshGpu mesh = meshes[inst.mesh];
+    Cluster c = clusters[entry.y];
+    uint tri = uint(gl_VertexIndex) / 3u;
+    uint corner = uint(gl_VertexIndex) % 3u;
+    out_id = 0u;
+    out_snapped = 0u;
+    out_xy01 = ivec4(0);
+    out_xy2 = ivec2(0);
+    out_z = vec3(0.0);
+    if (tri >= cluster_triangle_count(c)) {
+        // No such triangle: all corners at one point outside the view volume (culled, no NaN).
+        gl_Position = vec4(2.0, 2.0, 0.5, 1.0);
+        return;
+    }
+    uvec3 t = cluster_triangle(mesh, c, tri);
+    vec4 clip[3];
+    ivec2 xy[3];
+    vec3 z;
+    bool ok = true;
+    for (uint k = 0u; k < 3u; k++) {
+        PackedVertex pv = vertices[cluster_vertex(mesh, c, t[k])];
+        clip[k] = clip_position(relative_position(inst, decode_position(mesh, pv)));
+        float zk;
+        ok = project_fixed(clip[k], xy[k], zk) && ok;
+        z[k] = zk;
+    }
+    gl_Position = clip[corner];
+    out_id = (visible_index << VISBUFFER_TRIANGLE_BITS) | tri;
+    out_snapped = ok ? 1u : 0u;
+    out_xy01 = ivec4(xy[0], xy[1]);
+    out_xy2 = xy[2];
+    out_z = z;
+}

@@ -1,0 +1,279 @@
+//! Pass `debug_view`: the visibility buffer made visible (shaders_glsl/debug_view.comp.glsl), into
+//! an `R8G8B8A8_UNORM` storage image owned by the pass. Two dispatches: `mark` flags every visible
+//! entry that is in the HW list (for [`ViewMode::HwSw`]), then one thread per pixel colours it by
+//! [`ViewMode`]; empty pixels get [`crate::render::BACKGROUND`].
+
+use glam::Vec3;
+
+use crate::gpu::{
+    Buffer, Cmd, ComputePipeline, Context, Desc, GpuError, GpuResult, Image, MemoryKind,
+    ShaderStage, Timer, vk,
+};
+use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::render::BACKGROUND;
+use crate::scene_gpu::GpuScene;
+use crate::shared::TILE_WORKGROUP_SIZE;
+
+/// The pass's name: debug label, timer scope and pipeline name.
+pub const NAME: &str = "debug_view";
+
+/// What the debug view shows per pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ViewMode {
+    /// Lambert shading of the interpolated vertex normal with the instance colour.
+    Lit,
+    /// Distance on a log scale: darker per stop (doubling) from the near plane, hue bands per
+    /// quarter stop.
+    Depth,
+    /// A hashed colour per (visible cluster, triangle).
+    Triangles,
+    /// A hashed colour per (instance, cluster).
+    Clusters,
+    /// A hashed colour per instance.
+    Instances,
+    /// A colour per DAG level of the cluster (0 = finest, blue).
+    Lod,
+    /// Orange for clusters drawn by `raster_hw`, blue for `raster_sw`.
+    HwSw,
+}
+
+impl ViewMode {
+    /// Every mode.
+    pub const ALL: [ViewMode; 7] = [
+        ViewMode::Lit,
+        ViewMode::Depth,
+        ViewMode::Triangles,
+        ViewMode::Clusters,
+        ViewMode::Instances,
+        ViewMode::Lod,
+        ViewMode::HwSw,
+    ];
+
+    /// The mode's name on the command line (`lit`, `depth`, `triangles`, `clusters`, `instances`,
+    /// `lod`, `hwsw`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewMode::Lit => "lit",
+            ViewMode::Depth => "depth",
+            ViewMode::Triangles => "triangles",
+            ViewMode::Clusters => "clusters",
+            ViewMode::Instances => "instances",
+            ViewMode::Lod => "lod",
+            ViewMode::HwSw => "hwsw",
+        }
+    }
+
+    /// Parses [`ViewMode::name`] (also accepts `hw-sw`, `level`).
+    pub fn parse(s: &str) -> Option<Self> {
+        let s = s.to_ascii_lowercase();
+        match s.as_str() {
+            "hw-sw" | "hw_sw" => Some(ViewMode::HwSw),
+            "level" => Some(ViewMode::Lod),
+            _ => ViewMode::ALL.into_iter().find(|m| m.name() == s),
+        }
+    }
+
+    fn code(self) -> u32 {
+        match self {
+            ViewMode::Lit => 0,
+            ViewMode::Depth => 1,
+            ViewMode::Triangles => 2,
+            ViewMode::Clusters => 3,
+            ViewMode::Instances => 4,
+            ViewMode::Lod => 5,
+            ViewMode::HwSw => 6,
+        }
+    }
+}
+
+/// Push constants of the colouring dispatch (mirrors `Push` in debug_view.comp.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct DebugViewPush {
+    background: [f32; 4],
+    light_dir: [f32; 4],
+    mode: u32,
+    visible_capacity: u32,
+    _pad: [u32; 2],
+}
+const _: () = assert!(size_of::<DebugViewPush>() == 48);
+
+/// Threads per workgroup of the `mark` dispatch (`local_size_x` of its shader).
+const MARK_WORKGROUP_SIZE: u32 = 64;
+
+/// The debug view: pipelines, the HW flag per visible entry and the output image.
+pub struct DebugView {
+    mark: ComputePipeline,
+    view: ComputePipeline,
+    hw_flags: Buffer,
+    image: Image,
+    visible_capacity: u32,
+    path: VisPath,
+}
+
+impl DebugView {
+    /// Creates the pass for `fb`'s size, visible-list capacity and visibility-buffer path.
+    pub fn new(ctx: &Context, fb: &FrameBuffers) -> GpuResult<Self> {
+        use vk::DescriptorType as D;
+        let path = fb.vis_path();
+        let (spirv, vis) = match path {
+            VisPath::Buffer => (crate::shaders::DEBUG_VIEW_COMP, D::STORAGE_BUFFER),
+            VisPath::Image => (crate::shaders::DEBUG_VIEW_COMP_IMAGE, D::STORAGE_IMAGE),
+        };
+        let mut bindings = vec![D::UNIFORM_BUFFER];
+        bindings.extend([D::STORAGE_BUFFER; 8]);
+        bindings.push(D::STORAGE_IMAGE);
+        bindings.push(vis);
+        let view = ComputePipeline::new(
+            ctx,
+            ShaderStage { name: NAME, spirv },
+            &bindings,
+            size_of::<DebugViewPush>() as u32,
+        )?;
+        let mark = ComputePipeline::new(
+            ctx,
+            ShaderStage {
+                name: "debug_view mark",
+                spirv: crate::shaders::DEBUG_VIEW_COMP_MARK,
+            },
+            &[D::STORAGE_BUFFER; 3],
+            4,
+        )?;
+        let hw_flags = Buffer::new(
+            ctx,
+            "debug_view hw flags",
+            4 * fb.visible_capacity.max(1) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryKind::Gpu,
+        )?;
+        let image = Image::new(
+            ctx,
+            "debug_view",
+            fb.width,
+            fb.height,
+            vk::Format::R8G8B8A8_UNORM,
+            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
+        )?;
+        Ok(Self {
+            mark,
+            view,
+            hw_flags,
+            image,
+            visible_capacity: fb.visible_capacity,
+            path,
+        })
+    }
+
+    /// The output image (`R8G8B8A8_UNORM`, sRGB-encoded values; `GENERAL` layout after the pass).
+    pub fn image(&self) -> &Image {
+        &self.image
+    }
+
+    /// Reads the output image back: RGBA8, row-major, top row first.
+    pub fn download(&self) -> GpuResult<Vec<u8>> {
+        self.image.download()
+    }
+
+    /// Records the pass: colours every pixel of `fb.visbuffer` by `mode`; `light_dir` points towards
+    /// the light (world space) for [`ViewMode::Lit`]. The visibility buffer, lists and counters must
+    /// be visible to compute shaders (the frame records that barrier).
+    pub fn record(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+        mode: ViewMode,
+        light_dir: Vec3,
+    ) -> GpuResult<()> {
+        if fb.vis_path() != self.path
+            || fb.width != self.image.width
+            || fb.height != self.image.height
+            || fb.visible_capacity != self.visible_capacity
+        {
+            return Err(GpuError::Other(format!(
+                "{NAME}: created for {}x{} {:?} (visible capacity {}), used with {}x{} {:?} ({})",
+                self.image.width,
+                self.image.height,
+                self.path,
+                self.visible_capacity,
+                fb.width,
+                fb.height,
+                fb.vis_path(),
+                fb.visible_capacity
+            )));
+        }
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        timer.begin(cmd, NAME);
+        // Step 1: flag the HW list's entries.
+        cmd.fill_buffer(&self.hw_flags, 0);
+        cmd.barrier(
+            (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            (
+                S::COMPUTE_SHADER,
+                A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+            ),
+        );
+        cmd.bind_compute(&self.mark);
+        cmd.push_compute_descriptors(
+            &self.mark,
+            &[
+                Desc::Storage(&fb.counters),
+                Desc::Storage(&fb.hw_list),
+                Desc::Storage(&self.hw_flags),
+            ],
+        );
+        cmd.compute_push_constants(&self.mark, bytemuck::bytes_of(&self.visible_capacity));
+        let mark_groups = self
+            .visible_capacity
+            .div_ceil(MARK_WORKGROUP_SIZE)
+            .clamp(1, 1024);
+        cmd.dispatch(mark_groups, 1, 1);
+        cmd.barrier(
+            (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+            (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
+        );
+        // Step 2: colour the pixels.
+        cmd.to_general(&self.image);
+        let vis = match &fb.visbuffer {
+            VisBuffer::Buffer(b) => Desc::Storage(b),
+            VisBuffer::Image(i) => {
+                cmd.to_general(i);
+                Desc::StorageImage(i)
+            }
+        };
+        let bg = BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
+        let push = DebugViewPush {
+            background: [bg[0], bg[1], bg[2], 1.0],
+            light_dir: light_dir.normalize_or_zero().extend(0.0).into(),
+            mode: mode.code(),
+            visible_capacity: self.visible_capacity,
+            _pad: [0; 2],
+        };
+        cmd.bind_compute(&self.view);
+        cmd.push_compute_descriptors(
+            &self.view,
+            &[
+                Desc::Uniform(&fb.view),
+                Desc::Storage(&fb.visible),
+                Desc::Storage(&self.hw_flags),
+                Desc::Storage(&scene.instances),
+                Desc::Storage(&scene.meshes),
+                Desc::Storage(&scene.clusters),
+                Desc::Storage(&scene.vertices),
+                Desc::Storage(&scene.vertex_refs),
+                Desc::Storage(&scene.triangles),
+                Desc::StorageImage(&self.image),
+                vis,
+            ],
+        );
+        cmd.compute_push_constants(&self.view, bytemuck::bytes_of(&push));
+        cmd.dispatch(
+            fb.width.div_ceil(TILE_WORKGROUP_SIZE),
+            fb.height.div_ceil(TILE_WORKGROUP_SIZE),
+            1,
+        );
+        timer.end(cmd);
+        Ok(())
+    }
+}

@@ -1,0 +1,111 @@
+//! Pass `raster_hw`: the hardware rasterizer (shaders_glsl/raster_hw.vert.glsl / .frag.glsl).
+//!
+//! One `vkCmdDrawIndirect` (`CullCounters::hw_draw`: `MAX_CLUSTER_TRIANGLES * 3` vertices, one
+//! instance per HW-list entry) with no vertex buffers and no attachments: the vertex shader pulls the
+//! cluster's vertices (triangles beyond the cluster's count collapse to a point outside the view
+//! volume), the fragment shader does the same `atomicMax` into the visibility buffer as `raster_sw`.
+//! Coverage is the hardware's (same fill rule and sub-pixel precision as SW on conformant devices);
+//! depth is recomputed from the snapped vertices with `raster_sw`'s exact integer edge functions and
+//! float operations, so SW and HW write bit-identical values for the pixels both cover. Triangles
+//! with a vertex behind the near plane (which only HW can draw: the hardware clips them) use
+//! `gl_FragCoord.z`.
+
+use crate::gpu::{
+    Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage, Timer, vk,
+};
+use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::scene_gpu::GpuScene;
+use crate::shared::CullCounters;
+
+/// The pass's name: debug label, timer scope and pipeline name.
+pub const NAME: &str = "raster_hw";
+
+/// The hardware rasterizer's pipeline for one visibility-buffer path.
+pub struct RasterHw {
+    pipeline: GraphicsPipeline,
+    path: VisPath,
+}
+
+impl RasterHw {
+    /// Creates the pipeline for `path` (the image variant needs 64-bit image atomics).
+    pub fn new(ctx: &Context, path: VisPath) -> GpuResult<Self> {
+        use vk::DescriptorType as D;
+        let (frag, vis) = match path {
+            VisPath::Buffer => (crate::shaders::RASTER_HW_FRAG, D::STORAGE_BUFFER),
+            VisPath::Image => (crate::shaders::RASTER_HW_FRAG_IMAGE, D::STORAGE_IMAGE),
+        };
+        let mut bindings = vec![D::UNIFORM_BUFFER];
+        bindings.extend([D::STORAGE_BUFFER; 8]);
+        bindings.push(vis);
+        let pipeline = GraphicsPipeline::new(
+            ctx,
+            &GraphicsPipelineDesc {
+                name: NAME,
+                vertex: ShaderStage {
+                    name: "raster_hw.vert",
+                    spirv: crate::shaders::RASTER_HW_VERT,
+                },
+                fragment: ShaderStage {
+                    name: "raster_hw.frag",
+                    spirv: frag,
+                },
+                bindings: &bindings,
+                push_constant_size: 0,
+                vertex_layout: None,
+                color_formats: &[],
+                depth_format: None,
+                depth_compare: vk::CompareOp::ALWAYS,
+                depth_write: false,
+                cull: vk::CullModeFlags::NONE,
+            },
+        )?;
+        Ok(Self { pipeline, path })
+    }
+
+    /// The visibility-buffer path the pipeline was made for.
+    pub fn path(&self) -> VisPath {
+        self.path
+    }
+
+    /// Records the pass: draws every cluster of `fb.hw_list` (count and draw arguments in
+    /// `fb.counters`) into `fb.visbuffer`. Inputs must be visible to the vertex and fragment
+    /// shaders and to the indirect-command stage (the frame records those barriers).
+    pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, scene: &GpuScene, fb: &FrameBuffers) {
+        timer.begin(cmd, NAME);
+        let vis = match &fb.visbuffer {
+            VisBuffer::Buffer(b) => Desc::Storage(b),
+            VisBuffer::Image(i) => {
+                cmd.to_general(i);
+                Desc::StorageImage(i)
+            }
+        };
+        debug_assert_eq!(
+            fb.vis_path(),
+            self.path,
+            "raster_hw: pipeline for another path"
+        );
+        cmd.begin_rendering_no_attachments(fb.width, fb.height);
+        cmd.bind_graphics(&self.pipeline);
+        cmd.push_graphics_descriptors(
+            &self.pipeline,
+            &[
+                Desc::Uniform(&fb.view),
+                Desc::Storage(&fb.visible),
+                Desc::Storage(&fb.hw_list),
+                Desc::Storage(&scene.instances),
+                Desc::Storage(&scene.meshes),
+                Desc::Storage(&scene.clusters),
+                Desc::Storage(&scene.vertices),
+                Desc::Storage(&scene.vertex_refs),
+                Desc::Storage(&scene.triangles),
+                vis,
+            ],
+        );
+        cmd.draw_indirect(
+            &fb.counters,
+            std::mem::offset_of!(CullCounters, hw_draw) as u64,
+        );
+        cmd.end_rendering();
+        timer.end(cmd);
+    }
+}

@@ -1,0 +1,92 @@
+//! Pass `raster_sw`: the compute rasterizer (shaders_glsl/raster_sw.comp.glsl).
+//!
+//! One workgroup per cluster of the SW list (`CullCounters::sw_dispatch`, grid-stride over
+//! `sw_count`), [`RASTER_SW_WORKGROUP_SIZE`](crate::shared::RASTER_SW_WORKGROUP_SIZE) threads: the
+//! cluster's vertices are decoded, made camera-relative, projected and snapped to
+//! [`SUBPIXEL_BITS`](crate::shared::SUBPIXEL_BITS) fixed point in shared memory, then one thread per
+//! triangle tests pixel centres with exact integer edge functions and the top-left rule of
+//! [`crate::reference::raster`] (both windings; zero-area triangles skipped), interpolates depth
+//! from the snapped positions and does `atomicMax` into the visibility buffer. Small triangles walk
+//! their bounding box, larger ones solve each row's covered span from the edge functions. Triangles
+//! with a vertex behind the near plane (or beyond a 2^20-pixel guard band) are skipped: the cull
+//! sends such clusters to `raster_hw`.
+
+use crate::gpu::{Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, Timer, vk};
+use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::scene_gpu::GpuScene;
+use crate::shared::CullCounters;
+
+/// The pass's name: debug label, timer scope and pipeline name.
+pub const NAME: &str = "raster_sw";
+
+/// The compute rasterizer's pipeline for one visibility-buffer path.
+pub struct RasterSw {
+    pipeline: ComputePipeline,
+    path: VisPath,
+}
+
+impl RasterSw {
+    /// Creates the pipeline for `path` (the image variant needs 64-bit image atomics).
+    pub fn new(ctx: &Context, path: VisPath) -> GpuResult<Self> {
+        use vk::DescriptorType as D;
+        let spirv = match path {
+            VisPath::Buffer => crate::shaders::RASTER_SW_COMP,
+            VisPath::Image => crate::shaders::RASTER_SW_COMP_IMAGE,
+        };
+        let vis = match path {
+            VisPath::Buffer => D::STORAGE_BUFFER,
+            VisPath::Image => D::STORAGE_IMAGE,
+        };
+        let mut bindings = vec![D::UNIFORM_BUFFER];
+        bindings.extend([D::STORAGE_BUFFER; 9]);
+        bindings.push(vis);
+        let pipeline = ComputePipeline::new(ctx, ShaderStage { name: NAME, spirv }, &bindings, 0)?;
+        Ok(Self { pipeline, path })
+    }
+
+    /// The visibility-buffer path the pipeline was made for.
+    pub fn path(&self) -> VisPath {
+        self.path
+    }
+
+    /// Records the pass: rasterizes every cluster of `fb.sw_list` (count and dispatch arguments in
+    /// `fb.counters`) into `fb.visbuffer`. Inputs must be visible to compute shaders and to the
+    /// indirect-command stage (the frame records those barriers).
+    pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, scene: &GpuScene, fb: &FrameBuffers) {
+        timer.begin(cmd, NAME);
+        let vis = match &fb.visbuffer {
+            VisBuffer::Buffer(b) => Desc::Storage(b),
+            VisBuffer::Image(i) => {
+                cmd.to_general(i);
+                Desc::StorageImage(i)
+            }
+        };
+        debug_assert_eq!(
+            fb.vis_path(),
+            self.path,
+            "raster_sw: pipeline for another path"
+        );
+        cmd.bind_compute(&self.pipeline);
+        cmd.push_compute_descriptors(
+            &self.pipeline,
+            &[
+                Desc::Uniform(&fb.view),
+                Desc::Storage(&fb.counters),
+                Desc::Storage(&fb.visible),
+                Desc::Storage(&fb.sw_list),
+                Desc::Storage(&scene.instances),
+                Desc::Storage(&scene.meshes),
+                Desc::Storage(&scene.clusters),
+                Desc::Storage(&scene.vertices),
+                Desc::Storage(&scene.vertex_refs),
+                Desc::Storage(&scene.triangles),
+                vis,
+            ],
+        );
+        cmd.dispatch_indirect(
+            &fb.counters,
+            std::mem::offset_of!(CullCounters, sw_dispatch) as u64,
+        );
+        timer.end(cmd);
+    }
+}

@@ -1,0 +1,522 @@
+//! The rasterizers (`raster_sw`, `raster_hw`) and `debug_view` on the GPU (lavapipe in CI, with the
+//! validation layer on) against the CPU reference rasterizer, against each other, across runs and
+//! far from the origin. The visible list and the counters are written by the test (no culling): all
+//! level-0 clusters of two instances of spot, the lists and indirect arguments made on the CPU.
+//! The visibility-buffer path is `VisPath::choose` (the image path on GPUs with 64-bit image atomics).
+
+mod common;
+
+use std::sync::OnceLock;
+
+use common::{assert_no_validation_errors, assets, gpu};
+use glam::{DMat4, DVec3, Mat4, Vec3};
+use vgeo::builder::{BuildOptions, BuiltMesh};
+use vgeo::camera::Camera;
+use vgeo::gpu::{Buffer, Context, MemoryKind, Timer, vk};
+use vgeo::passes::debug_view::{DebugView, ViewMode};
+use vgeo::passes::raster_hw::RasterHw;
+use vgeo::passes::raster_sw::RasterSw;
+use vgeo::passes::view::{FrameSettings, view_gpu};
+use vgeo::passes::{FrameBuffers, VisPath, visbuffer};
+use vgeo::reference::{RasterTarget, rasterize};
+use vgeo::render::Placement;
+use vgeo::scene_gpu::GpuScene;
+use vgeo::shared::{CullCounters, MAX_CLUSTER_TRIANGLES, VISBUFFER_TRIANGLE_BITS};
+
+const W: u32 = 128;
+const H: u32 = 96;
+
+/// spot.obj built once for all tests of this file.
+fn spot() -> &'static BuiltMesh {
+    static SPOT: OnceLock<BuiltMesh> = OnceLock::new();
+    SPOT.get_or_init(|| {
+        let path = assets().join("spot.obj");
+        let (mesh, _) = vgeo::mesh::load_mesh(&path)
+            .unwrap_or_else(|e| panic!("cannot load {}: {e}", path.display()));
+        vgeo::builder::build(&mesh, &BuildOptions::default()).expect("spot builds")
+    })
+}
+
+/// Which rasterizer draws a visible entry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Split {
+    AllSw,
+    AllHw,
+    /// Alternating by visible index (even: SW, odd: HW).
+    Mixed,
+}
+
+/// Two spot instances (the second turned, scaled and shifted so that they overlap on screen),
+/// offset by `origin`, and a camera framing them from `origin` + the same offset.
+/// `zoom` scales the camera's distance to the scene's centre (and the near plane's by its square,
+/// keeping the meshes in front of it).
+fn scene(origin: DVec3, zoom: f64) -> (Vec<Placement>, Camera) {
+    let p0 = DMat4::from_translation(origin);
+    let p1 = DMat4::from_translation(origin + DVec3::new(0.7, 0.05, -0.5))
+        * DMat4::from_rotation_y(0.7)
+        * DMat4::from_scale(DVec3::splat(0.8));
+    let placements = vec![
+        Placement {
+            mesh: 0,
+            transform: p0,
+            color: [0.9, 0.6, 0.4],
+        },
+        Placement {
+            mesh: 0,
+            transform: p1,
+            color: [0.4, 0.7, 0.9],
+        },
+    ];
+    let b = spot().clusters.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), c| {
+            (
+                lo.min(Vec3::from(c.bounds_min)),
+                hi.max(Vec3::from(c.bounds_max)),
+            )
+        },
+    );
+    let lo = b.0.as_dvec3() + origin + DVec3::new(0.0, 0.0, -0.6);
+    let hi = b.1.as_dvec3() + origin + DVec3::new(0.7, 0.0, 0.0);
+    let mut cam = Camera::frame_bounds(lo, hi, W as f32 / H as f32);
+    let centre = (lo + hi) * 0.5;
+    cam.position = centre + (cam.position - centre) * zoom;
+    cam.near *= (zoom * zoom) as f32;
+    (placements, cam)
+}
+
+/// The visible list: (instance, global cluster) for each instance's clusters of DAG level `levels[i]`.
+fn visible_list(levels: &[u32]) -> Vec<[u32; 2]> {
+    let m = spot();
+    let mut v = Vec::new();
+    for (i, &k) in levels.iter().enumerate() {
+        for c in m.level_clusters(k) {
+            v.push([i as u32, c]);
+        }
+    }
+    v
+}
+
+/// The rasterizers and buffers of one test.
+struct Rig {
+    ctx: Context,
+    path: VisPath,
+    gpu_scene: GpuScene,
+    fb: FrameBuffers,
+    sw: RasterSw,
+    hw: RasterHw,
+    camera: Camera,
+    placements: Vec<Placement>,
+    visible: Vec<[u32; 2]>,
+}
+
+impl Rig {
+    /// The usual view: closer than framing, the meshes fill much of the frame, some parts leave it.
+    fn new(origin: DVec3, levels: &[u32]) -> Self {
+        Self::with_zoom(origin, levels, 0.6)
+    }
+
+    fn with_zoom(origin: DVec3, levels: &[u32], zoom: f64) -> Self {
+        let ctx = gpu();
+        let path = VisPath::choose(&ctx).expect("visibility-buffer path");
+        let (placements, camera) = scene(origin, zoom);
+        let gpu_scene =
+            GpuScene::new(&ctx, std::slice::from_ref(spot()), &placements).expect("scene upload");
+        let visible = visible_list(levels);
+        let fb = FrameBuffers::new(&ctx, W, H, path, 64, visible.len() as u32, 2).expect("buffers");
+        let sw = RasterSw::new(&ctx, path).expect("raster_sw pipeline");
+        let hw = RasterHw::new(&ctx, path).expect("raster_hw pipeline");
+        Self {
+            ctx,
+            path,
+            gpu_scene,
+            fb,
+            sw,
+            hw,
+            camera,
+            placements,
+            visible,
+        }
+    }
+
+    /// Writes the view, the lists and the counters, records clear + raster_sw + raster_hw (+ the
+    /// debug view) and returns the visibility buffer.
+    fn render(&mut self, split: Split, debug: Option<(&DebugView, ViewMode)>) -> Vec<u64> {
+        let view = view_gpu(
+            &self.camera,
+            W,
+            H,
+            &FrameSettings::default(),
+            self.placements.len() as u32,
+            self.fb.queue_capacity,
+            self.fb.visible_capacity,
+        );
+        self.fb
+            .view
+            .write(0, bytemuck::bytes_of(&view))
+            .expect("view upload");
+        let (mut sw_list, mut hw_list) = (Vec::new(), Vec::new());
+        for i in 0..self.visible.len() as u32 {
+            let to_sw = match split {
+                Split::AllSw => true,
+                Split::AllHw => false,
+                Split::Mixed => i % 2 == 0,
+            };
+            if to_sw {
+                sw_list.push(i)
+            } else {
+                hw_list.push(i)
+            }
+        }
+        let (sw_count, hw_count) = (sw_list.len() as u32, hw_list.len() as u32);
+        let counters = CullCounters {
+            visible_count: self.visible.len() as u32,
+            sw_count,
+            hw_count,
+            sw_dispatch: [sw_count.min(65535), 1, 1, 0],
+            hw_draw: [MAX_CLUSTER_TRIANGLES * 3, hw_count, 0, 0],
+            ..Default::default()
+        };
+        let ctx = &self.ctx;
+        let staging = |name: &str, bytes: &[u8]| {
+            let mut b = Buffer::new(
+                ctx,
+                name,
+                bytes.len() as u64,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryKind::Upload,
+            )
+            .expect("staging buffer");
+            b.write(0, bytes).expect("staging write");
+            b
+        };
+        let s_visible = staging("test visible", bytemuck::cast_slice(&self.visible));
+        let s_sw = staging("test sw list", bytemuck::cast_slice(&sw_list));
+        let s_hw = staging("test hw list", bytemuck::cast_slice(&hw_list));
+        let mut timer = Timer::new(ctx, 8).expect("timer");
+        let fb = &self.fb;
+        let (sw, hw, scene) = (&self.sw, &self.hw, &self.gpu_scene);
+        ctx.submit_and_wait("raster test frame", |cmd| {
+            use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+            timer.reset(cmd);
+            cmd.copy_buffer(&s_visible, &fb.visible, 8 * self.visible.len() as u64);
+            if sw_count > 0 {
+                cmd.copy_buffer(&s_sw, &fb.sw_list, 4 * sw_count as u64);
+            }
+            if hw_count > 0 {
+                cmd.copy_buffer(&s_hw, &fb.hw_list, 4 * hw_count as u64);
+            }
+            cmd.update_buffer(&fb.counters, 0, bytemuck::bytes_of(&counters));
+            visbuffer::clear(cmd, fb);
+            let shaders = S::COMPUTE_SHADER | S::VERTEX_SHADER | S::FRAGMENT_SHADER;
+            cmd.barrier(
+                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                (
+                    shaders | S::DRAW_INDIRECT,
+                    A::SHADER_STORAGE_READ
+                        | A::SHADER_STORAGE_WRITE
+                        | A::UNIFORM_READ
+                        | A::INDIRECT_COMMAND_READ,
+                ),
+            );
+            sw.record(cmd, &mut timer, scene, fb);
+            cmd.barrier(
+                (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+                (
+                    S::FRAGMENT_SHADER,
+                    A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+                ),
+            );
+            hw.record(cmd, &mut timer, scene, fb);
+            if let Some((dv, mode)) = debug {
+                cmd.barrier(
+                    (S::FRAGMENT_SHADER, A::SHADER_STORAGE_WRITE),
+                    (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
+                );
+                dv.record(cmd, &mut timer, scene, fb, mode, Vec3::new(0.4, 1.0, 0.6))
+                    .expect("debug_view record");
+            }
+        })
+        .expect("frame");
+        assert_no_validation_errors(&self.ctx);
+        visbuffer::download(&self.fb).expect("visbuffer download")
+    }
+
+    /// The CPU reference of the same visible list: ids are `visible index << 7 | triangle`.
+    fn reference(&self) -> RasterTarget {
+        let m = spot();
+        let positions = m.positions();
+        let vp = self.camera.view_proj(W, H);
+        let mut target = RasterTarget::new(W, H);
+        let mut tris = Vec::new();
+        for (vi, &[inst, cluster]) in self.visible.iter().enumerate() {
+            let model: Mat4 = self
+                .camera
+                .relative_model(&self.placements[inst as usize].transform);
+            for (t, tri) in m.cluster_triangles(cluster as usize).iter().enumerate() {
+                let p = tri.map(|v| model.transform_point3(Vec3::from(positions[v as usize])));
+                tris.push((p, (vi as u32) << VISBUFFER_TRIANGLE_BITS | t as u32));
+            }
+        }
+        rasterize(&mut target, &vp, tris);
+        target
+    }
+}
+
+/// GPU visibility buffer vs the reference: (coverage agreement, depth agreement among pixels both
+/// cover, id agreement among those, largest relative depth difference, pixels covered by both).
+fn compare(gpu: &[u64], r: &RasterTarget) -> (f64, f64, f64, f32, usize) {
+    let (mut same_cover, mut both, mut depth_ok, mut id_ok) = (0, 0, 0, 0);
+    let mut max_rel = 0f32;
+    for (i, &g) in gpu.iter().enumerate() {
+        let g = visbuffer::unpack(g);
+        let covered = r.id[i] != u32::MAX;
+        if g.is_some() == covered {
+            same_cover += 1;
+        }
+        if let (Some((d, vis, tri)), true) = (g, covered) {
+            both += 1;
+            let rel = (d - r.depth[i]).abs() / r.depth[i].max(1e-30);
+            max_rel = max_rel.max(rel);
+            if rel <= 1e-4 {
+                depth_ok += 1;
+            }
+            if (vis << VISBUFFER_TRIANGLE_BITS | tri) == r.id[i] {
+                id_ok += 1;
+            }
+        }
+    }
+    let n = gpu.len() as f64;
+    let b = both.max(1) as f64;
+    (
+        same_cover as f64 / n,
+        depth_ok as f64 / b,
+        id_ok as f64 / b,
+        max_rel,
+        both,
+    )
+}
+
+fn check_against_reference(split: Split) {
+    check_rig_against_reference(&mut Rig::new(DVec3::ZERO, &[0, 0]), split);
+}
+
+fn check_rig_against_reference(rig: &mut Rig, split: Split) {
+    let gpu = rig.render(split, None);
+    let r = rig.reference();
+    let (cover, depth, ids, max_rel, both) = compare(&gpu, &r);
+    eprintln!(
+        "{split:?} ({:?} path): coverage agreement {cover:.5}, depth within 1e-4 {depth:.5} \
+         (max rel diff {max_rel:.2e}), same id {ids:.5}, {both} of {} pixels covered by both",
+        rig.path,
+        gpu.len()
+    );
+    assert!(
+        both as u32 > W * H / 4,
+        "the scene should cover a good part of the frame: {both} pixels"
+    );
+    assert!(both < gpu.len(), "the scene should not cover every pixel");
+    assert!(
+        cover >= 0.999,
+        "{split:?}: coverage agreement {cover:.5} < 99.9%"
+    );
+    assert!(
+        depth >= 0.999,
+        "{split:?}: depth agreement {depth:.5} < 99.9%"
+    );
+    assert!(ids >= 0.99, "{split:?}: id agreement {ids:.5} < 99%");
+}
+
+#[test]
+fn sw_matches_reference() {
+    check_against_reference(Split::AllSw);
+}
+
+#[test]
+fn hw_matches_reference() {
+    check_against_reference(Split::AllHw);
+}
+
+/// The coarsest DAG level close up: triangles of tens of pixels, which `raster_sw` walks by scanline.
+#[test]
+fn large_triangles_match_reference() {
+    let top = spot().level_count() as u32 - 1;
+    let mut rig = Rig::with_zoom(DVec3::ZERO, &[top, top], 0.5);
+    let tris: usize = rig
+        .visible
+        .iter()
+        .map(|&[_, c]| spot().clusters[c as usize].triangle_count() as usize)
+        .sum();
+    eprintln!("level {top}: {tris} triangles");
+    assert!(
+        tris < 1000,
+        "level {top} should be coarse: {tris} triangles"
+    );
+    check_rig_against_reference(&mut rig, Split::AllHw);
+    check_rig_against_reference(&mut rig, Split::AllSw);
+    let sw = rig.render(Split::AllSw, None);
+    let hw = rig.render(Split::AllHw, None);
+    let differ = (0..sw.len()).filter(|&i| sw[i] != hw[i]).count();
+    eprintln!("large triangles, SW vs HW: {differ} pixels differ");
+    assert!(differ as f64 <= 1e-4 * sw.len() as f64);
+}
+
+/// A camera so close that triangles cross the near plane: HW clips them like the reference, SW
+/// skips them (only ever covering a subset of the reference's pixels, never garbage).
+#[test]
+fn near_plane_crossing() {
+    let mut rig = Rig::with_zoom(DVec3::ZERO, &[0, 0], 0.4);
+    // The near plane through the middle of the nearer instance.
+    rig.camera.near = rig.camera.position.length() as f32 * 0.85;
+    let r = rig.reference();
+    let vp = rig.camera.view_proj(W, H);
+    let behind = rig
+        .visible
+        .iter()
+        .flat_map(|&[inst, c]| {
+            let model = rig
+                .camera
+                .relative_model(&rig.placements[inst as usize].transform);
+            let m = spot();
+            let cl = &m.clusters[c as usize];
+            (0..cl.vertex_count()).map(move |i| {
+                let p = model.transform_point3(Vec3::from(m.position(m.vertex_ref(cl, i))));
+                vp * p.extend(1.0)
+            })
+        })
+        .filter(|c| c.z > c.w)
+        .count();
+    eprintln!("{behind} cluster vertices behind the near plane");
+    assert!(
+        behind > 0,
+        "the camera should cut the near plane through the mesh"
+    );
+    let hw = rig.render(Split::AllHw, None);
+    let (cover, depth, _, max_rel, both) = compare(&hw, &r);
+    eprintln!(
+        "near plane, HW: coverage agreement {cover:.5}, depth within 1e-4 {depth:.5} (max {max_rel:.2e}), {both} covered"
+    );
+    assert!(both as u32 > W * H / 4);
+    assert!(cover >= 0.999, "HW coverage agreement {cover:.5}");
+    let sw = rig.render(Split::AllSw, None);
+    let outside = (0..sw.len())
+        .filter(|&i| sw[i] != 0 && r.id[i] == u32::MAX)
+        .count();
+    let missing = (0..sw.len())
+        .filter(|&i| sw[i] == 0 && r.id[i] != u32::MAX)
+        .count();
+    eprintln!("near plane, SW: {outside} pixels outside the reference, {missing} skipped");
+    assert_eq!(outside, 0, "SW drew pixels the reference does not cover");
+}
+
+#[test]
+fn sw_and_hw_agree_and_runs_are_deterministic() {
+    let mut rig = Rig::new(DVec3::ZERO, &[0, 0]);
+    let sw = rig.render(Split::AllSw, None);
+    let hw = rig.render(Split::AllHw, None);
+    let n = sw.len();
+    let differ: Vec<usize> = (0..n).filter(|&i| sw[i] != hw[i]).collect();
+    let (mut cover_only, mut depth_only, mut id_only) = (0, 0, 0);
+    for &i in &differ {
+        match (visbuffer::unpack(sw[i]), visbuffer::unpack(hw[i])) {
+            (Some((ds, ..)), Some((dh, ..))) if ds == dh => id_only += 1,
+            (Some(_), Some(_)) => depth_only += 1,
+            _ => cover_only += 1,
+        }
+    }
+    let covered = sw.iter().filter(|&&v| v != 0).count();
+    eprintln!(
+        "SW vs HW ({:?} path): {} of {n} pixels differ ({cover_only} coverage, {depth_only} depth, \
+         {id_only} id only); {covered} covered",
+        rig.path,
+        differ.len()
+    );
+    assert!(covered as u32 > W * H / 4);
+    assert!(
+        differ.len() as f64 <= 1e-4 * n as f64,
+        "SW and HW differ on {} pixels: {:?}",
+        differ.len(),
+        &differ[..differ.len().min(10)]
+    );
+    // Determinism: the same frame again, bit for bit, on each rasterizer and mixed.
+    assert_eq!(sw, rig.render(Split::AllSw, None), "SW run differs");
+    assert_eq!(hw, rig.render(Split::AllHw, None), "HW run differs");
+    let mixed = rig.render(Split::Mixed, None);
+    assert_eq!(mixed, rig.render(Split::Mixed, None), "mixed run differs");
+    let mixed_diff = (0..n).filter(|&i| mixed[i] != sw[i]).count();
+    eprintln!("mixed SW/HW vs all-SW: {mixed_diff} pixels differ");
+    assert!(mixed_diff as f64 <= 1e-4 * n as f64);
+}
+
+#[test]
+fn far_from_origin_renders_the_same() {
+    let mut near = Rig::new(DVec3::ZERO, &[0, 0]);
+    let mut far = Rig::new(DVec3::new(1.0e6, -1.0e6, 1.0e6), &[0, 0]);
+    for split in [Split::AllSw, Split::AllHw] {
+        let a = near.render(split, None);
+        let b = far.render(split, None);
+        let differ = (0..a.len()).filter(|&i| a[i] != b[i]).count();
+        let max_rel = a
+            .iter()
+            .zip(&b)
+            .filter_map(
+                |(&x, &y)| match (visbuffer::unpack(x), visbuffer::unpack(y)) {
+                    (Some((dx, ..)), Some((dy, ..))) => Some((dx - dy).abs() / dx),
+                    _ => None,
+                },
+            )
+            .fold(0f32, f32::max);
+        eprintln!(
+            "{split:?}: origin vs 1e6 away: {differ} of {} pixels differ, max rel depth diff {max_rel:.2e}",
+            a.len()
+        );
+        assert!(a.iter().filter(|&&v| v != 0).count() as u32 > W * H / 4);
+        assert!(
+            differ as f64 <= 1e-3 * a.len() as f64,
+            "{split:?}: {differ} pixels differ"
+        );
+        assert!(max_rel < 1e-4, "{split:?}: depth differs by {max_rel:e}");
+    }
+}
+
+#[test]
+fn every_view_mode_renders() {
+    // Instance 0 at level 0, instance 1 at level 1, mixed SW/HW: every mode has something to show.
+    let mut rig = Rig::new(DVec3::ZERO, &[0, 1]);
+    let dv = DebugView::new(&rig.ctx, &rig.fb).expect("debug_view");
+    for mode in ViewMode::ALL {
+        rig.render(Split::Mixed, Some((&dv, mode)));
+        let img = dv.download().expect("debug image");
+        assert_eq!(img.len(), (W * H * 4) as usize);
+        if let Ok(dir) = std::env::var("VGEO_TEST_DUMP") {
+            let path = std::path::Path::new(&dir).join(format!("raster_{}.png", mode.name()));
+            image::save_buffer(&path, &img, W, H, image::ColorType::Rgba8).expect("save dump");
+        }
+        let distinct: std::collections::BTreeSet<&[u8]> = img.chunks(4).collect();
+        let bg = img[..4].to_vec();
+        let background = img.chunks(4).filter(|c| *c == bg.as_slice()).count();
+        eprintln!(
+            "{mode:?}: {} distinct colours, {background} background pixels",
+            distinct.len()
+        );
+        let min_colours = match mode {
+            ViewMode::Lod | ViewMode::HwSw | ViewMode::Instances => 3,
+            _ => 20,
+        };
+        assert!(
+            distinct.len() >= min_colours,
+            "{mode:?}: only {} distinct colours",
+            distinct.len()
+        );
+        assert!(
+            background > 0 && background < img.len() / 4,
+            "{mode:?}: the corner colour should be background, not everywhere"
+        );
+        assert_ne!(
+            ViewMode::parse(mode.name()),
+            None,
+            "{mode:?}: name does not parse"
+        );
+    }
+    assert_no_validation_errors(&rig.ctx);
+}
