@@ -9,11 +9,14 @@ use crate::camera::Camera;
 use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Timer, vk};
 use crate::passes::cluster_cull::{ClusterCull, default_workgroups};
 use crate::passes::cull::Phase;
+use crate::passes::debug_view::{DebugView, ViewMode};
 use crate::passes::depth_pyramid::DepthPyramid;
 use crate::passes::instance_cull::InstanceCull;
+use crate::passes::raster_hw::RasterHw;
+use crate::passes::raster_sw::RasterSw;
 use crate::passes::view::{FrameSettings, view_gpu};
-use crate::passes::{FrameBuffers, VisPath};
-use crate::render::Placement;
+use crate::passes::{FrameBuffers, VisPath, visbuffer};
+use crate::render::{Frame, Light, Placement};
 use crate::scene_gpu::GpuScene;
 use crate::shared::{CullCounters, OcclusionGpu};
 
@@ -66,8 +69,13 @@ pub struct VgeoRenderer {
     pub scene: GpuScene,
     instance_cull: InstanceCull,
     cluster_cull: ClusterCull,
+    raster_sw: RasterSw,
+    raster_hw: RasterHw,
     fb: Option<FrameBuffers>,
     pyramid: Option<DepthPyramid>,
+    debug_view: Option<DebugView>,
+    /// The view whose HZB is in the pyramid (the previous frame's), if any.
+    history: Option<OcclusionGpu>,
     vis_path: VisPath,
     queue_capacity: u32,
     visible_capacity: u32,
@@ -94,8 +102,12 @@ impl VgeoRenderer {
             scene,
             instance_cull: InstanceCull::new(ctx)?,
             cluster_cull: ClusterCull::new(ctx, default_workgroups(ctx.caps()))?,
+            raster_sw: RasterSw::new(ctx, vis_path)?,
+            raster_hw: RasterHw::new(ctx, vis_path)?,
             fb: None,
             pyramid: None,
+            debug_view: None,
+            history: None,
             vis_path,
             queue_capacity,
             visible_capacity,
@@ -129,7 +141,9 @@ impl VgeoRenderer {
                 self.scene.instance_count,
             )?;
             self.pyramid = Some(DepthPyramid::new(&self.ctx, &fb)?);
+            self.debug_view = Some(DebugView::new(&self.ctx, &fb)?);
             self.fb = Some(fb);
+            self.history = None;
         }
         Ok(())
     }
@@ -216,6 +230,112 @@ impl VgeoRenderer {
         fb.occ_post.write(0, bytemuck::bytes_of(&off))
     }
 
+    /// Forgets the previous frame's depth (after a camera cut): the next frame's main phase culls
+    /// nothing by occlusion (the post phase still does). Correct either way; this only saves work.
+    pub fn reset_history(&mut self) {
+        self.history = None;
+    }
+
+    /// Renders one frame: both culling phases, both rasterizers, the HZB, and `mode`'s debug view,
+    /// and reads back the image, the visibility buffer and the counters.
+    pub fn render(
+        &mut self,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+        mode: ViewMode,
+        light: &Light,
+    ) -> GpuResult<VgeoFrame> {
+        self.write_view(camera, width, height, settings)?;
+        let levels = self
+            .pyramid
+            .as_ref()
+            .map(|p| p.levels.len() as u32)
+            .unwrap_or(0);
+        let current = occlusion_of(camera, width, height, levels, settings.occlusion);
+        let fb = self
+            .fb
+            .as_mut()
+            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+        let main = match (&self.history, settings.occlusion) {
+            (Some(h), true) => *h,
+            _ => OcclusionGpu::default(),
+        };
+        fb.occ_main.write(0, bytemuck::bytes_of(&main))?;
+        fb.occ_post.write(0, bytemuck::bytes_of(&current))?;
+        let fb = self
+            .fb
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+        let pyramid = self
+            .pyramid
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("HZB missing".into()))?;
+        let debug_view = self
+            .debug_view
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("debug view missing".into()))?;
+        let mut timer = Timer::new(&self.ctx, 16)?;
+        let mut result = Ok(());
+        self.ctx.submit_and_wait("vgeo frame", |cmd| {
+            timer.reset(cmd);
+            visbuffer::clear(cmd, fb);
+            let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+            let raster_stages =
+                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
+            cmd.barrier(
+                (
+                    vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                ),
+                (raster_stages, rw),
+            );
+            for phase in [Phase::Main, Phase::Post] {
+                self.record_cull(cmd, &mut timer, fb, &pyramid.hzb, phase);
+                self.raster_sw
+                    .record(cmd, &mut timer, &self.scene, fb, phase);
+                // Both rasterizers do atomics on the visibility buffer.
+                cmd.barrier((raster_stages, rw), (raster_stages, rw));
+                self.raster_hw
+                    .record(cmd, &mut timer, &self.scene, fb, phase);
+                cmd.barrier(
+                    (raster_stages, rw),
+                    (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+                );
+                // After the main phase: this frame's HZB for the post phase; after the post phase:
+                // the HZB the next frame's main phase tests against.
+                pyramid.record(cmd, &mut timer, fb);
+            }
+            result = debug_view.record(cmd, &mut timer, &self.scene, fb, mode, light.direction);
+        })?;
+        result?;
+        let gpu_ms = timer.results()?;
+        let main_res = read_cull(fb, Phase::Main, Vec::new())?;
+        let post_res = read_cull(fb, Phase::Post, Vec::new())?;
+        let vis = visbuffer::download(fb)?;
+        let color = debug_view.download()?;
+        self.history = settings.occlusion.then_some(current);
+        let triangles = main_res.counters.triangles as u64 + post_res.counters.triangles as u64;
+        let depth = vis
+            .iter()
+            .map(|v| f32::from_bits((v >> 32) as u32))
+            .collect();
+        Ok(VgeoFrame {
+            frame: Frame {
+                width,
+                height,
+                color,
+                depth,
+                gpu_ms,
+                triangles,
+            },
+            visbuffer: vis,
+            main: main_res,
+            post: post_res,
+        })
+    }
+
     /// Runs only the culling passes and reads back their results (tests compare them with the CPU cut).
     pub fn cull(
         &mut self,
@@ -240,26 +360,85 @@ impl VgeoRenderer {
             self.record_cull(cmd, &mut timer, fb, hzb, Phase::Main);
         })?;
         let gpu_ms = timer.results()?;
-        read_cull(fb, gpu_ms)
+        read_cull(fb, Phase::Main, gpu_ms)
     }
 }
 
-/// Reads the counters and lists back.
-fn read_cull(fb: &FrameBuffers, gpu_ms: Vec<(String, f64)>) -> GpuResult<CullResult> {
-    let counters: CullCounters =
-        *bytemuck::from_bytes(&fb.counters.download()?[..size_of::<CullCounters>()]);
+/// The occlusion view of a camera (what its HZB is tested with).
+fn occlusion_of(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    levels: u32,
+    enabled: bool,
+) -> OcclusionGpu {
+    let v = view_gpu(camera, width, height, &FrameSettings::default(), 0, 0, 0);
+    OcclusionGpu {
+        view_proj: v.view_proj,
+        camera_hi: v.camera_hi,
+        camera_lo: v.camera_lo,
+        viewport: [width as f32, height as f32, 0.0, 0.0],
+        near: camera.near,
+        levels,
+        enabled: (enabled && levels > 0) as u32,
+        _pad: 0,
+    }
+}
+
+/// One rendered vgeo frame.
+pub struct VgeoFrame {
+    /// The debug view's image, depth from the visibility buffer, GPU times per pass.
+    pub frame: Frame,
+    /// The visibility buffer (`depth bits << 32 | visible index << 7 | triangle`).
+    pub visbuffer: Vec<u64>,
+    /// Culling results of each phase (the post phase's visible entries follow the main phase's).
+    pub main: CullResult,
+    pub post: CullResult,
+}
+
+impl VgeoFrame {
+    /// Every drawn (instance, cluster), both phases.
+    pub fn visible(&self) -> Vec<[u32; 2]> {
+        let mut v = self.main.visible.clone();
+        v.extend_from_slice(&self.post.visible);
+        v
+    }
+
+    /// Fails when either phase overflowed or hit the watchdog.
+    pub fn check(&self) -> Result<(), String> {
+        self.main.check()?;
+        self.post.check()
+    }
+}
+
+/// Reads one phase's counters and lists back (the post phase's visible entries start after the
+/// main phase's).
+fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> GpuResult<CullResult> {
+    let (counters_buf, sw_buf, hw_buf) = fb.phase_lists(phase);
+    let read_counters = |b: &Buffer| -> GpuResult<CullCounters> {
+        Ok(*bytemuck::from_bytes(
+            &b.download()?[..size_of::<CullCounters>()],
+        ))
+    };
+    let counters = read_counters(counters_buf)?;
+    let first = match phase {
+        Phase::Main => 0,
+        Phase::Post => read_counters(&fb.counters)?
+            .visible_count
+            .min(fb.visible_capacity) as usize,
+    };
     let n_vis = counters.visible_count.min(fb.visible_capacity) as usize;
     let vis_bytes = fb.visible.download()?;
     let visible: Vec<[u32; 2]> =
-        bytemuck::cast_slice::<u8, [u32; 2]>(&vis_bytes[..8 * n_vis]).to_vec();
-    let list = |b: &crate::gpu::Buffer, n: u32| -> GpuResult<Vec<u32>> {
+        bytemuck::cast_slice::<u8, [u32; 2]>(&vis_bytes[8 * first.min(n_vis)..8 * n_vis]).to_vec();
+    let list = |b: &Buffer, n: u32| -> GpuResult<Vec<u32>> {
         let bytes = b.download()?;
         let n = (n.min(fb.visible_capacity)) as usize;
         Ok(bytemuck::cast_slice::<u8, u32>(&bytes[..4 * n]).to_vec())
     };
     Ok(CullResult {
-        sw: list(&fb.sw_list, counters.sw_count)?,
-        hw: list(&fb.hw_list, counters.hw_count)?,
+        sw: list(sw_buf, counters.sw_count)?,
+        hw: list(hw_buf, counters.hw_count)?,
         counters,
         visible,
         gpu_ms,

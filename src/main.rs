@@ -5,7 +5,10 @@ use std::process::ExitCode;
 
 use anyhow::{Context as _, Result};
 use clap::{Parser, Subcommand};
+use vgeo::frame::VgeoRenderer;
 use vgeo::gpu::{Context, ContextOptions};
+use vgeo::passes::debug_view::ViewMode;
+use vgeo::passes::view::FrameSettings;
 use vgeo::render::LoadedScene;
 
 /// vgeo renders triangle scenes of any size at pixel-scale detail (Nanite-style cluster DAGs) on Vulkan.
@@ -49,13 +52,31 @@ struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 720)]
     height: u32,
-    /// Rendering path: `brute` (every triangle, classic draws) or `lod` (discrete LODs per mesh,
-    /// one per instance chosen by projected error).
+    /// Rendering path: `brute` (every triangle, classic draws), `lod` (discrete LODs per mesh,
+    /// one per instance chosen by projected error) or `vgeo` (the cluster DAG, GPU-driven culling
+    /// and LOD cut, visibility buffer).
     #[arg(long, default_value = "brute")]
     mode: String,
-    /// Pixel error threshold of `--mode lod`.
+    /// Pixel error threshold of `--mode lod` and `--mode vgeo` (0 = full detail).
     #[arg(long, default_value_t = 1.0)]
     error_px: f32,
+    /// What `--mode vgeo` shows: lit, depth, triangles, clusters, instances, lod, hwsw.
+    #[arg(long, default_value = "lit")]
+    view: String,
+    /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).
+    /// Clusters reaching the near plane always use hw.
+    #[arg(long, default_value = "auto")]
+    raster: String,
+    /// `--mode vgeo`: clusters larger than this on screen (pixels) go to the hardware rasterizer.
+    #[arg(long, default_value_t = 32.0)]
+    hw_threshold: f32,
+    /// `--mode vgeo`: turn two-pass occlusion culling off.
+    #[arg(long)]
+    no_occlusion: bool,
+    /// Frames to render (the same view); the last one is written and reported. With `--mode vgeo`
+    /// the first frame has no previous depth to cull with, later ones do.
+    #[arg(long, default_value_t = 1)]
+    frames: u32,
     /// Print per-pass GPU times and counters.
     #[arg(long)]
     stats: bool,
@@ -71,6 +92,11 @@ fn main() -> ExitCode {
             height: 720,
             mode: "brute".into(),
             error_px: 1.0,
+            view: "lit".into(),
+            raster: "auto".into(),
+            hw_threshold: 32.0,
+            no_occlusion: false,
+            frames: 1,
             stats: true,
         }),
         Some(Command::Render(a)) => render(&a),
@@ -117,20 +143,80 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
         anyhow::bail!("--width and --height must be between 1 and 16384");
     }
-    if a.mode != "brute" && a.mode != "lod" {
-        anyhow::bail!("unknown --mode `{}` (available: brute, lod)", a.mode);
+    if !["brute", "lod", "vgeo"].contains(&a.mode.as_str()) {
+        anyhow::bail!("unknown --mode `{}` (available: brute, lod, vgeo)", a.mode);
+    }
+    let view = ViewMode::parse(&a.view).with_context(|| {
+        let names: Vec<_> = ViewMode::ALL.iter().map(|m| m.name()).collect();
+        format!(
+            "unknown --view `{}` (available: {})",
+            a.view,
+            names.join(", ")
+        )
+    })?;
+    let flags = match a.raster.as_str() {
+        "auto" => 0,
+        "sw" => vgeo::shared::VIEW_FLAG_FORCE_SW,
+        "hw" => vgeo::shared::VIEW_FLAG_FORCE_HW,
+        other => anyhow::bail!("unknown --raster `{other}` (available: auto, sw, hw)"),
+    };
+    if a.frames == 0 {
+        anyhow::bail!("--frames must be at least 1");
     }
     if a.error_px.is_nan() || a.error_px < 0.0 || a.error_px.is_infinite() {
         anyhow::bail!("--error-px must be a finite number >= 0");
     }
     let t0 = std::time::Instant::now();
-    let loaded = LoadedScene::load(&a.input)?;
+    let mut loaded = LoadedScene::load(&a.input)?;
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
     }
     let camera = loaded.camera(a.width, a.height);
     let load_s = t0.elapsed().as_secs_f64();
     let ctx = context()?;
+    let mut stats_lines = Vec::new();
+    if a.mode == "vgeo" {
+        let built = loaded.built_meshes(&|line| eprintln!("{line}"))?;
+        let mut r = VgeoRenderer::new(&ctx, &built, &loaded.placements)?;
+        let settings = FrameSettings {
+            error_px: a.error_px,
+            hw_threshold_px: a.hw_threshold,
+            flags,
+            occlusion: !a.no_occlusion,
+        };
+        let mut last = None;
+        for _ in 0..a.frames {
+            last = Some(r.render(&camera, a.width, a.height, &settings, view, &loaded.light)?);
+        }
+        let vf = last.context("no frame rendered")?;
+        vf.check()
+            .map_err(|e| anyhow::anyhow!("the frame is incomplete: {e}"))?;
+        for (name, c) in [("main", &vf.main.counters), ("post", &vf.post.counters)] {
+            stats_lines.push(format!(
+                "  {name}: instances {}/{} visible, {} BVH nodes, {} clusters tested, {} drawn ({} sw, {} hw), {} triangles; deferred {} inst / {} nodes / {} clusters; occluded {} inst / {} nodes / {} clusters",
+                c.instances_visible,
+                c.instances_tested,
+                c.nodes_visited,
+                c.clusters_tested,
+                c.sw_count + c.hw_count,
+                c.sw_count,
+                c.hw_count,
+                c.triangles,
+                c.post_instance_count,
+                c.post_node_count,
+                c.post_cluster_count,
+                c.occluded_instances,
+                c.occluded_nodes,
+                c.occluded_clusters,
+            ));
+        }
+        stats_lines.push(format!(
+            "  visibility buffer: {:?} path; geometry {:.1} MiB",
+            r.vis_path(),
+            r.scene.geometry_bytes() as f64 / (1 << 20) as f64
+        ));
+        return finish(a, &ctx, &loaded, vf.frame, load_s, &stats_lines);
+    }
     let (l, c) = (&loaded, &camera);
     let frame = match a.mode.as_str() {
         "lod" => {
@@ -143,6 +229,18 @@ fn render(a: &RenderArgs) -> Result<()> {
             brute.render(&l.placements, c, &l.light, a.width, a.height)?
         }
     };
+    finish(a, &ctx, &loaded, frame, load_s, &stats_lines)
+}
+
+/// Writes the image and prints the report of a render.
+fn finish(
+    a: &RenderArgs,
+    ctx: &Context,
+    loaded: &LoadedScene,
+    frame: vgeo::render::Frame,
+    load_s: f64,
+    stats_lines: &[String],
+) -> Result<()> {
     frame.save_png(&a.out)?;
     println!("device:     {}", ctx.caps().device_name);
     println!("resolution: {}x{}", a.width, a.height);
@@ -155,7 +253,10 @@ fn render(a: &RenderArgs) -> Result<()> {
     println!("GPU time:   {:.3} ms", frame.gpu_total_ms());
     if a.stats {
         for (pass, ms) in &frame.gpu_ms {
-            println!("  {pass:<12} {ms:.3} ms");
+            println!("  {pass:<22} {ms:.3} ms");
+        }
+        for l in stats_lines {
+            println!("{l}");
         }
     }
     println!("wrote {}", a.out.display());

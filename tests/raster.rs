@@ -13,6 +13,7 @@ use glam::{DMat4, DVec3, Mat4, Vec3};
 use vgeo::builder::{BuildOptions, BuiltMesh};
 use vgeo::camera::Camera;
 use vgeo::gpu::{Buffer, Context, MemoryKind, Timer, vk};
+use vgeo::passes::cull::Phase;
 use vgeo::passes::debug_view::{DebugView, ViewMode};
 use vgeo::passes::raster_hw::RasterHw;
 use vgeo::passes::raster_sw::RasterSw;
@@ -219,7 +220,7 @@ impl Rig {
                         | A::INDIRECT_COMMAND_READ,
                 ),
             );
-            sw.record(cmd, &mut timer, scene, fb);
+            sw.record(cmd, &mut timer, scene, fb, Phase::Main);
             cmd.barrier(
                 (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
                 (
@@ -227,7 +228,7 @@ impl Rig {
                     A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
                 ),
             );
-            hw.record(cmd, &mut timer, scene, fb);
+            hw.record(cmd, &mut timer, scene, fb, Phase::Main);
             if let Some((dv, mode)) = debug {
                 cmd.barrier(
                     (S::FRAGMENT_SHADER, A::SHADER_STORAGE_WRITE),

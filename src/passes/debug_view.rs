@@ -9,6 +9,7 @@ use crate::gpu::{
     Buffer, Cmd, ComputePipeline, Context, Desc, GpuError, GpuResult, Image, MemoryKind,
     ShaderStage, Timer, vk,
 };
+use crate::passes::cull::Phase;
 use crate::passes::{FrameBuffers, VisBuffer, VisPath};
 use crate::render::BACKGROUND;
 use crate::scene_gpu::GpuScene;
@@ -215,20 +216,24 @@ impl DebugView {
             ),
         );
         cmd.bind_compute(&self.mark);
-        cmd.push_compute_descriptors(
-            &self.mark,
-            &[
-                Desc::Storage(&fb.counters),
-                Desc::Storage(&fb.hw_list),
-                Desc::Storage(&self.hw_flags),
-            ],
-        );
-        cmd.compute_push_constants(&self.mark, bytemuck::bytes_of(&self.visible_capacity));
-        let mark_groups = self
-            .visible_capacity
-            .div_ceil(MARK_WORKGROUP_SIZE)
-            .clamp(1, 1024);
-        cmd.dispatch(mark_groups, 1, 1);
+        // Both phases of the two-pass occlusion culling have an HW list.
+        for phase in [Phase::Main, Phase::Post] {
+            let (counters, _, hw_list) = fb.phase_lists(phase);
+            cmd.push_compute_descriptors(
+                &self.mark,
+                &[
+                    Desc::Storage(counters),
+                    Desc::Storage(hw_list),
+                    Desc::Storage(&self.hw_flags),
+                ],
+            );
+            cmd.compute_push_constants(&self.mark, bytemuck::bytes_of(&self.visible_capacity));
+            let mark_groups = self
+                .visible_capacity
+                .div_ceil(MARK_WORKGROUP_SIZE)
+                .clamp(1, 1024);
+            cmd.dispatch(mark_groups, 1, 1);
+        }
         cmd.barrier(
             (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
             (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),

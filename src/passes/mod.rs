@@ -127,7 +127,7 @@ impl FrameBuffers {
                     | vk::ImageUsageFlags::TRANSFER_DST,
             )?),
         };
-        Ok(Self {
+        let fb = Self {
             width,
             height,
             view: Buffer::new(
@@ -209,7 +209,21 @@ impl FrameBuffers {
             )?,
             queue_capacity,
             visible_capacity,
-        })
+        };
+        // Counters start at zero: a pass reading a phase that did not run sees empty lists.
+        ctx.submit_and_wait("clear frame counters", |cmd| {
+            cmd.fill_buffer(&fb.counters, 0);
+            cmd.fill_buffer(&fb.counters_post, 0);
+        })?;
+        Ok(fb)
+    }
+
+    /// The counters, SW list and HW list of one culling phase.
+    pub fn phase_lists(&self, phase: cull::Phase) -> (&Buffer, &Buffer, &Buffer) {
+        match phase {
+            cull::Phase::Main => (&self.counters, &self.sw_list, &self.hw_list),
+            cull::Phase::Post => (&self.counters_post, &self.sw_list_post, &self.hw_list_post),
+        }
     }
 
     /// The path in use.

@@ -13,6 +13,7 @@
 use crate::gpu::{
     Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage, Timer, vk,
 };
+use crate::passes::cull::Phase;
 use crate::passes::{FrameBuffers, VisBuffer, VisPath};
 use crate::scene_gpu::GpuScene;
 use crate::shared::CullCounters;
@@ -70,8 +71,16 @@ impl RasterHw {
     /// Records the pass: draws every cluster of `fb.hw_list` (count and draw arguments in
     /// `fb.counters`) into `fb.visbuffer`. Inputs must be visible to the vertex and fragment
     /// shaders and to the indirect-command stage (the frame records those barriers).
-    pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, scene: &GpuScene, fb: &FrameBuffers) {
-        timer.begin(cmd, NAME);
+    pub fn record(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+        phase: Phase,
+    ) {
+        let (counters, _, hw_list) = fb.phase_lists(phase);
+        timer.begin(cmd, &format!("{NAME}{}", phase.label()));
         let vis = match &fb.visbuffer {
             VisBuffer::Buffer(b) => Desc::Storage(b),
             VisBuffer::Image(i) => {
@@ -91,7 +100,7 @@ impl RasterHw {
             &[
                 Desc::Uniform(&fb.view),
                 Desc::Storage(&fb.visible),
-                Desc::Storage(&fb.hw_list),
+                Desc::Storage(hw_list),
                 Desc::Storage(&scene.instances),
                 Desc::Storage(&scene.meshes),
                 Desc::Storage(&scene.clusters),
@@ -101,10 +110,7 @@ impl RasterHw {
                 vis,
             ],
         );
-        cmd.draw_indirect(
-            &fb.counters,
-            std::mem::offset_of!(CullCounters, hw_draw) as u64,
-        );
+        cmd.draw_indirect(counters, std::mem::offset_of!(CullCounters, hw_draw) as u64);
         cmd.end_rendering();
         timer.end(cmd);
     }

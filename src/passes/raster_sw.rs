@@ -12,6 +12,7 @@
 //! sends such clusters to `raster_hw`.
 
 use crate::gpu::{Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, Timer, vk};
+use crate::passes::cull::Phase;
 use crate::passes::{FrameBuffers, VisBuffer, VisPath};
 use crate::scene_gpu::GpuScene;
 use crate::shared::CullCounters;
@@ -52,8 +53,16 @@ impl RasterSw {
     /// Records the pass: rasterizes every cluster of `fb.sw_list` (count and dispatch arguments in
     /// `fb.counters`) into `fb.visbuffer`. Inputs must be visible to compute shaders and to the
     /// indirect-command stage (the frame records those barriers).
-    pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, scene: &GpuScene, fb: &FrameBuffers) {
-        timer.begin(cmd, NAME);
+    pub fn record(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+        phase: Phase,
+    ) {
+        let (counters, sw_list, _) = fb.phase_lists(phase);
+        timer.begin(cmd, &format!("{NAME}{}", phase.label()));
         let vis = match &fb.visbuffer {
             VisBuffer::Buffer(b) => Desc::Storage(b),
             VisBuffer::Image(i) => {
@@ -71,9 +80,9 @@ impl RasterSw {
             &self.pipeline,
             &[
                 Desc::Uniform(&fb.view),
-                Desc::Storage(&fb.counters),
+                Desc::Storage(counters),
                 Desc::Storage(&fb.visible),
-                Desc::Storage(&fb.sw_list),
+                Desc::Storage(sw_list),
                 Desc::Storage(&scene.instances),
                 Desc::Storage(&scene.meshes),
                 Desc::Storage(&scene.clusters),
@@ -84,7 +93,7 @@ impl RasterSw {
             ],
         );
         cmd.dispatch_indirect(
-            &fb.counters,
+            counters,
             std::mem::offset_of!(CullCounters, sw_dispatch) as u64,
         );
         timer.end(cmd);

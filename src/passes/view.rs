@@ -16,6 +16,8 @@ pub struct FrameSettings {
     pub hw_threshold_px: f32,
     /// `VIEW_FLAG_*` (force SW / HW, no frustum culling).
     pub flags: u32,
+    /// Two-pass occlusion culling against the hierarchical depth buffer.
+    pub occlusion: bool,
 }
 
 impl Default for FrameSettings {
@@ -24,6 +26,7 @@ impl Default for FrameSettings {
             error_px: 1.0,
             hw_threshold_px: 32.0,
             flags: 0,
+            occlusion: true,
         }
     }
 }
