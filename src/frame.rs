@@ -84,8 +84,24 @@ pub struct VgeoRenderer {
 impl VgeoRenderer {
     /// Uploads the scene and creates the pipelines.
     pub fn new(ctx: &Context, built: &[BuiltMesh], placements: &[Placement]) -> GpuResult<Self> {
-        let scene = GpuScene::new(ctx, built, placements)?;
         let vis_path = VisPath::choose(ctx).map_err(GpuError::Other)?;
+        Self::with_path(ctx, built, placements, vis_path)
+    }
+
+    /// Like [`VgeoRenderer::new`] with an explicit visibility-buffer path (the image path needs
+    /// `VK_EXT_shader_image_atomic_int64`).
+    pub fn with_path(
+        ctx: &Context,
+        built: &[BuiltMesh],
+        placements: &[Placement],
+        vis_path: VisPath,
+    ) -> GpuResult<Self> {
+        if vis_path == VisPath::Image && !ctx.caps().image_int64_atomics {
+            return Err(GpuError::Other(
+                "the image visibility-buffer path needs VK_EXT_shader_image_atomic_int64".into(),
+            ));
+        }
+        let scene = GpuScene::new(ctx, built, placements)?;
         // Every BVH node is visited at most once per instance, and at most every cluster drawn.
         let nodes: u64 = placements
             .iter()
@@ -165,6 +181,11 @@ impl VgeoRenderer {
         cmd.fill_buffer(counters, 0);
         cmd.fill_buffer(&fb.queue, u32::MAX);
         if phase == Phase::Post {
+            let t = (
+                vk::PipelineStageFlags2::ALL_TRANSFER,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            );
+            cmd.barrier(t, t);
             let off = std::mem::offset_of!(CullCounters, visible_count) as u64;
             cmd.copy_buffer_region(&fb.counters, off, &fb.counters_post, off, 4);
         }

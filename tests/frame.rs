@@ -1,0 +1,472 @@
+//! The whole vgeo frame on lavapipe with validation on: no cracks, threshold 0 equals brute, SW and
+//! HW agree, determinism, two-pass occlusion culling.
+
+mod common;
+
+use common::{assert_no_validation_errors, assets, gpu, shared_assets};
+use glam::{DMat4, DVec3, Vec3};
+use vgeo::baseline::brute::Brute;
+use vgeo::builder::{BuildOptions, BuiltMesh, build};
+use vgeo::camera::Camera;
+use vgeo::frame::{VgeoFrame, VgeoRenderer};
+use vgeo::gpu::{Context, ContextOptions};
+use vgeo::mesh::{Material, Mesh};
+use vgeo::passes::debug_view::ViewMode;
+use vgeo::passes::view::FrameSettings;
+use vgeo::render::{Light, Placement};
+use vgeo::shared::{VIEW_FLAG_FORCE_HW, VIEW_FLAG_FORCE_SW};
+
+const W: u32 = 192;
+const H: u32 = 160;
+
+fn load(path: &std::path::Path) -> (Mesh, BuiltMesh) {
+    let (mesh, _) = vgeo::mesh::load_mesh(path).expect("mesh loads");
+    let built = build(&mesh, &BuildOptions::default()).expect("mesh builds");
+    (mesh, built)
+}
+
+fn one(mesh: u32) -> Vec<Placement> {
+    vec![Placement {
+        mesh,
+        transform: DMat4::IDENTITY,
+        color: [0.9, 0.8, 0.7],
+    }]
+}
+
+/// A camera that fills the view with the mesh's bounds (looking at it from the front).
+fn filling_camera(m: &Mesh, dist_scale: f64) -> Camera {
+    let (lo, hi) = m.bounds().unwrap();
+    let lo = DVec3::from(lo.map(f64::from));
+    let hi = DVec3::from(hi.map(f64::from));
+    let c = (lo + hi) * 0.5;
+    let r = (hi - lo).length() * 0.5;
+    Camera::look_at(
+        c + DVec3::new(0.2, 0.1, 1.0).normalize() * r * dist_scale,
+        c,
+        Vec3::Y,
+        45f32.to_radians(),
+        (r * 0.05) as f32,
+    )
+}
+
+fn render(r: &mut VgeoRenderer, camera: &Camera, settings: &FrameSettings) -> VgeoFrame {
+    let f = r
+        .render(camera, W, H, settings, ViewMode::Lit, &Light::default())
+        .expect("frame renders");
+    f.check().expect("no overflow, no watchdog");
+    f
+}
+
+/// Brute coverage eroded by `margin` pixels: pixels whose whole (2 margin + 1)^2 neighbourhood is covered.
+fn interior(depth: &[f32], margin: i32) -> Vec<bool> {
+    let (w, h) = (W as i32, H as i32);
+    let mut out = vec![false; depth.len()];
+    for y in 0..h {
+        for x in 0..w {
+            let mut all = true;
+            'n: for dy in -margin..=margin {
+                for dx in -margin..=margin {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx < 0
+                        || ny < 0
+                        || nx >= w
+                        || ny >= h
+                        || depth[(ny * w + nx) as usize] <= 0.0
+                    {
+                        all = false;
+                        break 'n;
+                    }
+                }
+            }
+            out[(y * w + x) as usize] = all;
+        }
+    }
+    out
+}
+
+#[test]
+fn no_cracks_in_closed_meshes_at_1_2_8_px() {
+    let ctx = gpu();
+    for name in ["scanned/lucy.ply", "scanned/turbineblade.ply"] {
+        let (mesh, built) = load(&shared_assets().join(name));
+        let camera = filling_camera(&mesh, 1.3);
+        let brute = Brute::new(&ctx, std::slice::from_ref(&mesh)).unwrap();
+        let reference = brute
+            .render(&one(0), &camera, &Light::default(), W, H)
+            .unwrap();
+        let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one(0)).unwrap();
+        for tau in [1.0f32, 2.0, 8.0] {
+            let settings = FrameSettings {
+                error_px: tau,
+                ..Default::default()
+            };
+            let f = render(&mut r, &camera, &settings);
+            // A simplified silhouette may move by up to tau pixels; inside it, every pixel brute
+            // covers must be covered: a crack would show the background.
+            let inside = interior(&reference.depth, tau.ceil() as i32 + 1);
+            let n_inside = inside.iter().filter(|b| **b).count();
+            let holes = (0..inside.len())
+                .filter(|&i| inside[i] && f.frame.depth[i] <= 0.0)
+                .count();
+            eprintln!(
+                "{name} tau={tau}: {} clusters drawn, {n_inside} interior pixels, {holes} holes",
+                f.visible().len()
+            );
+            assert!(
+                n_inside > 1000,
+                "{name}: the mesh should fill the view ({n_inside} interior pixels)"
+            );
+            assert_eq!(
+                holes, 0,
+                "{name} at {tau} px: {holes} background pixels inside the silhouette (cracks)"
+            );
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn threshold_zero_equals_brute() {
+    let ctx = gpu();
+    let (mesh, built) = load(&shared_assets().join("scanned/bunny.ply"));
+    // Far enough that the whole bunny is in view (frustum culling drops nothing).
+    let camera = filling_camera(&mesh, 3.0);
+    let brute = Brute::new(&ctx, std::slice::from_ref(&mesh)).unwrap();
+    let reference = brute
+        .render(&one(0), &camera, &Light::default(), W, H)
+        .unwrap();
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one(0)).unwrap();
+    let f = render(
+        &mut r,
+        &camera,
+        &FrameSettings {
+            error_px: 0.0,
+            ..Default::default()
+        },
+    );
+    let level0 = built.clusters.iter().filter(|c| c.level == 0).count();
+    assert_eq!(
+        f.visible().len(),
+        level0,
+        "threshold 0 draws exactly level 0"
+    );
+    let n = (W * H) as usize;
+    let same = (0..n)
+        .filter(|&i| (f.frame.depth[i] > 0.0) == (reference.depth[i] > 0.0))
+        .count();
+    let both: Vec<usize> = (0..n)
+        .filter(|&i| f.frame.depth[i] > 0.0 && reference.depth[i] > 0.0)
+        .collect();
+    let depth_ok = both
+        .iter()
+        .filter(|&&i| (f.frame.depth[i] - reference.depth[i]).abs() <= 1e-3 * reference.depth[i])
+        .count();
+    let coverage = same as f64 / n as f64;
+    let depth = depth_ok as f64 / both.len().max(1) as f64;
+    eprintln!(
+        "threshold 0 vs brute: coverage agreement {coverage:.5}, depth agreement {depth:.5} over {} pixels",
+        both.len()
+    );
+    assert!(both.len() > 3000);
+    assert!(
+        coverage >= 0.999,
+        "coverage agreement {coverage:.5} < 99.9%"
+    );
+    assert!(depth >= 0.999, "depth agreement {depth:.5} < 99.9%");
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_deterministic() {
+    let ctx = gpu();
+    let (mesh, built) = load(&assets().join("spot.obj"));
+    let camera = filling_camera(&mesh, 1.5);
+    let placements: Vec<Placement> = (0..3)
+        .map(|i| Placement {
+            mesh: 0,
+            transform: DMat4::from_translation(DVec3::new(
+                i as f64 * 0.4 - 0.4,
+                0.0,
+                -(i as f64) * 0.5,
+            )),
+            color: [1.0; 3],
+        })
+        .collect();
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).unwrap();
+    let base = FrameSettings {
+        error_px: 1.0,
+        occlusion: false,
+        ..Default::default()
+    };
+    let sw = render(
+        &mut r,
+        &camera,
+        &FrameSettings {
+            flags: VIEW_FLAG_FORCE_SW,
+            ..base
+        },
+    );
+    let hw = render(
+        &mut r,
+        &camera,
+        &FrameSettings {
+            flags: VIEW_FLAG_FORCE_HW,
+            ..base
+        },
+    );
+    assert!(sw.main.counters.sw_count > 0 && hw.main.counters.hw_count > 0);
+    let n = sw.visbuffer.len();
+    let differ = (0..n)
+        .filter(|&i| key(&sw, sw.visbuffer[i]) != key(&hw, hw.visbuffer[i]))
+        .count();
+    eprintln!("all-SW vs all-HW: {differ} of {n} pixels differ");
+    assert!(
+        differ as f64 <= n as f64 * 1e-4,
+        "{differ} pixels differ between SW and HW"
+    );
+    let again = render(
+        &mut r,
+        &camera,
+        &FrameSettings {
+            flags: VIEW_FLAG_FORCE_SW,
+            ..base
+        },
+    );
+    let mixed1 = render(&mut r, &camera, &base);
+    let mixed2 = render(&mut r, &camera, &base);
+    let same_sw = sw
+        .visbuffer
+        .iter()
+        .zip(&again.visbuffer)
+        .all(|(a, b)| key(&sw, *a) == key(&again, *b));
+    assert!(same_sw, "two all-SW renders of the same frame differ");
+    let same = mixed1
+        .visbuffer
+        .iter()
+        .zip(&mixed2.visbuffer)
+        .all(|(a, b)| key(&mixed1, *a) == key(&mixed2, *b));
+    assert!(same, "two renders of the same frame differ");
+    assert_eq!(
+        mixed1.frame.color, mixed2.frame.color,
+        "two renders give different images"
+    );
+    assert_no_validation_errors(&ctx);
+}
+
+/// What a visibility-buffer value resolves to: (depth bits, (instance, cluster), triangle). The
+/// visible-list numbering follows the GPU's atomic order, so runs are compared through it.
+fn key(f: &VgeoFrame, v: u64) -> (u32, [u32; 2], u32) {
+    if v == 0 {
+        return (0, [0, 0], 0);
+    }
+    let low = v as u32;
+    let i = (low >> 7) as usize;
+    let entry = if i < f.main.visible.len() {
+        f.main.visible[i]
+    } else {
+        f.post.visible[i - f.main.visible.len()]
+    };
+    ((v >> 32) as u32, entry, low & 127)
+}
+
+/// A flat square in the xy plane, `n` x `n` quads, centred on the origin, side 2.
+fn wall_mesh(n: u32) -> Mesh {
+    let mut m = Mesh {
+        name: "wall".into(),
+        materials: vec![Material::default()],
+        ..Default::default()
+    };
+    for y in 0..=n {
+        for x in 0..=n {
+            m.positions.push([
+                x as f32 / n as f32 * 2.0 - 1.0,
+                y as f32 / n as f32 * 2.0 - 1.0,
+                0.0,
+            ]);
+            m.normals.push([0.0, 0.0, 1.0]);
+            m.uvs.push([0.0, 0.0]);
+        }
+    }
+    for y in 0..n {
+        for x in 0..n {
+            let i = y * (n + 1) + x;
+            m.indices
+                .extend([i, i + 1, i + n + 1, i + 1, i + n + 2, i + n + 1]);
+            m.material_ids.extend([0, 0]);
+        }
+    }
+    m
+}
+
+#[test]
+fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
+    // Synchronization validation on for this test: the two-phase frame has the most barriers.
+    let ctx = Context::new(&ContextOptions {
+        validation: true,
+        sync_validation: true,
+        ..ContextOptions::from_env()
+    })
+    .expect("Vulkan device");
+    let (_, spot) = load(&assets().join("spot.obj"));
+    let wall = build(&wall_mesh(16), &BuildOptions::default()).unwrap();
+    let mut placements = vec![Placement {
+        mesh: 1,
+        transform: DMat4::from_scale(DVec3::splat(6.0)),
+        color: [0.5; 3],
+    }];
+    for i in 0..5 {
+        for j in 0..4 {
+            placements.push(Placement {
+                mesh: 0,
+                transform: DMat4::from_translation(DVec3::new(
+                    i as f64 * 1.5 - 3.0,
+                    j as f64 * 1.2 - 2.0,
+                    -4.0,
+                )),
+                color: [1.0; 3],
+            });
+        }
+    }
+    let meshes = vec![spot, wall];
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 0.0, 5.0),
+        DVec3::ZERO,
+        Vec3::Y,
+        50f32.to_radians(),
+        0.1,
+    );
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
+    let on = FrameSettings {
+        error_px: 1.0,
+        ..Default::default()
+    };
+    let first = render(&mut r, &camera, &on);
+    let second = render(&mut r, &camera, &on);
+    let off = render(
+        &mut r,
+        &camera,
+        &FrameSettings {
+            occlusion: false,
+            ..on
+        },
+    );
+    let (m, p) = (&second.main.counters, &second.post.counters);
+    eprintln!(
+        "occlusion frame 2: main deferred {} instances / {} nodes / {} clusters; post occluded {} / {} / {}; drawn {} vs {} without occlusion",
+        m.post_instance_count,
+        m.post_node_count,
+        m.post_cluster_count,
+        p.occluded_instances,
+        p.occluded_nodes,
+        p.occluded_clusters,
+        second.visible().len(),
+        off.visible().len()
+    );
+    assert_eq!(
+        first.main.counters.post_instance_count, 0,
+        "the first frame has no previous HZB"
+    );
+    assert_eq!(
+        p.occluded_instances, 20,
+        "all 20 instances behind the wall are culled in frame 2"
+    );
+    assert!(second.visible().len() < off.visible().len());
+    assert_eq!(
+        second.frame.color, off.frame.color,
+        "occlusion culling changed the image"
+    );
+    assert_eq!(
+        second.frame.depth, off.frame.depth,
+        "occlusion culling changed the depth"
+    );
+    // A camera cut: looking from behind, the old HZB is wrong; the image must still be right.
+    let behind = Camera::look_at(
+        DVec3::new(0.0, 0.0, -12.0),
+        DVec3::new(0.0, 0.0, -4.0),
+        Vec3::Y,
+        50f32.to_radians(),
+        0.1,
+    );
+    let cut = render(&mut r, &behind, &on);
+    let cut_off = render(
+        &mut r,
+        &behind,
+        &FrameSettings {
+            occlusion: false,
+            ..on
+        },
+    );
+    assert_eq!(
+        cut.frame.color, cut_off.frame.color,
+        "wrong image after a camera cut"
+    );
+    assert!(cut.frame.covered() > 1000);
+    assert_no_validation_errors(&ctx);
+}
+
+/// The R64 image path and the u64 buffer path must give bit-identical visibility buffers. Runs where
+/// the device has 64-bit image atomics (the H100; lavapipe has none, so there it checks only that
+/// asking for the image path is a clear error).
+#[test]
+fn image_and_buffer_visibility_paths_agree() {
+    use vgeo::passes::VisPath;
+    let ctx = gpu();
+    let (mesh, built) = load(&assets().join("spot.obj"));
+    let camera = filling_camera(&mesh, 1.4);
+    let placements = one(0);
+    if !ctx.caps().image_int64_atomics {
+        let err = VgeoRenderer::with_path(
+            &ctx,
+            std::slice::from_ref(&built),
+            &placements,
+            VisPath::Image,
+        )
+        .err();
+        assert!(err.is_some_and(|e| e.to_string().contains("shader_image_atomic_int64")));
+        eprintln!(
+            "{}: no 64-bit image atomics; the image path is checked on a GPU that has them",
+            ctx.caps().device_name
+        );
+        return;
+    }
+    let settings = FrameSettings {
+        error_px: 1.0,
+        occlusion: false,
+        ..Default::default()
+    };
+    let mut frames = Vec::new();
+    for path in [VisPath::Buffer, VisPath::Image] {
+        let mut r =
+            VgeoRenderer::with_path(&ctx, std::slice::from_ref(&built), &placements, path).unwrap();
+        for flags in [VIEW_FLAG_FORCE_SW, VIEW_FLAG_FORCE_HW, 0] {
+            frames.push((
+                path,
+                flags,
+                render(&mut r, &camera, &FrameSettings { flags, ..settings }),
+            ));
+        }
+    }
+    for k in 0..3 {
+        let (a, b) = (&frames[k].2, &frames[k + 3].2);
+        let differ = a
+            .visbuffer
+            .iter()
+            .zip(&b.visbuffer)
+            .filter(|(x, y)| key(a, **x) != key(b, **y))
+            .count();
+        eprintln!(
+            "flags {}: buffer vs image path: {differ} pixels differ (depth, instance, cluster, triangle)",
+            frames[k].1
+        );
+        assert_eq!(
+            differ, 0,
+            "buffer and image paths differ (flags {})",
+            frames[k].1
+        );
+        assert_eq!(
+            a.frame.color, b.frame.color,
+            "buffer and image paths give different images"
+        );
+    }
+    assert_no_validation_errors(&ctx);
+}
