@@ -130,6 +130,15 @@ impl VgeoRenderer {
         })
     }
 
+    /// Overrides the capacities of the cull work queue and the visible-cluster list (defaults: what
+    /// the scene can need at most). Smaller ones save memory; an overflow is counted and reported
+    /// by [`VgeoFrame::check`], never silent.
+    pub fn set_capacities(&mut self, queue: u32, visible: u32) {
+        self.queue_capacity = queue.clamp(1, MAX_QUEUE);
+        self.visible_capacity = visible.clamp(1, MAX_VISIBLE);
+        self.fb = None;
+    }
+
     /// Replaces the number of persistent `cluster_cull` workgroups.
     pub fn set_cull_workgroups(&mut self, n: u32) -> GpuResult<()> {
         self.cluster_cull = ClusterCull::new(&self.ctx, n)?;

@@ -470,3 +470,41 @@ fn image_and_buffer_visibility_paths_agree() {
     }
     assert_no_validation_errors(&ctx);
 }
+
+#[test]
+fn capacity_overflows_are_reported_not_silent() {
+    let ctx = gpu();
+    let (mesh, built) = load(&assets().join("spot.obj"));
+    let camera = filling_camera(&mesh, 1.4);
+    let placements: Vec<Placement> = (0..4)
+        .map(|i| Placement {
+            mesh: 0,
+            transform: DMat4::from_translation(DVec3::new(i as f64, 0.0, 0.0)),
+            color: [1.0; 3],
+        })
+        .collect();
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).unwrap();
+    let settings = FrameSettings {
+        error_px: 0.0,
+        occlusion: false,
+        ..Default::default()
+    };
+    r.set_capacities(1 << 16, 10);
+    let f = r
+        .render(&camera, W, H, &settings, ViewMode::Lit, &Light::default())
+        .expect("renders");
+    let err = f
+        .check()
+        .expect_err("10 visible slots cannot hold threshold 0");
+    assert!(err.contains("visible-cluster list overflowed"), "{err}");
+    assert!(f.main.visible.len() <= 10);
+    r.set_capacities(2, 1 << 16);
+    let f = r
+        .render(&camera, W, H, &settings, ViewMode::Lit, &Light::default())
+        .expect("renders");
+    let err = f
+        .check()
+        .expect_err("a 2-item queue cannot hold 4 instances' BVHs");
+    assert!(err.contains("queue overflowed"), "{err}");
+    assert_no_validation_errors(&ctx);
+}

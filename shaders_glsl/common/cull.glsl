@@ -124,7 +124,11 @@ void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) 
     } else if ((view.flags & VIEW_FLAG_FORCE_SW) != 0u) {
         hw = false;
     } else {
-        hw = 2.0 * radius * view.proj_scale / dist > view.hw_threshold_px;
+        // Projected edge length, estimated from the cluster's size on screen and its triangle count
+        // (a cluster of T triangles across a disc of diameter D has edges of about D / sqrt(T / 2)).
+        float tris = float(max((clusters[cluster_index].counts >> 8) & 0xffu, 1u));
+        float diameter_px = 2.0 * radius * view.proj_scale / dist;
+        hw = diameter_px * inversesqrt(tris * 0.5) > view.hw_threshold_px;
     }
     if (hw) {
         hw_list[atomicAdd(counters.hw_count, 1u)] = v;
