@@ -50,6 +50,9 @@ pub struct BuildArgs {
     /// Print the statistics as JSON.
     #[arg(long = "json")]
     pub json: bool,
+    /// Use METIS for clusters and groups (slower, serialized) instead of meshoptimizer.
+    #[arg(long = "metis")]
+    pub metis: bool,
 }
 
 /// `vgeo verify FILE.vgeo`: checks a built mesh (invariants and the cut on random views).
@@ -92,6 +95,11 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         trim_error: a.trim_error,
         fallback_triangles: a.fallback_triangles,
         threads: a.threads,
+        partitioner: if a.metis {
+            builder::Partitioner::Metis
+        } else {
+            builder::Partitioner::Meshopt
+        },
     };
     let out_base = a
         .out

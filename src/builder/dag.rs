@@ -4,18 +4,44 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use super::cluster::cluster_triangles;
-use super::group::group_clusters;
+use super::cluster::cluster_triangles as metis_cluster_triangles;
+use super::group::group_clusters as metis_group_clusters;
 use super::quantize::{
     decode_position, encode_normal, encode_position, encode_uv, make_quantization,
 };
 use super::simplify::{Mode, simplify};
 use super::{
     BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
-    LevelStats, NO_GROUP, PackedVertex, Sphere,
+    LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
 };
 use crate::mesh::Mesh;
 use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
+
+/// A fast deterministic hasher (FxHash) for the welding maps: keys are small integer tuples.
+#[derive(Default, Clone, Copy)]
+pub(crate) struct Fx(u64);
+impl std::hash::Hasher for Fx {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for c in bytes.chunks(8) {
+            let mut w = [0u8; 8];
+            w[..c.len()].copy_from_slice(c);
+            self.write_u64(u64::from_le_bytes(w));
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(x as u64);
+    }
+    fn write_u16(&mut self, x: u16) {
+        self.write_u64(x as u64);
+    }
+}
+pub(crate) type FxBuild = std::hash::BuildHasherDefault<Fx>;
 
 /// Builds the cluster DAG of `mesh`. Deterministic: the same input gives the same result whatever
 /// the thread count.
@@ -105,6 +131,8 @@ struct Prepared {
     materials: Vec<u16>,
     positions: Vec<[f32; 3]>,
     pid: Vec<u32>,
+    /// Position of each position id.
+    pid_pos: Vec<[f32; 3]>,
     tris: Vec<[u32; 3]>,
     dropped: usize,
     duplicates: usize,
@@ -143,25 +171,32 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         }
     }
     let quant = make_quantization(lo, hi, uv_lo, uv_hi);
-    let mut key_to_vertex: HashMap<(PackedVertex, u16), u32> = HashMap::new();
-    let mut pos_to_pid: HashMap<[u32; 2], u32> = HashMap::new();
+    let mut key_to_vertex: HashMap<(PackedVertex, u16), u32, FxBuild> = HashMap::default();
+    let mut pos_to_pid: HashMap<[u32; 2], u32, FxBuild> = HashMap::default();
     let mut vertices = Vec::new();
     let mut materials = Vec::new();
     let mut pid = Vec::new();
     let mut tris = Vec::with_capacity(mesh.triangle_count());
     let mut dropped = 0;
     let mut duplicates = 0;
-    let mut seen: std::collections::HashSet<[u32; 3]> = std::collections::HashSet::new();
+    let mut seen: std::collections::HashSet<[u32; 3], FxBuild> = Default::default();
+    // Input vertices are encoded once (a vertex is used by ~6 corners).
+    let encoded: Vec<PackedVertex> = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(v, &p)| PackedVertex {
+            position: encode_position(&quant, p),
+            normal: encode_normal(mesh.normals[v]),
+            uv: encode_uv(&quant, mesh.uvs[v]),
+        })
+        .collect();
     for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
         let mat = mesh.material_ids[t] as u16;
         let mut tri = [0u32; 3];
         for k in 0..3 {
             let v = idx[k] as usize;
-            let pv = PackedVertex {
-                position: encode_position(&quant, mesh.positions[v]),
-                normal: encode_normal(mesh.normals[v]),
-                uv: encode_uv(&quant, mesh.uvs[v]),
-            };
+            let pv = encoded[v];
             let next = vertices.len() as u32;
             let id = *key_to_vertex.entry((pv, mat)).or_insert(next);
             if id == next {
@@ -190,11 +225,16 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
             duplicates += 1;
         }
     }
-    let positions = vertices
+    let positions: Vec<[f32; 3]> = vertices
         .iter()
         .map(|v| decode_position(&quant, v.position))
         .collect();
+    let mut pid_pos = vec![[0.0f32; 3]; pos_to_pid.len()];
+    for (v, &p) in pid.iter().enumerate() {
+        pid_pos[p as usize] = positions[v];
+    }
     Ok(Prepared {
+        pid_pos,
         vertices,
         materials,
         positions,
@@ -204,6 +244,47 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         duplicates,
         quant,
     })
+}
+
+/// The partitioner chosen in the options, with the mesh data it needs.
+#[derive(Clone, Copy)]
+struct Parter<'a> {
+    kind: Partitioner,
+    pid: &'a [u32],
+    positions: &'a [[f32; 3]],
+    pid_pos: &'a [[f32; 3]],
+}
+
+impl Parter<'_> {
+    fn clusters(&self, tris: &[[u32; 3]], max_tris: usize, max_verts: usize) -> Vec<Vec<u32>> {
+        match self.kind {
+            Partitioner::Meshopt => super::fastpart::cluster_triangles(
+                tris,
+                self.pid,
+                self.pid_pos,
+                max_tris,
+                max_verts,
+            ),
+            Partitioner::Metis => {
+                metis_cluster_triangles(tris, self.pid, self.positions, max_tris, max_verts)
+            }
+        }
+    }
+
+    fn groups(
+        &self,
+        clusters: &[&[[u32; 3]]],
+        centers: &dyn Fn() -> Vec<[f32; 3]>,
+        target: usize,
+        gmax: usize,
+    ) -> Vec<Vec<u32>> {
+        match self.kind {
+            Partitioner::Meshopt => {
+                super::fastpart::group_clusters(clusters, self.pid, self.pid_pos, target, gmax)
+            }
+            Partitioner::Metis => metis_group_clusters(clusters, &centers(), self.pid, target, gmax),
+        }
+    }
 }
 
 /// Bounding sphere of points (box centre, farthest point).
@@ -280,6 +361,7 @@ fn build_inner(
         materials: vmat,
         positions,
         pid,
+        pid_pos,
         mut tris,
         dropped,
         duplicates,
@@ -320,8 +402,14 @@ fn build_inner(
         tris.len()
     ));
 
-    let mut clusters: Vec<WCluster> =
-        cluster_triangles(&tris, &pid, &positions, max_tris, max_verts)
+    let parter = Parter {
+        kind: opts.partitioner,
+        pid: &pid,
+        positions: &positions,
+        pid_pos: &pid_pos,
+    };
+    let mut clusters: Vec<WCluster> = parter
+        .clusters(&tris, max_tris, max_verts)
             .into_iter()
             .map(|part| {
                 let t: Vec<[u32; 3]> = part.iter().map(|&i| tris[i as usize]).collect();
@@ -366,7 +454,8 @@ fn build_inner(
                 .iter()
                 .map(|&c| clusters[c as usize].tris.as_slice())
                 .collect();
-            let centers: Vec<[f32; 3]> = working
+            let centers = || -> Vec<[f32; 3]> {
+                working
                 .iter()
                 .map(|&c| {
                     let s = clusters[c as usize].self_sphere;
@@ -384,8 +473,10 @@ fn build_inner(
                         [s[0], s[1], s[2]]
                     }
                 })
-                .collect();
-            group_clusters(&tri_refs, &centers, &pid, group_target * widen, gmax)
+                .collect()
+            };
+            parter
+                .groups(&tri_refs, &centers, group_target * widen, gmax)
                 .into_iter()
                 .map(|g| g.into_iter().map(|i| working[i as usize]).collect())
                 .collect()
@@ -406,6 +497,7 @@ fn build_inner(
             }
         }
         let ctx = GroupCtx {
+            parter,
             clusters: &clusters,
             positions: &positions,
             pid: &pid,
@@ -546,6 +638,7 @@ fn level_stats(
 }
 
 struct GroupCtx<'a> {
+    parter: Parter<'a>,
     clusters: &'a [WCluster],
     positions: &'a [[f32; 3]],
     pid: &'a [u32],
@@ -610,7 +703,9 @@ impl GroupCtx<'_> {
         }
         let (t, e, fallback) = result?;
         let error = group_error(e, members_max, self.min_error);
-        let parts = cluster_triangles(&t, self.pid, self.positions, max_tris, max_verts)
+        let parts = self
+            .parter
+            .clusters(&t, max_tris, max_verts)
             .into_iter()
             .map(|p| p.iter().map(|&i| t[i as usize]).collect())
             .collect();

@@ -14,6 +14,7 @@ pub mod bvh;
 pub mod cluster;
 pub mod cut;
 pub mod dag;
+pub mod fastpart;
 pub mod group;
 pub mod quantize;
 pub mod simplify;
@@ -47,6 +48,19 @@ pub struct BuildOptions {
     pub fallback_triangles: u32,
     /// Worker threads (`None`: rayon's default). The output does not depend on it.
     pub threads: Option<usize>,
+    /// Graph partitioner for clusters and groups.
+    pub partitioner: Partitioner,
+}
+
+/// Which partitioner makes clusters and groups.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Partitioner {
+    /// meshoptimizer's clusterizer and cluster partitioner: fast, and parallel (the default).
+    #[default]
+    Meshopt,
+    /// METIS on the triangle / cluster graphs: tighter borders, slower, and serialized (METIS's
+    /// random generator is process-global, so calls hold a lock for determinism).
+    Metis,
 }
 
 impl Default for BuildOptions {
@@ -60,6 +74,7 @@ impl Default for BuildOptions {
             trim_error: 0.0,
             fallback_triangles: 2000,
             threads: None,
+            partitioner: Partitioner::default(),
         }
     }
 }

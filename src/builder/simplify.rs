@@ -4,7 +4,7 @@
 const OPT_SPARSE_NONE: u32 = 0;
 /// meshopt_SimplifyErrorAbsolute.
 const OPT_ERROR_ABSOLUTE: u32 = 4;
-/// meshopt_SimplifyPrune (meshoptimizer 0.22): removes disconnected parts that are not locked.
+/// meshopt_SimplifyPrune (meshoptimizer >= 0.22): removes disconnected parts that are not locked.
 const OPT_PRUNE: u32 = 8;
 
 /// How to simplify.
@@ -81,6 +81,7 @@ pub(crate) fn simplify(
                     pos.as_ptr().cast(),
                     pos.len(),
                     12,
+                    lock.as_ptr(),
                     target_tris * 3,
                     f32::MAX,
                     &mut err,
