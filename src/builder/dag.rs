@@ -768,28 +768,32 @@ fn assemble(
     let mut refs: Vec<u32> = Vec::new();
     let mut triangles: Vec<u8> = Vec::new();
     let mut stored = 0;
+    let mut slot = vec![u32::MAX; vertices.len()];
     for &ci in &order {
         let w = &wclusters[ci as usize];
+        // Local vertices in first-use order (`slot` maps a global vertex to its local index; it
+        // is reset after each cluster).
         let mut local: Vec<u32> = Vec::new();
         let mut lo = [f32::MAX; 3];
         let mut hi = [f32::MIN; 3];
         let tri_offset = triangles.len() as u32;
         for t in &w.tris {
             for &v in t {
-                let li = match local.iter().position(|&x| x == v) {
-                    Some(i) => i,
-                    None => {
-                        local.push(v);
-                        local.len() - 1
-                    }
-                };
-                triangles.push(li as u8);
+                let s = &mut slot[v as usize];
+                if *s == u32::MAX {
+                    *s = local.len() as u32;
+                    local.push(v);
+                }
+                triangles.push(*s as u8);
                 let p = positions[v as usize];
                 for k in 0..3 {
                     lo[k] = lo[k].min(p[k]);
                     hi[k] = hi[k].max(p[k]);
                 }
             }
+        }
+        for &v in &local {
+            slot[v as usize] = u32::MAX;
         }
         stored += w.tris.len();
         let base = local.iter().copied().min().unwrap_or(0);

@@ -9,6 +9,11 @@
 
 use meshopt::ffi;
 
+thread_local! {
+    /// Per-thread scratch map position id -> local id (all `u32::MAX` between calls).
+    static SCRATCH: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// Compacts `tris` (global vertex indices) to local ids of their position ids: returns the local
 /// index buffer and, per local id, its position.
 fn local_pid_mesh(
@@ -16,15 +21,27 @@ fn local_pid_mesh(
     pid: &[u32],
     pid_pos: &[[f32; 3]],
 ) -> (Vec<u32>, Vec<[f32; 3]>) {
-    let mut ids: Vec<u32> = tris.iter().flatten().map(|&v| pid[v as usize]).collect();
-    let mut uniq = ids.clone();
-    uniq.sort_unstable();
-    uniq.dedup();
-    for x in &mut ids {
-        *x = uniq.binary_search(x).unwrap_or(0) as u32;
-    }
-    let pos = uniq.iter().map(|&p| pid_pos[p as usize]).collect();
-    (ids, pos)
+    SCRATCH.with(|cell| {
+        let mut map = cell.borrow_mut();
+        if map.len() < pid_pos.len() {
+            map.resize(pid_pos.len(), u32::MAX);
+        }
+        let mut idx = Vec::with_capacity(tris.len() * 3);
+        let mut uniq: Vec<u32> = Vec::new();
+        for &v in tris.iter().flatten() {
+            let p = pid[v as usize] as usize;
+            if map[p] == u32::MAX {
+                map[p] = uniq.len() as u32;
+                uniq.push(p as u32);
+            }
+            idx.push(map[p]);
+        }
+        for &p in &uniq {
+            map[p as usize] = u32::MAX;
+        }
+        let pos = uniq.iter().map(|&p| pid_pos[p as usize]).collect();
+        (idx, pos)
+    })
 }
 
 /// Unique vertices of the triangles `part` of `tris`.
@@ -136,18 +153,30 @@ fn meshlets(idx: &[u32], pos: &[[f32; 3]], max_tris: usize, max_verts: usize) ->
         )
     };
     // Map meshlet triangles back to input triangles: a triangle is identified by its three local
-    // ids, rotated so that the smallest comes first (meshopt keeps the winding).
+    // ids, rotated so that the smallest comes first (meshopt keeps the winding). Triangles are
+    // bucketed by their smallest id (CSR), so each lookup scans a handful of candidates.
     let rot = |t: [u32; 3]| {
         let r = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
         [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]
     };
-    let mut key: Vec<([u32; 3], u32)> = idx
+    let keys: Vec<[u32; 3]> = idx
         .chunks_exact(3)
-        .enumerate()
-        .map(|(t, c)| (rot([c[0], c[1], c[2]]), t as u32))
+        .map(|c| rot([c[0], c[1], c[2]]))
         .collect();
-    key.sort_unstable();
-    let mut used = vec![false; key.len()];
+    let mut start = vec![0u32; pos.len() + 1];
+    for k in &keys {
+        start[k[0] as usize + 1] += 1;
+    }
+    for i in 0..pos.len() {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut bucket = vec![0u32; keys.len()];
+    for (t, k) in keys.iter().enumerate() {
+        bucket[fill[k[0] as usize] as usize] = t as u32;
+        fill[k[0] as usize] += 1;
+    }
+    let mut used = vec![false; keys.len()];
     let mut out = Vec::with_capacity(n);
     for m in &ml[..n.min(ml.len())] {
         let mut part = Vec::with_capacity(m.triangle_count as usize);
@@ -156,14 +185,16 @@ fn meshlets(idx: &[u32], pos: &[[f32; 3]], max_tris: usize, max_verts: usize) ->
             let tri = rot(std::array::from_fn(|k| {
                 mv[m.vertex_offset as usize + mt[at + k] as usize]
             }));
+            let Some(&[s0, s1]) = start.get(tri[0] as usize..tri[0] as usize + 2) else {
+                continue;
+            };
             // Duplicates (same ids) are told apart by taking the first unused one.
-            let mut i = key.partition_point(|e| e.0 < tri);
-            while i < key.len() && key[i].0 == tri && used[i] {
-                i += 1;
-            }
-            if i < key.len() && key[i].0 == tri {
-                used[i] = true;
-                part.push(key[i].1);
+            if let Some(&c) = bucket[s0 as usize..s1 as usize]
+                .iter()
+                .find(|&&c| !used[c as usize] && keys[c as usize] == tri)
+            {
+                used[c as usize] = true;
+                part.push(c);
             }
         }
         if !part.is_empty() {
@@ -171,11 +202,8 @@ fn meshlets(idx: &[u32], pos: &[[f32; 3]], max_tris: usize, max_verts: usize) ->
         }
     }
     // Anything meshopt dropped (it should not) goes into extra clusters.
-    let rest: Vec<u32> = key
-        .iter()
-        .zip(&used)
-        .filter(|(_, u)| !**u)
-        .map(|(k, _)| k.1)
+    let rest: Vec<u32> = (0..keys.len() as u32)
+        .filter(|&t| !used[t as usize])
         .collect();
     for c in rest.chunks(max_tris.max(1)) {
         out.push(c.to_vec());
