@@ -196,7 +196,10 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         let mut tri = [0u32; 3];
         for k in 0..3 {
             let v = idx[k] as usize;
-            let pv = encoded[v];
+            let mut pv = encoded[v];
+            if !mesh.has_uvs {
+                pv.uv = 0;
+            }
             let next = vertices.len() as u32;
             let id = *key_to_vertex.entry((pv, mat)).or_insert(next);
             if id == next {
@@ -777,6 +780,7 @@ fn assemble(
         let mut lo = [f32::MAX; 3];
         let mut hi = [f32::MIN; 3];
         let tri_offset = triangles.len() as u32;
+        let mut local_idx: Vec<u8> = Vec::with_capacity(w.tris.len() * 3);
         for t in &w.tris {
             for &v in t {
                 let s = &mut slot[v as usize];
@@ -784,7 +788,7 @@ fn assemble(
                     *s = local.len() as u32;
                     local.push(v);
                 }
-                triangles.push(*s as u8);
+                local_idx.push(*s as u8);
                 let p = positions[v as usize];
                 for k in 0..3 {
                     lo[k] = lo[k].min(p[k]);
@@ -795,6 +799,7 @@ fn assemble(
         for &v in &local {
             slot[v as usize] = u32::MAX;
         }
+        super::pack_indices(&local_idx, local.len() as u32, &mut triangles);
         stored += w.tris.len();
         let base = local.iter().copied().min().unwrap_or(0);
         let span = local.iter().copied().max().unwrap_or(0) - base;

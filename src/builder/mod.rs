@@ -134,7 +134,9 @@ pub struct Cluster {
     pub vertex_ref_offset: u32,
     /// Added to the u16 vertex references (unused with [`CLUSTER_FLAG_REFS_U32`]).
     pub vertex_base: u32,
-    /// Offset (in bytes) of the cluster's local triangle indices in [`BuiltMesh::triangles`].
+    /// Offset (in bytes, a multiple of 4) of the cluster's packed local triangle indices in
+    /// [`BuiltMesh::triangles`]: `3 * triangle_count` indices of [`index_bits`]`(vertex_count)`
+    /// bits each, as a little-endian bit stream (index `k` starts at bit `k * bits`).
     pub triangle_offset: u32,
     /// `vertex_count | triangle_count << 8 | flags << 16`.
     pub counts: u32,
@@ -169,6 +171,52 @@ impl Cluster {
             self.vertex_count().div_ceil(2)
         }
     }
+}
+
+/// Bits per packed local triangle index of a cluster with `vertex_count` vertices (1..=8).
+pub fn index_bits(vertex_count: u32) -> u32 {
+    (32 - vertex_count.saturating_sub(1).leading_zeros()).max(1)
+}
+
+/// Bytes of a cluster's packed triangle indices, padded to a multiple of 4.
+pub fn packed_triangle_bytes(vertex_count: u32, triangle_count: u32) -> usize {
+    ((3 * triangle_count as usize * index_bits(vertex_count) as usize).div_ceil(32)) * 4
+}
+
+/// Appends the packed form of `local` (indices `< vertex_count`) to `out` (see
+/// [`Cluster::triangle_offset`]).
+pub fn pack_indices(local: &[u8], vertex_count: u32, out: &mut Vec<u8>) {
+    let bits = index_bits(vertex_count);
+    let mut acc = 0u64;
+    let mut n = 0u32;
+    let start = out.len();
+    for &l in local {
+        acc |= (l as u64) << n;
+        n += bits;
+        while n >= 8 {
+            out.push(acc as u8);
+            acc >>= 8;
+            n -= 8;
+        }
+    }
+    if n > 0 {
+        out.push(acc as u8);
+    }
+    let len = (out.len() - start).div_ceil(4) * 4;
+    out.resize(start + len, 0);
+}
+
+/// Local index `k` of a packed stream starting at `bytes[0]` with `bits` per index; `None` when it
+/// lies outside `bytes`.
+pub fn unpack_index(bytes: &[u8], bits: u32, k: usize) -> Option<u32> {
+    let bit = k * bits as usize;
+    let lo = *bytes.get(bit / 8)? as u32;
+    let hi = if (bit % 8) + bits as usize > 8 {
+        *bytes.get(bit / 8 + 1)? as u32
+    } else {
+        0
+    };
+    Some(((lo | hi << 8) >> (bit % 8)) & ((1 << bits) - 1))
 }
 
 /// A group: clusters simplified together. Its members are the clusters
@@ -215,8 +263,10 @@ pub struct BvhNode {
 }
 const _: () = assert!(size_of::<BvhNode>() == 64);
 
-/// A vertex as stored: position on the mesh grid (21 bits per axis in 63 bits), octahedral normal
-/// (2 x 16 bits), UV (2 x 16 bits over the mesh's UV range).
+/// A vertex: position on the mesh grid (21 bits per axis in 63 bits), octahedral normal
+/// (2 x 16 bits), UV (2 x 16 bits over the mesh's UV range; 0 when the mesh has no UVs). The file
+/// stores these as separate streams (positions 8 B, normals 4 B, UVs 4 B only when the mesh has
+/// UVs), see [`crate::format`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Pod, Zeroable)]
 pub struct PackedVertex {
@@ -292,7 +342,7 @@ pub struct BuiltMesh {
     pub clusters: Vec<Cluster>,
     /// Vertex references of all clusters (u16 pairs or u32 words, see [`Cluster`]).
     pub vertex_refs: Vec<u32>,
-    /// Local triangle indices of all clusters, 3 per triangle.
+    /// Packed local triangle indices of all clusters (see [`Cluster::triangle_offset`]).
     pub triangles: Vec<u8>,
     pub groups: Vec<Group>,
     pub bvh: Vec<BvhNode>,
@@ -329,15 +379,14 @@ impl BuiltMesh {
     /// Triangles of cluster `ci` as global vertex indices.
     pub fn cluster_triangles(&self, ci: usize) -> Vec<[u32; 3]> {
         let c = &self.clusters[ci];
-        let base = c.triangle_offset as usize;
+        let bytes = &self.triangles[c.triangle_offset as usize..];
+        let bits = index_bits(c.vertex_count());
         (0..c.triangle_count() as usize)
             .map(|t| {
-                let l = &self.triangles[base + 3 * t..base + 3 * t + 3];
-                [
-                    self.vertex_ref(c, l[0] as u32),
-                    self.vertex_ref(c, l[1] as u32),
-                    self.vertex_ref(c, l[2] as u32),
-                ]
+                std::array::from_fn(|k| {
+                    let l = unpack_index(bytes, bits, 3 * t + k).unwrap_or(0);
+                    self.vertex_ref(c, l)
+                })
             })
             .collect()
     }

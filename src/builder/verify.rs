@@ -197,8 +197,9 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
             continue;
         }
         let to = c.triangle_offset as u64;
-        if to + 3 * tc as u64 > m.triangles.len() as u64 {
-            s.add(format!("cluster {ci}: triangles out of range"));
+        let tbytes = super::packed_triangle_bytes(vc, tc) as u64;
+        if to % 4 != 0 || to + tbytes > m.triangles.len() as u64 {
+            s.add(format!("cluster {ci}: triangles out of range or misaligned"));
             continue;
         }
         for i in 0..vc {
@@ -215,9 +216,11 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
                 break;
             }
         }
-        if let Some(t) = m.triangles[to as usize..(to + 3 * tc as u64) as usize]
-            .iter()
-            .find(|&&l| l as u32 >= vc)
+        let bytes = &m.triangles[to as usize..(to + tbytes) as usize];
+        let bits = super::index_bits(vc);
+        if let Some(t) = (0..3 * tc as usize)
+            .map(|k| super::unpack_index(bytes, bits, k).unwrap_or(u32::MAX))
+            .find(|&l| l >= vc)
         {
             s.add(format!(
                 "cluster {ci}: local index {t} >= vertex count {vc}"
