@@ -29,10 +29,11 @@ pub struct BuildArgs {
     /// Triangle ratio of one simplification step.
     #[arg(long = "ratio", default_value_t = 0.5)]
     pub ratio: f32,
-    /// Percentage of input triangles kept at level 0.
+    /// Percentage of input triangles kept at level 0 (UE Nanite's "Keep Triangle Percent").
     #[arg(long = "keep-percent", default_value_t = 100.0)]
     pub keep_percent: f32,
-    /// Object-space error below which input detail is trimmed (0: none).
+    /// Error, relative to the bounding-box diagonal, below which input detail is trimmed
+    /// (UE Nanite's "Trim Relative Error"; 0: none).
     #[arg(long = "trim-error", default_value_t = 0.0)]
     pub trim_error: f32,
     /// Triangle count the fallback mesh aims for.

@@ -85,8 +85,9 @@ struct MetaMaterial {
 #[derive(Serialize, Deserialize)]
 struct Meta {
     name: String,
-    origin: [f64; 3],
-    step: f64,
+    /// Bit patterns of the f64 grid origin and step (JSON numbers do not round-trip every f64).
+    origin_bits: [u64; 3],
+    step_bits: u64,
     uv_min: [f32; 2],
     uv_max: [f32; 2],
     has_normals: bool,
@@ -101,8 +102,8 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
     let q = &m.quantization;
     let meta = Meta {
         name: m.name.clone(),
-        origin: q.origin,
-        step: q.step,
+        origin_bits: q.origin.map(f64::to_bits),
+        step_bits: q.step.to_bits(),
         uv_min: q.uv_min,
         uv_max: q.uv_max,
         has_normals: m.has_normals,
@@ -276,7 +277,9 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
     };
     let meta: Meta = serde_json::from_slice(get(section::META, "meta")?)
         .map_err(|e| FormatError::Invalid(format!("section meta: {e}")))?;
-    if !(meta.step.is_finite() && meta.step > 0.0 && meta.origin.iter().all(|x| x.is_finite())) {
+    let origin = meta.origin_bits.map(f64::from_bits);
+    let step = f64::from_bits(meta.step_bits);
+    if !(step.is_finite() && step > 0.0 && origin.iter().all(|x| x.is_finite())) {
         return Err(FormatError::Invalid(
             "section meta: quantization grid is not finite and positive".into(),
         ));
@@ -307,8 +310,8 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
     let m = BuiltMesh {
         name: meta.name,
         quantization: Quantization {
-            origin: meta.origin,
-            step: meta.step,
+            origin,
+            step,
             uv_min: meta.uv_min,
             uv_max: meta.uv_max,
         },

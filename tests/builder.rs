@@ -410,37 +410,221 @@ fn assets_dir() -> std::path::PathBuf {
         .expect("shared assets folder not found: set VGEO_SHARED_ASSETS")
 }
 
-/// Real scanned meshes (PLY/OBJ readers of cmd_build until the importers land): build, verify,
-/// round-trip through the file format.
-#[test]
-fn real_meshes_build_and_verify() {
-    let dir = assets_dir();
-    for name in ["scanned/spot.obj", "scanned/bunny.ply"] {
-        let path = dir.join(name);
-        let meshes =
-            vgeo::cmd_build::load_input(&path, false).unwrap_or_else(|e| panic!("{name}: {e:#}"));
-        for mesh in meshes {
-            let t0 = std::time::Instant::now();
-            let built = builder::build(&mesh, &BuildOptions::default())
-                .unwrap_or_else(|e| panic!("{name}: {e}"));
-            let secs = t0.elapsed().as_secs_f64();
-            let bytes = vgeo::format::save(&built);
-            let loaded = vgeo::format::load(&bytes).expect("load");
-            let report = builder::verify(
-                &loaded,
-                &VerifyOptions {
-                    views: 12,
-                    ..Default::default()
-                },
-            );
-            eprintln!(
-                "{name}: {} tris in {secs:.2}s ({:.0} tris/s), {} levels, {:.2} B/tri",
-                mesh.triangle_count(),
-                mesh.triangle_count() as f64 / secs,
-                built.stats.levels.len(),
-                bytes.len() as f64 / mesh.triangle_count() as f64
-            );
-            assert!(report.ok(), "{name}: {report}");
+/// Every mesh file under `sub` of the shared assets (glTF folders: their .gltf/.glb).
+fn asset_files(sub: &str) -> Vec<std::path::PathBuf> {
+    let dir = assets_dir().join(sub);
+    let mut out = Vec::new();
+    let mut stack = vec![dir.clone()];
+    while let Some(d) = stack.pop() {
+        let rd = std::fs::read_dir(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display()));
+        for e in rd.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if vgeo::mesh::Format::from_path(&p).is_some() {
+                out.push(p);
+            }
         }
     }
+    out.sort();
+    assert!(!out.is_empty(), "no meshes in {}", dir.display());
+    out
+}
+
+/// What `vgeo build` + `vgeo verify` do, on one file: import (all meshes merged), build, save,
+/// load, verify; asserts a single root and a passing verify. Returns (triangles, bytes per input
+/// triangle).
+fn build_file_and_verify(path: &std::path::Path, views: usize) -> (usize, f64) {
+    let name = path.display().to_string();
+    let meshes =
+        vgeo::cmd_build::load_input(path, false).unwrap_or_else(|e| panic!("{name}: {e:#}"));
+    let mesh = vgeo::mesh::merge(meshes);
+    let t0 = std::time::Instant::now();
+    let built =
+        builder::build(&mesh, &BuildOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let secs = t0.elapsed().as_secs_f64();
+    let bytes = vgeo::format::save(&built);
+    let loaded = vgeo::format::load(&bytes).unwrap_or_else(|e| panic!("{name}: load: {e}"));
+    assert_eq!(loaded.vertices, built.vertices, "{name}: vertices");
+    assert_eq!(loaded.clusters, built.clusters, "{name}: clusters");
+    assert_eq!(loaded.groups, built.groups, "{name}: groups");
+    assert_eq!(loaded.stats, built.stats, "{name}: stats");
+    assert_eq!(loaded.materials, built.materials, "{name}: materials");
+    assert_eq!(loaded.quantization, built.quantization, "{name}: quantization");
+    assert_eq!(loaded.vertex_materials, built.vertex_materials, "{name}: vertex materials");
+    assert_eq!(loaded.bvh, built.bvh, "{name}: bvh");
+    assert_eq!(
+        (&loaded.name, loaded.has_normals, loaded.has_uvs, loaded.root),
+        (&built.name, built.has_normals, built.has_uvs, built.root),
+        "{name}: header"
+    );
+    assert!(loaded == built, "{name}: file round trip differs");
+    let roots = loaded
+        .clusters
+        .iter()
+        .filter(|c| c.parent_error == f32::INFINITY)
+        .count();
+    assert_eq!(roots, 1, "{name}: {roots} roots");
+    let last = loaded.stats.levels.last().map_or(0, |l| l.clusters);
+    assert_eq!(last, 1, "{name}: the last level has {last} clusters");
+    let report = builder::verify(
+        &loaded,
+        &VerifyOptions {
+            views,
+            ..Default::default()
+        },
+    );
+    let bpt = bytes.len() as f64 / mesh.triangle_count() as f64;
+    eprintln!(
+        "{name}: {} tris in {secs:.2}s ({:.0} tris/s), {} levels, {bpt:.2} B/tri",
+        mesh.triangle_count(),
+        mesh.triangle_count() as f64 / secs,
+        built.stats.levels.len(),
+    );
+    assert!(report.ok(), "{name}: {report}");
+    assert_eq!(report.views_tested, views);
+    (mesh.triangle_count(), bpt)
+}
+
+/// Acceptance 1 and 5 on the scanned meshes: build + verify each, a single root, and at most
+/// 16 bytes per input triangle for the big ones.
+#[test]
+fn real_scanned_meshes() {
+    for path in asset_files("scanned") {
+        let (tris, bpt) = build_file_and_verify(&path, 6);
+        if tris > 50_000 {
+            assert!(
+                bpt <= 16.0,
+                "{}: {bpt:.2} B per input triangle",
+                path.display()
+            );
+        }
+    }
+}
+
+/// Acceptance 1 on the glTF assets (multi-mesh, multi-material, disconnected parts).
+#[test]
+fn real_gltf_meshes() {
+    for path in asset_files("gltf") {
+        build_file_and_verify(&path, 8);
+    }
+}
+
+/// Acceptance 1 on the hard cases (duplicates, degenerates, non-manifold, holes, folds).
+#[test]
+fn real_hard_meshes() {
+    for path in asset_files("hard") {
+        build_file_and_verify(&path, 24);
+    }
+}
+
+/// Acceptance 2 on a real mesh: 1 thread and all threads give identical file bytes.
+#[test]
+fn deterministic_real_mesh() {
+    let path = assets_dir().join("scanned/bunny.ply");
+    let mesh = vgeo::mesh::merge(vgeo::cmd_build::load_input(&path, false).expect("bunny"));
+    let build = |threads| {
+        let b = builder::build(
+            &mesh,
+            &BuildOptions {
+                threads,
+                ..Default::default()
+            },
+        )
+        .expect("build");
+        vgeo::format::save(&b)
+    };
+    let one = build(Some(1));
+    let all = build(None);
+    let four = build(Some(4));
+    assert!(
+        one == all && one == four,
+        "bytes differ between thread counts"
+    );
+}
+
+/// `keep_percent` trims the finest level like UE's "Keep Triangle Percent"; `trim_error` like
+/// "Trim Relative Error": larger errors keep fewer triangles; both still verify.
+#[test]
+fn keep_percent_and_trim_error() {
+    let mut m = (Vec::new(), Vec::new());
+    append(&mut m, sphere(96, 64, [0.0; 3], 1.0));
+    let mesh = mesh_from("trim", m.0, m.1);
+    let opts = |keep: f32, trim: f32| BuildOptions {
+        keep_percent: keep,
+        trim_error: trim,
+        ..Default::default()
+    };
+    let full = builder::build(&mesh, &opts(100.0, 0.0)).expect("full");
+    let n = full.stats.level0_triangles;
+    assert_eq!(full.stats.level0_error, 0.0);
+    let half = builder::build(&mesh, &opts(50.0, 0.0)).expect("half");
+    let h = half.stats.level0_triangles;
+    assert!(
+        h as f64 >= 0.45 * n as f64 && h as f64 <= 0.5 * n as f64 + 2.0,
+        "keep 50%: {h} of {n}"
+    );
+    assert!(half.stats.level0_error > 0.0);
+    assert!(half.stats.stored_triangles < full.stats.stored_triangles);
+    // Fewer levels or the same: the finest level is gone, the coarse end is alike.
+    assert!(half.stats.levels.len() <= full.stats.levels.len());
+    let small = builder::build(&mesh, &opts(100.0, 1e-4)).expect("trim small");
+    let large = builder::build(&mesh, &opts(100.0, 1e-2)).expect("trim large");
+    let (s, l) = (small.stats.level0_triangles, large.stats.level0_triangles);
+    assert!(l < s && s <= n, "trim 1e-2: {l}, 1e-4: {s}, none: {n}");
+    let diag = 2.0 * 3f32.sqrt();
+    assert!(
+        large.stats.level0_error <= 1e-2 * diag * 1.05,
+        "{} > {}",
+        large.stats.level0_error,
+        1e-2 * diag
+    );
+    // Both limits: the stricter wins.
+    let both = builder::build(&mesh, &opts(90.0, 1e-2)).expect("both");
+    assert!(both.stats.level0_triangles <= l.min((0.9 * n as f64) as usize + 1));
+    for b in [&half, &large, &both] {
+        let r = builder::verify(
+            b,
+            &VerifyOptions {
+                views: 16,
+                ..Default::default()
+            },
+        );
+        assert!(r.ok(), "{r}");
+        assert_eq!(
+            b.clusters
+                .iter()
+                .filter(|c| c.parent_error == f32::INFINITY)
+                .count(),
+            1
+        );
+    }
+    // Out-of-range values are errors, not panics.
+    assert!(builder::build(&mesh, &opts(0.0, 0.0)).is_err());
+    assert!(builder::build(&mesh, &opts(100.0, -1.0)).is_err());
+}
+
+/// The METIS partitioner (the option) still builds and verifies.
+#[test]
+fn metis_partitioner() {
+    let mut m = (Vec::new(), Vec::new());
+    append(&mut m, grid(40, 30, [0.0; 3], 0.1));
+    append(&mut m, sphere(32, 20, [2.0, 1.0, 0.0], 0.7));
+    let mesh = mesh_from("metis", m.0, m.1);
+    let built = builder::build(
+        &mesh,
+        &BuildOptions {
+            partitioner: builder::Partitioner::Metis,
+            ..Default::default()
+        },
+    )
+    .expect("build");
+    let r = builder::verify(
+        &built,
+        &VerifyOptions {
+            views: 24,
+            ..Default::default()
+        },
+    );
+    assert!(r.ok(), "{r}");
 }

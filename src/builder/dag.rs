@@ -285,7 +285,9 @@ impl Parter<'_> {
             Partitioner::Meshopt => {
                 super::fastpart::group_clusters(clusters, self.pid, self.pid_pos, target, gmax)
             }
-            Partitioner::Metis => metis_group_clusters(clusters, &centers(), self.pid, target, gmax),
+            Partitioner::Metis => {
+                metis_group_clusters(clusters, &centers(), self.pid, target, gmax)
+            }
         }
     }
 }
@@ -382,20 +384,45 @@ fn build_inner(
     let max_tris = opts.max_cluster_triangles as usize;
     let max_verts = MAX_CLUSTER_VERTICES as usize;
 
-    // Optional trimming of the input.
-    if opts.keep_percent < 100.0 || opts.trim_error > 0.0 {
-        let target =
-            ((tris.len() as f64 * opts.keep_percent as f64 / 100.0).round() as usize).max(1);
-        let target = if opts.keep_percent < 100.0 { target } else { 0 };
-        let err = if opts.trim_error > 0.0 {
-            opts.trim_error
-        } else {
-            f32::MAX
-        };
-        let (mut t, _) = simplify(&tris, &positions, &|_| false, target, err, Mode::Locked);
+    // Optional trimming of the input (UE Nanite's "Trim Relative Error" and "Keep Triangle
+    // Percent"): first every detail whose removal costs less than `trim_error` x the bounding-box
+    // diagonal, then, if more than `keep_percent` of the triangles remain, down to that count.
+    // Both reduce: the result satisfies the stricter of the two.
+    let mut trimmed_error = 0.0f32;
+    if opts.trim_error > 0.0 {
+        let (lo, hi) = mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
+        let diag = dist(lo, hi);
+        let (mut t, e) = simplify(
+            &tris,
+            &positions,
+            &|_| false,
+            0,
+            opts.trim_error * diag,
+            Mode::Locked,
+        );
         drop_degenerate(&mut t, &pid);
-        if !t.is_empty() {
+        if !t.is_empty() && t.len() < tris.len() {
             tris = t;
+            trimmed_error = e;
+        }
+    }
+    if opts.keep_percent < 100.0 {
+        let target =
+            ((input_triangles as f64 * opts.keep_percent as f64 / 100.0).round() as usize).max(1);
+        if tris.len() > target {
+            let (mut t, e) = simplify(
+                &tris,
+                &positions,
+                &|_| false,
+                target,
+                f32::MAX,
+                Mode::Locked,
+            );
+            drop_degenerate(&mut t, &pid);
+            if !t.is_empty() && t.len() < tris.len() {
+                tris = t;
+                trimmed_error = trimmed_error.max(e);
+            }
         }
     }
     let level0_triangles = tris.len();
@@ -413,20 +440,20 @@ fn build_inner(
     };
     let mut clusters: Vec<WCluster> = parter
         .clusters(&tris, max_tris, max_verts)
-            .into_iter()
-            .map(|part| {
-                let t: Vec<[u32; 3]> = part.iter().map(|&i| tris[i as usize]).collect();
-                let sphere = points_sphere(t.iter().flatten().map(|&v| positions[v as usize]));
-                WCluster {
-                    tris: t,
-                    self_error: 0.0,
-                    self_sphere: sphere,
-                    creator: NO_GROUP,
-                    level: 0,
-                    group: NO_GROUP,
-                }
-            })
-            .collect();
+        .into_iter()
+        .map(|part| {
+            let t: Vec<[u32; 3]> = part.iter().map(|&i| tris[i as usize]).collect();
+            let sphere = points_sphere(t.iter().flatten().map(|&v| positions[v as usize]));
+            WCluster {
+                tris: t,
+                self_error: 0.0,
+                self_sphere: sphere,
+                creator: NO_GROUP,
+                level: 0,
+                group: NO_GROUP,
+            }
+        })
+        .collect();
     drop(tris);
     progress(&format!(
         "{}: level 0: {} clusters",
@@ -459,24 +486,24 @@ fn build_inner(
                 .collect();
             let centers = || -> Vec<[f32; 3]> {
                 working
-                .iter()
-                .map(|&c| {
-                    let s = clusters[c as usize].self_sphere;
-                    let t = &clusters[c as usize].tris;
-                    let n = (t.len() * 3) as f32;
-                    let mut m = [0.0f32; 3];
-                    for &v in t.iter().flatten() {
-                        for k in 0..3 {
-                            m[k] += positions[v as usize][k] / n;
+                    .iter()
+                    .map(|&c| {
+                        let s = clusters[c as usize].self_sphere;
+                        let t = &clusters[c as usize].tris;
+                        let n = (t.len() * 3) as f32;
+                        let mut m = [0.0f32; 3];
+                        for &v in t.iter().flatten() {
+                            for k in 0..3 {
+                                m[k] += positions[v as usize][k] / n;
+                            }
                         }
-                    }
-                    if m.iter().all(|x| x.is_finite()) {
-                        m
-                    } else {
-                        [s[0], s[1], s[2]]
-                    }
-                })
-                .collect()
+                        if m.iter().all(|x| x.is_finite()) {
+                            m
+                        } else {
+                            [s[0], s[1], s[2]]
+                        }
+                    })
+                    .collect()
             };
             parter
                 .groups(&tri_refs, &centers, group_target * widen, gmax)
@@ -587,6 +614,7 @@ fn build_inner(
         degenerate_dropped: dropped,
         duplicates_dropped: duplicates,
         level0_triangles,
+        level0_error: trimmed_error,
         vertices: vertices.len(),
         levels,
         widened_iterations: widened,
@@ -732,40 +760,51 @@ fn assemble(
     wgroups: Vec<WGroup>,
     mut stats: BuildStats,
 ) -> BuiltMesh {
-    // Clusters ordered by member group so that each group's members are contiguous.
+    // Group bounds, then the BVH, which fixes the order of the groups (each leaf's groups
+    // contiguous); clusters are stored by member group so that a group's members are contiguous.
+    let pre: Vec<Group> = wgroups
+        .iter()
+        .map(|g| {
+            let mut lo = [f32::MAX; 3];
+            let mut hi = [f32::MIN; 3];
+            for &m in &g.members {
+                for &v in wclusters[m as usize].tris.iter().flatten() {
+                    let p = positions[v as usize];
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                }
+            }
+            Group {
+                lod_sphere: g.sphere,
+                bounds_min: lo,
+                error: g.error,
+                bounds_max: hi,
+                first_cluster: 0,
+                cluster_count: g.members.len() as u32,
+                iteration: g.iteration,
+                _pad: [0; 2],
+            }
+        })
+        .collect();
+    let (bvh, gorder) = super::bvh::build_bvh(&pre);
+    let mut new_gid = vec![0u32; wgroups.len()];
+    for (ni, &og) in gorder.iter().enumerate() {
+        new_gid[og as usize] = ni as u32;
+    }
     let mut new_index = vec![0u32; wclusters.len()];
     let mut order = Vec::with_capacity(wclusters.len());
     let mut groups = Vec::with_capacity(wgroups.len());
-    for (gi, g) in wgroups.iter().enumerate() {
+    for &og in &gorder {
         let first = order.len() as u32;
-        let mut lo = [f32::MAX; 3];
-        let mut hi = [f32::MIN; 3];
-        for &m in &g.members {
+        for &m in &wgroups[og as usize].members {
             new_index[m as usize] = order.len() as u32;
             order.push(m);
-            for &v in wclusters[m as usize].tris.iter().flatten() {
-                let p = positions[v as usize];
-                for k in 0..3 {
-                    lo[k] = lo[k].min(p[k]);
-                    hi[k] = hi[k].max(p[k]);
-                }
-            }
         }
-        debug_assert!(
-            g.members
-                .iter()
-                .all(|&m| wclusters[m as usize].group == gi as u32)
-        );
-        groups.push(Group {
-            lod_sphere: g.sphere,
-            bounds_min: lo,
-            error: g.error,
-            bounds_max: hi,
-            first_cluster: first,
-            cluster_count: g.members.len() as u32,
-            iteration: g.iteration,
-            _pad: [0; 2],
-        });
+        let mut g = pre[og as usize];
+        g.first_cluster = first;
+        groups.push(g);
     }
     let mut clusters = Vec::with_capacity(order.len());
     let mut refs: Vec<u32> = Vec::new();
@@ -827,14 +866,21 @@ fn assemble(
             vertex_base: if flags == 0 { base } else { 0 },
             triangle_offset: tri_offset,
             counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16,
-            group: w.group,
-            creator: w.creator,
+            group: new_gid[w.group as usize],
+            creator: if w.creator == NO_GROUP {
+                NO_GROUP
+            } else {
+                new_gid[w.creator as usize]
+            },
             level: w.level,
             _pad: 0,
         });
     }
-    let root = new_index[order[order.len() - 1] as usize];
-    let bvh = super::bvh::build_bvh(&groups);
+    let root = wgroups
+        .iter()
+        .find(|g| g.iteration == u32::MAX)
+        .and_then(|g| g.members.first())
+        .map_or(0, |&r| new_index[r as usize]);
     stats.clusters = clusters.len();
     stats.groups = groups.len();
     stats.bvh_nodes = bvh.len();

@@ -39,10 +39,12 @@ pub struct BuildOptions {
     pub group_max: u32,
     /// Target triangle ratio of one simplification step (0.5: half).
     pub simplify_ratio: f32,
-    /// Percentage of the input triangles to keep at level 0 (100: all); below 100 the input is
-    /// simplified first (no locks) and that becomes the finest level.
+    /// UE Nanite's "Keep Triangle Percent": percentage of the input triangles kept at level 0
+    /// (100: all); below 100 the input is simplified first and that becomes the finest level.
     pub keep_percent: f32,
-    /// Object-space error allowed when trimming the input (with `keep_percent`); 0: no trimming by error.
+    /// UE Nanite's "Trim Relative Error": detail whose removal costs less than this error,
+    /// relative to the bounding-box diagonal, is removed from the input before the build
+    /// (0: none). With `keep_percent`, the stricter of the two wins.
     pub trim_error: f32,
     /// Triangle count the fallback mesh ([`BuiltMesh::fallback_mesh`]) aims for.
     pub fallback_triangles: u32,
@@ -312,8 +314,11 @@ pub struct BuildStats {
     pub degenerate_dropped: usize,
     /// Exact duplicate triangles dropped (same points, same winding).
     pub duplicates_dropped: usize,
-    /// Level-0 triangles (after degenerate removal and `keep_percent`).
+    /// Level-0 triangles (after degenerate removal, `trim_error` and `keep_percent`).
     pub level0_triangles: usize,
+    /// Object-space error of trimming the input to level 0 (0 without trimming).
+    #[serde(default)]
+    pub level0_error: f32,
     pub vertices: usize,
     pub clusters: usize,
     pub groups: usize,

@@ -199,7 +199,9 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
         let to = c.triangle_offset as u64;
         let tbytes = super::packed_triangle_bytes(vc, tc) as u64;
         if to % 4 != 0 || to + tbytes > m.triangles.len() as u64 {
-            s.add(format!("cluster {ci}: triangles out of range or misaligned"));
+            s.add(format!(
+                "cluster {ci}: triangles out of range or misaligned"
+            ));
             continue;
         }
         for i in 0..vc {
@@ -369,6 +371,42 @@ fn check_dag(m: &BuiltMesh, s: &mut Sink) {
                 refs[i as usize] += 1;
             } else {
                 stack.push(i);
+            }
+        }
+    }
+    if visits != m.bvh.len() {
+        s.add(format!(
+            "BVH: {visits} of {} nodes reachable from node 0",
+            m.bvh.len()
+        ));
+    }
+    for (ni, n) in m.bvh.iter().enumerate() {
+        let leaf = n.flags & BVH_FLAG_LEAF != 0;
+        let max = if leaf {
+            super::bvh::LEAF_GROUPS
+        } else {
+            super::bvh::FANOUT
+        };
+        if n.count == 0 || n.count as usize > max {
+            s.add(format!("BVH node {ni}: {} children (1..={max})", n.count));
+            continue;
+        }
+        // Children (nodes or groups) must lie inside the node: box, LOD sphere, error.
+        for i in n.first..n.first + n.count {
+            let (lo, hi, sphere, err) = if leaf {
+                let g = &m.groups[i as usize];
+                (g.bounds_min, g.bounds_max, g.lod_sphere, g.error)
+            } else {
+                let c = &m.bvh[i as usize];
+                (c.bounds_min, c.bounds_max, c.lod_sphere, c.max_parent_error)
+            };
+            let inside = (0..3).all(|k| n.bounds_min[k] <= lo[k] && hi[k] <= n.bounds_max[k]);
+            if !inside || !contains(&n.lod_sphere, &sphere) || !(err <= n.max_parent_error) {
+                s.add(format!(
+                    "BVH node {ni}: child {i} not enclosed (box {inside}, sphere {}, error {err} vs {})",
+                    contains(&n.lod_sphere, &sphere),
+                    n.max_parent_error
+                ));
             }
         }
     }
