@@ -450,11 +450,22 @@ fn build_file_and_verify(path: &std::path::Path, views: usize) -> (usize, f64) {
     assert_eq!(loaded.groups, built.groups, "{name}: groups");
     assert_eq!(loaded.stats, built.stats, "{name}: stats");
     assert_eq!(loaded.materials, built.materials, "{name}: materials");
-    assert_eq!(loaded.quantization, built.quantization, "{name}: quantization");
-    assert_eq!(loaded.vertex_materials, built.vertex_materials, "{name}: vertex materials");
+    assert_eq!(
+        loaded.quantization, built.quantization,
+        "{name}: quantization"
+    );
+    assert_eq!(
+        loaded.vertex_materials, built.vertex_materials,
+        "{name}: vertex materials"
+    );
     assert_eq!(loaded.bvh, built.bvh, "{name}: bvh");
     assert_eq!(
-        (&loaded.name, loaded.has_normals, loaded.has_uvs, loaded.root),
+        (
+            &loaded.name,
+            loaded.has_normals,
+            loaded.has_uvs,
+            loaded.root
+        ),
         (&built.name, built.has_normals, built.has_uvs, built.root),
         "{name}: header"
     );

@@ -348,6 +348,19 @@ fn group_error(simplify_error: f32, members_max: f32, min_error: f32) -> f32 {
     (simplify_error.max(members_max) * (1.0 + 1.0 / 1024.0)).max(min_error)
 }
 
+/// Directed edges (by position id) of `tris` with their use counts.
+fn directed_edges(tris: &[[u32; 3]], pid: &[u32]) -> HashMap<(u32, u32), u32, FxBuild> {
+    let mut m: HashMap<(u32, u32), u32, FxBuild> = HashMap::default();
+    m.reserve(tris.len() * 3);
+    for t in tris {
+        for e in 0..3 {
+            let k = (pid[t[e] as usize], pid[t[(e + 1) % 3] as usize]);
+            *m.entry(k).or_default() += 1;
+        }
+    }
+    m
+}
+
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
     tris.retain(|t| {
         let p = [pid[t[0] as usize], pid[t[1] as usize], pid[t[2] as usize]];
@@ -707,18 +720,87 @@ impl GroupCtx<'_> {
                     (t.len() as f32) <= n as f32 * 0.85
                 }
         };
-        let mut attempts = vec![Mode::Locked, Mode::LockedPrune];
+        // Attempts in order; the second locks the group's open borders too (non-manifold and
+        // open-border input can otherwise fold a border edge onto another).
+        // The last group (nothing to regroup with) also tries gentler targets before sloppy.
+        let mut attempts = vec![
+            (Mode::Locked, false, target),
+            (Mode::Locked, true, target),
+            (Mode::LockedPrune, true, target),
+        ];
         if self.single {
-            attempts.push(Mode::Sloppy);
+            attempts.push((Mode::Locked, true, n * 3 / 4));
+            attempts.push((Mode::Locked, true, n * 9 / 10));
+            attempts.push((Mode::Sloppy, false, target));
         }
-        let mut result = None;
-        for (i, mode) in attempts.into_iter().enumerate() {
-            let (mut t, e) = simplify(&tris, self.positions, &locked, target, f32::MAX, mode);
-            drop_degenerate(&mut t, self.pid);
-            if accept(&t) {
-                result = Some((t, e, i > 0));
-                break;
+        let in_edges = directed_edges(&tris, self.pid);
+        let border: Vec<u32> = {
+            let mut b = Vec::new();
+            for (&(x, y), _) in in_edges.iter() {
+                if in_edges.get(&(y, x)).copied().unwrap_or(0) != in_edges[&(x, y)] {
+                    b.push(x);
+                    b.push(y);
+                }
             }
+            b.sort_unstable();
+            b.dedup();
+            b
+        };
+        let locked_border =
+            |v: u32| locked(v) || border.binary_search(&self.pid[v as usize]).is_ok();
+        let mut result = None;
+        // Position ids locked because an attempt folded edges at them (grows per round).
+        let mut extra: Vec<u32> = Vec::new();
+        let mut rounds = 0;
+        let mut i = 0;
+        while i < attempts.len() {
+            let (mode, lock_border, goal) = attempts[i];
+            let lock_extra =
+                |v: u32| locked(v) || extra.binary_search(&self.pid[v as usize]).is_ok();
+            let lock: &dyn Fn(u32) -> bool = if lock_border {
+                &locked_border
+            } else {
+                &lock_extra
+            };
+            let (mut t, e) = simplify(&tris, self.positions, lock, goal, f32::MAX, mode);
+            drop_degenerate(&mut t, self.pid);
+            // No overlap (verify's rule): an edge used more than once in one direction must be
+            // balanced by the other direction or be used exactly as in the input; otherwise it
+            // is a fold, visible in every cut that shows it.
+            let out_edges = directed_edges(&t, self.pid);
+            let cnt = |m: &HashMap<(u32, u32), u32, FxBuild>, k: (u32, u32)| {
+                m.get(&k).copied().unwrap_or(0)
+            };
+            let mut folded: Vec<u32> = out_edges
+                .iter()
+                .filter(|&(&(x, y), &f)| {
+                    let r = cnt(&out_edges, (y, x));
+                    f > 1 && f != r && (f, r) != (cnt(&in_edges, (x, y)), cnt(&in_edges, (y, x)))
+                })
+                .flat_map(|(&(x, y), _)| [x, y])
+                .collect();
+            if folded.is_empty() {
+                if accept(&t) {
+                    result = Some((t, e, i > 0 || rounds > 0));
+                    break;
+                }
+            } else if !lock_border && mode == Mode::Locked && rounds < 8 {
+                // Lock the fold's vertices and their input neighbours, and retry.
+                folded.sort_unstable();
+                folded.dedup();
+                for tri in &tris {
+                    let p = tri.map(|v| self.pid[v as usize]);
+                    if p.iter().any(|x| folded.binary_search(x).is_ok()) {
+                        extra.extend_from_slice(&p);
+                    }
+                }
+                extra.extend(folded);
+                extra.sort_unstable();
+                extra.dedup();
+                rounds += 1;
+                continue;
+            }
+            i += 1;
         }
         if result.is_none() && self.single {
             // Last resort: everything fits in one cluster; merge without simplifying.
