@@ -198,7 +198,7 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
         }
         let to = c.triangle_offset as u64;
         let tbytes = super::packed_triangle_bytes(vc, tc) as u64;
-        if to % 4 != 0 || to + tbytes > m.triangles.len() as u64 {
+        if !to.is_multiple_of(4) || to + tbytes > m.triangles.len() as u64 {
             s.add(format!(
                 "cluster {ci}: triangles out of range or misaligned"
             ));
@@ -401,7 +401,11 @@ fn check_dag(m: &BuiltMesh, s: &mut Sink) {
                 (c.bounds_min, c.bounds_max, c.lod_sphere, c.max_parent_error)
             };
             let inside = (0..3).all(|k| n.bounds_min[k] <= lo[k] && hi[k] <= n.bounds_max[k]);
-            if !inside || !contains(&n.lod_sphere, &sphere) || !(err <= n.max_parent_error) {
+            if !inside
+                || !contains(&n.lod_sphere, &sphere)
+                || err.partial_cmp(&n.max_parent_error) == Some(std::cmp::Ordering::Greater)
+                || err.is_nan()
+            {
                 s.add(format!(
                     "BVH node {ni}: child {i} not enclosed (box {inside}, sphere {}, error {err} vs {})",
                     contains(&n.lod_sphere, &sphere),
