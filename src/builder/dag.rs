@@ -100,6 +100,9 @@ fn check_options(o: &BuildOptions) -> Result<(), BuildError> {
     Ok(())
 }
 
+/// Triangles per level-0 chunk clustered independently (meshoptimizer partitioner).
+const LEVEL0_CHUNK: usize = 16384;
+
 /// Working cluster during the build.
 struct WCluster {
     tris: Vec<[u32; 3]>,
@@ -171,15 +174,22 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         }
     }
     let quant = make_quantization(lo, hi, uv_lo, uv_hi);
-    let mut key_to_vertex: HashMap<(PackedVertex, u16), u32, FxBuild> = HashMap::default();
-    let mut pos_to_pid: HashMap<[u32; 2], u32, FxBuild> = HashMap::default();
+    let nv = mesh.positions.len();
+    let mut key_to_vertex: HashMap<(PackedVertex, u16), u32, FxBuild> =
+        HashMap::with_capacity_and_hasher(nv, FxBuild::default());
+    let mut pos_to_pid: HashMap<[u32; 2], u32, FxBuild> =
+        HashMap::with_capacity_and_hasher(nv, FxBuild::default());
     let mut vertices = Vec::new();
     let mut materials = Vec::new();
     let mut pid = Vec::new();
     let mut tris = Vec::with_capacity(mesh.triangle_count());
     let mut dropped = 0;
     let mut duplicates = 0;
-    let mut seen: std::collections::HashSet<[u32; 3], FxBuild> = Default::default();
+    let mut seen: std::collections::HashSet<[u32; 3], FxBuild> =
+        std::collections::HashSet::with_capacity_and_hasher(
+            mesh.triangle_count(),
+            FxBuild::default(),
+        );
     // Input vertices are encoded once (a vertex is used by ~6 corners).
     let encoded: Vec<PackedVertex> = mesh
         .positions
@@ -451,21 +461,56 @@ fn build_inner(
         positions: &positions,
         pid_pos: &pid_pos,
     };
-    let mut clusters: Vec<WCluster> = parter
-        .clusters(&tris, max_tris, max_verts)
-        .into_iter()
-        .map(|part| {
-            let t: Vec<[u32; 3]> = part.iter().map(|&i| tris[i as usize]).collect();
-            let sphere = points_sphere(t.iter().flatten().map(|&v| positions[v as usize]));
-            WCluster {
-                tris: t,
-                self_error: 0.0,
-                self_sphere: sphere,
-                creator: NO_GROUP,
-                level: 0,
-                group: NO_GROUP,
-            }
+    // Level-0 clusters. With meshoptimizer, big inputs are cut into spatially compact chunks
+    // (runs of the Morton order of triangle centroids) clustered in parallel; the chunking
+    // depends on the input only, so the result does not depend on the thread count.
+    let chunks: Vec<Vec<u32>> =
+        if opts.partitioner == Partitioner::Meshopt && tris.len() > 2 * LEVEL0_CHUNK {
+            let centroids: Vec<[f32; 3]> = tris
+                .iter()
+                .map(|t| {
+                    let (a, b, c) = (
+                        positions[t[0] as usize],
+                        positions[t[1] as usize],
+                        positions[t[2] as usize],
+                    );
+                    std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0)
+                })
+                .collect();
+            let codes = super::cluster::morton_codes(&centroids);
+            let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+            order.par_sort_unstable_by_key(|&i| (codes[i as usize], i));
+            let n = order.len().div_ceil(LEVEL0_CHUNK);
+            (0..n)
+                .map(|k| order[k * order.len() / n..(k + 1) * order.len() / n].to_vec())
+                .collect()
+        } else {
+            vec![(0..tris.len() as u32).collect()]
+        };
+    let mut clusters: Vec<WCluster> = chunks
+        .par_iter()
+        .map(|chunk| {
+            let ct: Vec<[u32; 3]> = chunk.iter().map(|&i| tris[i as usize]).collect();
+            parter
+                .clusters(&ct, max_tris, max_verts)
+                .into_iter()
+                .map(|part| {
+                    let t: Vec<[u32; 3]> = part.iter().map(|&i| ct[i as usize]).collect();
+                    let sphere = points_sphere(t.iter().flatten().map(|&v| positions[v as usize]));
+                    WCluster {
+                        tris: t,
+                        self_error: 0.0,
+                        self_sphere: sphere,
+                        creator: NO_GROUP,
+                        level: 0,
+                        group: NO_GROUP,
+                    }
+                })
+                .collect::<Vec<_>>()
         })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .flatten()
         .collect();
     drop(tris);
     progress(&format!(
