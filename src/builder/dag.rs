@@ -269,7 +269,14 @@ struct Parter<'a> {
 }
 
 impl Parter<'_> {
-    fn clusters(&self, tris: &[[u32; 3]], max_tris: usize, max_verts: usize) -> Vec<Vec<u32>> {
+    /// Clusters of `tris`; `level0`: the input's clusters (meshopt: spatial clusterizer).
+    fn clusters(
+        &self,
+        tris: &[[u32; 3]],
+        max_tris: usize,
+        max_verts: usize,
+        level0: bool,
+    ) -> Vec<Vec<u32>> {
         match self.kind {
             Partitioner::Meshopt => super::fastpart::cluster_triangles(
                 tris,
@@ -277,6 +284,7 @@ impl Parter<'_> {
                 self.pid_pos,
                 max_tris,
                 max_verts,
+                level0,
             ),
             Partitioner::Metis => {
                 metis_cluster_triangles(tris, self.pid, self.positions, max_tris, max_verts)
@@ -358,17 +366,35 @@ fn group_error(simplify_error: f32, members_max: f32, min_error: f32) -> f32 {
     (simplify_error.max(members_max) * (1.0 + 1.0 / 1024.0)).max(min_error)
 }
 
-/// Directed edges (by position id) of `tris` with their use counts.
-fn directed_edges(tris: &[[u32; 3]], pid: &[u32]) -> HashMap<(u32, u32), u32, FxBuild> {
-    let mut m: HashMap<(u32, u32), u32, FxBuild> = HashMap::default();
-    m.reserve(tris.len() * 3);
-    for t in tris {
-        for e in 0..3 {
-            let k = (pid[t[e] as usize], pid[t[(e + 1) % 3] as usize]);
-            *m.entry(k).or_default() += 1;
+/// Directed edges (by position id, key `a << 32 | b`) of some triangles with their use counts,
+/// sorted by key.
+struct Edges(Vec<(u64, u32)>);
+
+impl Edges {
+    fn of(tris: &[[u32; 3]], pid: &[u32]) -> Edges {
+        let mut keys: Vec<u64> = Vec::with_capacity(tris.len() * 3);
+        for t in tris {
+            for e in 0..3 {
+                keys.push((pid[t[e] as usize] as u64) << 32 | pid[t[(e + 1) % 3] as usize] as u64);
+            }
         }
+        keys.sort_unstable();
+        let mut out: Vec<(u64, u32)> = Vec::with_capacity(keys.len());
+        for k in keys {
+            match out.last_mut() {
+                Some(l) if l.0 == k => l.1 += 1,
+                _ => out.push((k, 1)),
+            }
+        }
+        Edges(out)
     }
-    m
+
+    fn count(&self, a: u32, b: u32) -> u32 {
+        let k = (a as u64) << 32 | b as u64;
+        self.0
+            .binary_search_by_key(&k, |e| e.0)
+            .map_or(0, |i| self.0[i].1)
+    }
 }
 
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
@@ -492,7 +518,7 @@ fn build_inner(
         .map(|chunk| {
             let ct: Vec<[u32; 3]> = chunk.iter().map(|&i| tris[i as usize]).collect();
             parter
-                .clusters(&ct, max_tris, max_verts)
+                .clusters(&ct, max_tris, max_verts, true)
                 .into_iter()
                 .map(|part| {
                     let t: Vec<[u32; 3]> = part.iter().map(|&i| ct[i as usize]).collect();
@@ -778,21 +804,25 @@ impl GroupCtx<'_> {
             attempts.push((Mode::Locked, true, n * 9 / 10));
             attempts.push((Mode::Sloppy, false, target));
         }
-        let in_edges = directed_edges(&tris, self.pid);
-        let border: Vec<u32> = {
-            let mut b = Vec::new();
-            for (&(x, y), _) in in_edges.iter() {
-                if in_edges.get(&(y, x)).copied().unwrap_or(0) != in_edges[&(x, y)] {
-                    b.push(x);
-                    b.push(y);
+        let in_edges = Edges::of(&tris, self.pid);
+        // Open-border / non-manifold points of the group (computed when first needed).
+        let border = std::cell::OnceCell::new();
+        let locked_border = |v: u32| {
+            let b: &Vec<u32> = border.get_or_init(|| {
+                let mut b = Vec::new();
+                for &(k, f) in &in_edges.0 {
+                    let (x, y) = ((k >> 32) as u32, k as u32);
+                    if in_edges.count(y, x) != f {
+                        b.push(x);
+                        b.push(y);
+                    }
                 }
-            }
-            b.sort_unstable();
-            b.dedup();
-            b
+                b.sort_unstable();
+                b.dedup();
+                b
+            });
+            locked(v) || b.binary_search(&self.pid[v as usize]).is_ok()
         };
-        let locked_border =
-            |v: u32| locked(v) || border.binary_search(&self.pid[v as usize]).is_ok();
         let mut result = None;
         // Position ids locked because an attempt folded edges at them (grows per round).
         let mut extra: Vec<u32> = Vec::new();
@@ -812,17 +842,16 @@ impl GroupCtx<'_> {
             // No overlap (verify's rule): an edge used more than once in one direction must be
             // balanced by the other direction or be used exactly as in the input; otherwise it
             // is a fold, visible in every cut that shows it.
-            let out_edges = directed_edges(&t, self.pid);
-            let cnt = |m: &HashMap<(u32, u32), u32, FxBuild>, k: (u32, u32)| {
-                m.get(&k).copied().unwrap_or(0)
-            };
+            let out_edges = Edges::of(&t, self.pid);
             let mut folded: Vec<u32> = out_edges
+                .0
                 .iter()
-                .filter(|&(&(x, y), &f)| {
-                    let r = cnt(&out_edges, (y, x));
-                    f > 1 && f != r && (f, r) != (cnt(&in_edges, (x, y)), cnt(&in_edges, (y, x)))
+                .map(|&(k, f)| ((k >> 32) as u32, k as u32, f))
+                .filter(|&(x, y, f)| {
+                    let r = out_edges.count(y, x);
+                    f > 1 && f != r && (f, r) != (in_edges.count(x, y), in_edges.count(y, x))
                 })
-                .flat_map(|(&(x, y), _)| [x, y])
+                .flat_map(|(x, y, _)| [x, y])
                 .collect();
             if folded.is_empty() {
                 if accept(&t) {
@@ -863,7 +892,7 @@ impl GroupCtx<'_> {
         let error = group_error(e, members_max, self.min_error);
         let parts = self
             .parter
-            .clusters(&t, max_tris, max_verts)
+            .clusters(&t, max_tris, max_verts, false)
             .into_iter()
             .map(|p| p.iter().map(|&i| t[i as usize]).collect())
             .collect();
