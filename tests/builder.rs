@@ -639,3 +639,64 @@ fn metis_partitioner() {
     );
     assert!(r.ok(), "{r}");
 }
+
+/// The verify border rule is not a blanket pass for edges between open-border points: removing a
+/// triangle from the coarse level of a one-quad-wide strip (all its points lie on the border)
+/// leaves two unmatched edges between border points, which the border-chain check rejects.
+#[test]
+fn verify_rejects_crack_between_border_points() {
+    let m = grid(1, 300, [0.0; 3], 0.1);
+    let mesh = mesh_from("strip", m.0, m.1);
+    let mut built = builder::build(&mesh, &BuildOptions::default()).expect("build");
+    let views = VerifyOptions {
+        views: 64,
+        ..Default::default()
+    };
+    assert!(builder::verify(&built, &views).ok());
+    // A triangle of the root with exactly one edge on the root's own border.
+    let root = built.root as usize;
+    let tris = built.cluster_triangles(root);
+    let pos = built.positions();
+    let key = |v: u32| pos[v as usize].map(f32::to_bits);
+    let has = |a: u32, b: u32| {
+        tris.iter()
+            .any(|t| (0..3).any(|e| key(t[e]) == key(a) && key(t[(e + 1) % 3]) == key(b)))
+    };
+    let victim = (0..tris.len())
+        .find(|&i| {
+            let t = tris[i];
+            (0..3).filter(|&e| !has(t[(e + 1) % 3], t[e])).count() == 1
+        })
+        .expect("a root triangle with one border edge");
+    // Rewrite the root's packed indices without the victim.
+    let c = built.clusters[root];
+    let bytes = &built.triangles[c.triangle_offset as usize..];
+    let bits = builder::index_bits(c.vertex_count());
+    let mut local: Vec<u8> = Vec::new();
+    for t in 0..c.triangle_count() as usize {
+        if t != victim {
+            for k in 0..3 {
+                local.push(builder::unpack_index(bytes, bits, 3 * t + k).expect("index") as u8);
+            }
+        }
+    }
+    let mut packed = Vec::new();
+    builder::pack_indices(&local, c.vertex_count(), &mut packed);
+    let at = c.triangle_offset as usize;
+    built.triangles[at..at + packed.len()].copy_from_slice(&packed);
+    built.clusters[root].counts =
+        c.vertex_count() | (c.triangle_count() - 1) << 8 | c.flags() << 16;
+    let report = builder::verify(&built, &views);
+    assert!(
+        !report.ok(),
+        "the crack was not found: {report} (root: {} triangles)",
+        tris.len()
+    );
+    assert!(
+        report
+            .violations
+            .iter()
+            .any(|v| v.contains("border chains broken")),
+        "{report}"
+    );
+}
