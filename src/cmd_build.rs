@@ -51,9 +51,10 @@ pub struct BuildArgs {
     /// Print the statistics as JSON.
     #[arg(long = "json")]
     pub json: bool,
-    /// Use METIS for clusters and groups (slower, serialized) instead of meshoptimizer.
-    #[arg(long = "metis")]
-    pub metis: bool,
+    /// Partitioner for clusters and groups: `meshopt` (spatial clusters, fastest), `meshopt-flex`
+    /// (adjacency-grown clusters after simplification) or `metis` (slower, serialized).
+    #[arg(long = "partitioner", default_value = "meshopt", value_parser = ["meshopt", "meshopt-flex", "metis"])]
+    pub partitioner: String,
 }
 
 /// `vgeo verify FILE.vgeo`: checks a built mesh (invariants and the cut on random views).
@@ -96,10 +97,10 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         trim_error: a.trim_error,
         fallback_triangles: a.fallback_triangles,
         threads: a.threads,
-        partitioner: if a.metis {
-            builder::Partitioner::Metis
-        } else {
-            builder::Partitioner::Meshopt
+        partitioner: match a.partitioner.as_str() {
+            "metis" => builder::Partitioner::Metis,
+            "meshopt-flex" => builder::Partitioner::MeshoptFlex,
+            _ => builder::Partitioner::Meshopt,
         },
     };
     let out_base = a

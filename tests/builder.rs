@@ -615,29 +615,35 @@ fn keep_percent_and_trim_error() {
     assert!(builder::build(&mesh, &opts(100.0, -1.0)).is_err());
 }
 
-/// The METIS partitioner (the option) still builds and verifies.
+/// The other partitioners (METIS, meshopt with adjacency-grown clusters) build and verify too.
 #[test]
-fn metis_partitioner() {
+fn other_partitioners() {
     let mut m = (Vec::new(), Vec::new());
     append(&mut m, grid(40, 30, [0.0; 3], 0.1));
     append(&mut m, sphere(32, 20, [2.0, 1.0, 0.0], 0.7));
-    let mesh = mesh_from("metis", m.0, m.1);
-    let built = builder::build(
-        &mesh,
-        &BuildOptions {
-            partitioner: builder::Partitioner::Metis,
-            ..Default::default()
-        },
-    )
-    .expect("build");
-    let r = builder::verify(
-        &built,
-        &VerifyOptions {
-            views: 24,
-            ..Default::default()
-        },
-    );
-    assert!(r.ok(), "{r}");
+    let mesh = mesh_from("partitioners", m.0, m.1);
+    for p in [
+        builder::Partitioner::Metis,
+        builder::Partitioner::MeshoptFlex,
+    ] {
+        let built = builder::build(
+            &mesh,
+            &BuildOptions {
+                partitioner: p,
+                ..Default::default()
+            },
+        )
+        .unwrap_or_else(|e| panic!("{p:?}: {e}"));
+        let r = builder::verify(
+            &built,
+            &VerifyOptions {
+                views: 24,
+                ..Default::default()
+            },
+        );
+        assert!(r.ok(), "{p:?}: {r}");
+        assert_eq!(built.stats.levels.last().map(|l| l.clusters), Some(1));
+    }
 }
 
 /// The verify border rule is not a blanket pass for edges between open-border points: removing a

@@ -269,7 +269,7 @@ struct Parter<'a> {
 }
 
 impl Parter<'_> {
-    /// Clusters of `tris`; `level0`: the input's clusters (meshopt: spatial clusterizer).
+    /// Clusters of `tris`; `level0`: the input's clusters.
     fn clusters(
         &self,
         tris: &[[u32; 3]],
@@ -278,13 +278,13 @@ impl Parter<'_> {
         level0: bool,
     ) -> Vec<Vec<u32>> {
         match self.kind {
-            Partitioner::Meshopt => super::fastpart::cluster_triangles(
+            Partitioner::Meshopt | Partitioner::MeshoptFlex => super::fastpart::cluster_triangles(
                 tris,
                 self.pid,
                 self.pid_pos,
                 max_tris,
                 max_verts,
-                level0,
+                level0 || self.kind == Partitioner::Meshopt,
             ),
             Partitioner::Metis => {
                 metis_cluster_triangles(tris, self.pid, self.positions, max_tris, max_verts)
@@ -300,7 +300,7 @@ impl Parter<'_> {
         gmax: usize,
     ) -> Vec<Vec<u32>> {
         match self.kind {
-            Partitioner::Meshopt => {
+            Partitioner::Meshopt | Partitioner::MeshoptFlex => {
                 super::fastpart::group_clusters(clusters, self.pid, self.pid_pos, target, gmax)
             }
             Partitioner::Metis => {
@@ -491,7 +491,7 @@ fn build_inner(
     // (runs of the Morton order of triangle centroids) clustered in parallel; the chunking
     // depends on the input only, so the result does not depend on the thread count.
     let chunks: Vec<Vec<u32>> =
-        if opts.partitioner == Partitioner::Meshopt && tris.len() > 2 * LEVEL0_CHUNK {
+        if opts.partitioner != Partitioner::Metis && tris.len() > 2 * LEVEL0_CHUNK {
             let centroids: Vec<[f32; 3]> = tris
                 .iter()
                 .map(|t| {

@@ -54,8 +54,8 @@ fn vertex_count(tris: &[[u32; 3]], part: &[u32]) -> usize {
 
 /// Splits triangles (global vertex indices) into clusters of at most `max_tris` triangles and
 /// `max_verts` unique vertices; returns triangle indices per cluster, in a deterministic order.
-/// `spatial`: `meshopt_buildMeshletsSpatial` (SAH splits, ~1.5x faster; used for level 0) instead
-/// of `meshopt_buildMeshletsFlex` (adjacency-driven growth).
+/// `spatial`: `meshopt_buildMeshletsSpatial` (SAH splits, ~1.5x faster) instead of
+/// `meshopt_buildMeshletsFlex` (adjacency-driven growth).
 pub(crate) fn cluster_triangles(
     tris: &[[u32; 3]],
     pid: &[u32],
