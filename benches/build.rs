@@ -122,7 +122,13 @@ fn main() {
             let reset = reset_hwm();
             let c0 = cpu_seconds();
             let t0 = Instant::now();
-            let built = match builder::build(&mesh, &opts) {
+            let phases = std::env::var("VGEO_PHASES").is_ok();
+            let progress = |m: &str| {
+                if phases {
+                    eprintln!("{:8.3}s {m}", t0.elapsed().as_secs_f64());
+                }
+            };
+            let built = match builder::build_with_progress(&mesh, &opts, &progress) {
                 Ok(b) => b,
                 Err(e) => {
                     eprintln!("{name}: {e}");

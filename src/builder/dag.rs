@@ -185,11 +185,6 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
     let mut tris = Vec::with_capacity(mesh.triangle_count());
     let mut dropped = 0;
     let mut duplicates = 0;
-    let mut seen: std::collections::HashSet<[u32; 3], FxBuild> =
-        std::collections::HashSet::with_capacity_and_hasher(
-            mesh.triangle_count(),
-            FxBuild::default(),
-        );
     // Input vertices are encoded once (a vertex is used by ~6 corners).
     let encoded: Vec<PackedVertex> = mesh
         .positions
@@ -201,11 +196,20 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
             uv: encode_uv(&quant, mesh.uvs[v]),
         })
         .collect();
+    // Per input vertex, the last (material, id) it was welded to: most corners hit it, so the
+    // hash map is consulted about once per vertex, not once per corner.
+    let mut cache: Vec<(u16, u32)> = vec![(u16::MAX, 0); mesh.positions.len()];
+    // (canonical point triple, triangle index) of the kept triangles, for duplicate removal.
+    let mut keys: Vec<([u32; 3], u32)> = Vec::with_capacity(mesh.triangle_count());
     for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
         let mat = mesh.material_ids[t] as u16;
         let mut tri = [0u32; 3];
         for k in 0..3 {
             let v = idx[k] as usize;
+            if cache[v].0 == mat {
+                tri[k] = cache[v].1;
+                continue;
+            }
             let mut pv = encoded[v];
             if !mesh.has_uvs {
                 pv.uv = 0;
@@ -218,6 +222,7 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
                 let np = pos_to_pid.len() as u32;
                 pid.push(*pos_to_pid.entry(pv.position).or_insert(np));
             }
+            cache[v] = (mat, id);
             tri[k] = id;
         }
         let p = [
@@ -229,14 +234,28 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
             dropped += 1;
             continue;
         }
-        // Exact duplicates (same three points, same winding) are dropped: they add nothing to the
-        // surface and make coincident layers that simplification cannot keep consistent.
         let r = (0..3).min_by_key(|&i| p[i]).unwrap_or(0);
-        if seen.insert([p[r], p[(r + 1) % 3], p[(r + 2) % 3]]) {
-            tris.push(tri);
-        } else {
+        keys.push(([p[r], p[(r + 1) % 3], p[(r + 2) % 3]], tris.len() as u32));
+        tris.push(tri);
+    }
+    // Exact duplicates (same three points, same winding) are dropped, the first one kept: they
+    // add nothing to the surface and make coincident layers that simplification cannot keep
+    // consistent.
+    keys.par_sort_unstable();
+    let mut keep = vec![true; tris.len()];
+    for w in keys.windows(2) {
+        if w[0].0 == w[1].0 {
+            keep[w[1].1 as usize] = false;
             duplicates += 1;
         }
+    }
+    drop(keys);
+    if duplicates > 0 {
+        let mut i = 0;
+        tris.retain(|_| {
+            i += 1;
+            keep[i - 1]
+        });
     }
     let positions: Vec<[f32; 3]> = vertices
         .iter()

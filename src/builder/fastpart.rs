@@ -44,7 +44,7 @@ fn local_pid_mesh(
     })
 }
 
-/// Unique vertices of the triangles `part` of `tris`.
+/// Unique vertices of the triangles `part` of `tris` (a small sort: parts are clusters).
 fn vertex_count(tris: &[[u32; 3]], part: &[u32]) -> usize {
     let mut v: Vec<u32> = part.iter().flat_map(|&t| tris[t as usize]).collect();
     v.sort_unstable();
