@@ -2,6 +2,8 @@
 //! shared assets) and a generated 2M-triangle subdivided surface, with 1 thread and with all
 //! threads, and prints per mesh: input triangles/s (and per core), peak memory (VmHWM, reset before
 //! each build through /proc/self/clear_refs), bytes per input triangle of the .vgeo file, levels.
+//! `VGEO_PARTITIONER=metis|meshopt-flex` picks another partitioner; `VGEO_PHASES=1` prints the
+//! time of each build phase.
 
 use std::time::Instant;
 
@@ -116,6 +118,11 @@ fn main() {
         for threads in [1, cores] {
             let opts = BuildOptions {
                 threads: Some(threads),
+                partitioner: match std::env::var("VGEO_PARTITIONER").as_deref() {
+                    Ok("metis") => builder::Partitioner::Metis,
+                    Ok("meshopt-flex") => builder::Partitioner::MeshoptFlex,
+                    _ => builder::Partitioner::Meshopt,
+                },
                 ..Default::default()
             };
             let base = vm_rss_kib().unwrap_or(0);
