@@ -193,12 +193,24 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         .map(|(v, &p)| PackedVertex {
             position: encode_position(&quant, p),
             normal: encode_normal(mesh.normals[v]),
-            uv: encode_uv(&quant, mesh.uvs[v]),
+            uv: if mesh.has_uvs {
+                encode_uv(&quant, mesh.uvs[v])
+            } else {
+                0
+            },
         })
         .collect();
     // Per input vertex, the last (material, id) it was welded to: most corners hit it, so the
-    // hash map is consulted about once per vertex, not once per corner.
+    // hash map is consulted about once per vertex, not once per corner. When every vertex has a
+    // single material (the common case), the welding is done by sorting instead and the cache
+    // answers every corner.
     let mut cache: Vec<(u16, u32)> = vec![(u16::MAX, 0); mesh.positions.len()];
+    if let Some(w) = weld_by_sort(mesh, &encoded) {
+        vertices = w.vertices;
+        materials = w.materials;
+        pid = w.pid;
+        cache = w.cache;
+    }
     // (canonical point triple, triangle index) of the kept triangles, for duplicate removal.
     let mut keys: Vec<([u32; 3], u32)> = Vec::with_capacity(mesh.triangle_count());
     for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
@@ -210,10 +222,7 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
                 tri[k] = cache[v].1;
                 continue;
             }
-            let mut pv = encoded[v];
-            if !mesh.has_uvs {
-                pv.uv = 0;
-            }
+            let pv = encoded[v];
             let next = vertices.len() as u32;
             let id = *key_to_vertex.entry((pv, mat)).or_insert(next);
             if id == next {
@@ -261,7 +270,8 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         .iter()
         .map(|v| decode_position(&quant, v.position))
         .collect();
-    let mut pid_pos = vec![[0.0f32; 3]; pos_to_pid.len()];
+    let npid = pid.iter().max().map_or(0, |&m| m as usize + 1);
+    let mut pid_pos = vec![[0.0f32; 3]; npid];
     for (v, &p) in pid.iter().enumerate() {
         pid_pos[p as usize] = positions[v];
     }
@@ -327,6 +337,109 @@ impl Parter<'_> {
             }
         }
     }
+}
+
+/// Welding by sorting (see [`weld_by_sort`]).
+struct Welded {
+    vertices: Vec<PackedVertex>,
+    materials: Vec<u16>,
+    pid: Vec<u32>,
+    /// Per input vertex: (material, welded id); `u16::MAX` material for unreferenced vertices.
+    cache: Vec<(u16, u32)>,
+}
+
+/// Welds equal (encoded vertex, material) pairs by sorting, when every input vertex is used with
+/// a single material (else `None`). Ids are assigned in order of first use by the corners, and
+/// position ids in order of vertex creation: exactly what the hash-map path produces.
+fn weld_by_sort(mesh: &Mesh, encoded: &[PackedVertex]) -> Option<Welded> {
+    let nv = encoded.len();
+    let mut vm = vec![u16::MAX; nv];
+    let mut first: Vec<u32> = Vec::with_capacity(nv);
+    for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
+        let m = mesh.material_ids[t] as u16;
+        for &v in idx {
+            let slot = &mut vm[v as usize];
+            if *slot == u16::MAX {
+                *slot = m;
+                first.push(v);
+            } else if *slot != m {
+                return None;
+            }
+        }
+    }
+    // Rank = order of first use; equal keys take the smallest rank's id.
+    let mut keyed: Vec<(PackedVertex, u16, u32)> = first
+        .iter()
+        .enumerate()
+        .map(|(r, &v)| (encoded[v as usize], vm[v as usize], r as u32))
+        .collect();
+    keyed.par_sort_unstable();
+    let mut rep = vec![0u32; first.len()];
+    let mut i = 0;
+    while i < keyed.len() {
+        let mut j = i + 1;
+        while j < keyed.len() && keyed[j].0 == keyed[i].0 && keyed[j].1 == keyed[i].1 {
+            j += 1;
+        }
+        for e in &keyed[i..j] {
+            rep[e.2 as usize] = keyed[i].2;
+        }
+        i = j;
+    }
+    drop(keyed);
+    let mut id_of_rank = vec![0u32; first.len()];
+    let mut vertices = Vec::new();
+    let mut materials = Vec::new();
+    for r in 0..first.len() {
+        if rep[r] == r as u32 {
+            id_of_rank[r] = vertices.len() as u32;
+            let v = first[r] as usize;
+            vertices.push(encoded[v]);
+            materials.push(vm[v]);
+        } else {
+            id_of_rank[r] = id_of_rank[rep[r] as usize];
+        }
+    }
+    // Position ids in order of vertex creation.
+    let mut by_pos: Vec<([u32; 2], u32)> = vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (v.position, i as u32))
+        .collect();
+    by_pos.par_sort_unstable();
+    let mut first_of = vec![0u32; vertices.len()];
+    let mut i = 0;
+    while i < by_pos.len() {
+        let mut j = i + 1;
+        while j < by_pos.len() && by_pos[j].0 == by_pos[i].0 {
+            j += 1;
+        }
+        for e in &by_pos[i..j] {
+            first_of[e.1 as usize] = by_pos[i].1;
+        }
+        i = j;
+    }
+    drop(by_pos);
+    let mut pid = vec![0u32; vertices.len()];
+    let mut next = 0u32;
+    for i in 0..vertices.len() {
+        if first_of[i] == i as u32 {
+            pid[i] = next;
+            next += 1;
+        } else {
+            pid[i] = pid[first_of[i] as usize];
+        }
+    }
+    let mut cache = vec![(u16::MAX, 0u32); nv];
+    for (r, &v) in first.iter().enumerate() {
+        cache[v as usize] = (vm[v as usize], id_of_rank[r]);
+    }
+    Some(Welded {
+        vertices,
+        materials,
+        pid,
+        cache,
+    })
 }
 
 /// Bounding sphere of points (box centre, farthest point).
