@@ -706,3 +706,64 @@ fn verify_rejects_crack_between_border_points() {
         "{report}"
     );
 }
+
+/// The BVH is clean: node 0 is the root, every node is reachable exactly once, inner nodes have
+/// 1..=8 children, leaves hold 1..=4 groups (several where possible), every group is in exactly
+/// one leaf, and each subtree's error bounds its groups' errors.
+#[test]
+fn bvh_is_clean() {
+    let mut m = (Vec::new(), Vec::new());
+    append(&mut m, grid(120, 80, [0.0; 3], 0.05));
+    let built =
+        builder::build(&mesh_from("bvh", m.0, m.1), &BuildOptions::default()).expect("build");
+    let bvh = &built.bvh;
+    assert!(!bvh.is_empty());
+    let mut seen = vec![0u32; bvh.len()];
+    let mut group_refs = vec![0u32; built.groups.len()];
+    let mut stack = vec![(0u32, f32::INFINITY)];
+    let mut multi_leaves = 0;
+    while let Some((n, parent_err)) = stack.pop() {
+        seen[n as usize] += 1;
+        let node = &bvh[n as usize];
+        assert!(
+            node.max_parent_error <= parent_err,
+            "node {n} error above its parent's"
+        );
+        if node.flags & builder::BVH_FLAG_LEAF != 0 {
+            assert!(
+                (1..=4).contains(&node.count),
+                "leaf {n}: {} groups",
+                node.count
+            );
+            multi_leaves += (node.count > 1) as usize;
+            for g in node.first..node.first + node.count {
+                group_refs[g as usize] += 1;
+                assert!(built.groups[g as usize].error <= node.max_parent_error);
+            }
+        } else {
+            assert!(
+                (1..=8).contains(&node.count),
+                "node {n}: {} children",
+                node.count
+            );
+            for c in node.first..node.first + node.count {
+                stack.push((c, node.max_parent_error));
+            }
+        }
+    }
+    assert!(
+        seen.iter().all(|&s| s == 1),
+        "a node is unreachable or shared"
+    );
+    assert!(
+        group_refs.iter().all(|&r| r == 1),
+        "a group is not in exactly one leaf"
+    );
+    assert!(multi_leaves > 0, "no leaf holds several groups");
+    assert!(
+        bvh.len() < built.groups.len(),
+        "{} nodes for {} groups",
+        bvh.len(),
+        built.groups.len()
+    );
+}
