@@ -188,7 +188,7 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
     // Input vertices are encoded once (a vertex is used by ~6 corners).
     let encoded: Vec<PackedVertex> = mesh
         .positions
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(v, &p)| PackedVertex {
             position: encode_position(&quant, p),
@@ -1094,75 +1094,75 @@ fn assemble(
         g.first_cluster = first;
         groups.push(g);
     }
-    let mut clusters = Vec::with_capacity(order.len());
-    let mut refs: Vec<u32> = Vec::new();
-    let mut triangles: Vec<u8> = Vec::new();
-    let mut stored = 0;
-    let mut slot = vec![u32::MAX; vertices.len()];
-    for &ci in &order {
-        let w = &wclusters[ci as usize];
-        // Local vertices in first-use order (`slot` maps a global vertex to its local index; it
-        // is reset after each cluster).
-        let mut local: Vec<u32> = Vec::new();
-        let mut lo = [f32::MAX; 3];
-        let mut hi = [f32::MIN; 3];
-        let tri_offset = triangles.len() as u32;
-        let mut local_idx: Vec<u8> = Vec::with_capacity(w.tris.len() * 3);
-        for t in &w.tris {
-            for &v in t {
-                let s = &mut slot[v as usize];
-                if *s == u32::MAX {
-                    *s = local.len() as u32;
-                    local.push(v);
-                }
-                local_idx.push(*s as u8);
+    // Per cluster (in parallel): local vertices in first-use order, packed local indices,
+    // vertex references, bounds; then concatenated in order.
+    let nverts = vertices.len();
+    let packed: Vec<(Cluster, Vec<u32>, Vec<u8>)> = order
+        .par_iter()
+        .map(|&ci| {
+            let w = &wclusters[ci as usize];
+            let (local, local_idx) = super::simplify::compact(&w.tris, nverts);
+            let mut lo = [f32::MAX; 3];
+            let mut hi = [f32::MIN; 3];
+            for &v in &local {
                 let p = positions[v as usize];
                 for k in 0..3 {
                     lo[k] = lo[k].min(p[k]);
                     hi[k] = hi[k].max(p[k]);
                 }
             }
-        }
-        for &v in &local {
-            slot[v as usize] = u32::MAX;
-        }
-        super::pack_indices(&local_idx, local.len() as u32, &mut triangles);
-        stored += w.tris.len();
-        let base = local.iter().copied().min().unwrap_or(0);
-        let span = local.iter().copied().max().unwrap_or(0) - base;
-        let ref_offset = refs.len() as u32;
-        let flags = if span < 65536 {
-            for pair in local.chunks(2) {
-                let a = pair[0] - base;
-                let b = pair.get(1).map_or(0, |&b| b - base);
-                refs.push(a | b << 16);
-            }
-            0
-        } else {
-            refs.extend_from_slice(&local);
-            CLUSTER_FLAG_REFS_U32
-        };
-        let g = &wgroups[w.group as usize];
-        clusters.push(Cluster {
-            self_sphere: w.self_sphere,
-            parent_sphere: g.sphere,
-            bounds_min: lo,
-            self_error: w.self_error,
-            bounds_max: hi,
-            parent_error: g.error,
-            vertex_ref_offset: ref_offset,
-            vertex_base: if flags == 0 { base } else { 0 },
-            triangle_offset: tri_offset,
-            counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16,
-            group: new_gid[w.group as usize],
-            creator: if w.creator == NO_GROUP {
-                NO_GROUP
+            let local_idx: Vec<u8> = local_idx.iter().map(|&l| l as u8).collect();
+            let mut tri_bytes = Vec::new();
+            super::pack_indices(&local_idx, local.len() as u32, &mut tri_bytes);
+            let base = local.iter().copied().min().unwrap_or(0);
+            let span = local.iter().copied().max().unwrap_or(0) - base;
+            let mut refs = Vec::with_capacity(local.len());
+            let flags = if span < 65536 {
+                for pair in local.chunks(2) {
+                    let a = pair[0] - base;
+                    let b = pair.get(1).map_or(0, |&b| b - base);
+                    refs.push(a | b << 16);
+                }
+                0
             } else {
-                new_gid[w.creator as usize]
-            },
-            level: w.level,
-            _pad: 0,
-        });
+                refs.extend_from_slice(&local);
+                CLUSTER_FLAG_REFS_U32
+            };
+            let g = &wgroups[w.group as usize];
+            let cluster = Cluster {
+                self_sphere: w.self_sphere,
+                parent_sphere: g.sphere,
+                bounds_min: lo,
+                self_error: w.self_error,
+                bounds_max: hi,
+                parent_error: g.error,
+                vertex_ref_offset: 0,
+                vertex_base: if flags == 0 { base } else { 0 },
+                triangle_offset: 0,
+                counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16,
+                group: new_gid[w.group as usize],
+                creator: if w.creator == NO_GROUP {
+                    NO_GROUP
+                } else {
+                    new_gid[w.creator as usize]
+                },
+                level: w.level,
+                _pad: 0,
+            };
+            (cluster, refs, tri_bytes)
+        })
+        .collect();
+    let mut clusters = Vec::with_capacity(order.len());
+    let mut refs: Vec<u32> = Vec::with_capacity(packed.iter().map(|p| p.1.len()).sum());
+    let mut triangles: Vec<u8> = Vec::with_capacity(packed.iter().map(|p| p.2.len()).sum());
+    let mut stored = 0;
+    for (mut c, r, t) in packed {
+        c.vertex_ref_offset = refs.len() as u32;
+        c.triangle_offset = triangles.len() as u32;
+        stored += c.triangle_count() as usize;
+        refs.extend_from_slice(&r);
+        triangles.extend_from_slice(&t);
+        clusters.push(c);
     }
     let root = wgroups
         .iter()
