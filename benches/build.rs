@@ -146,6 +146,20 @@ fn main() {
             let cpu = cpu_seconds() - c0;
             let peak = vm_hwm_kib().unwrap_or(0);
             let bytes = vgeo::format::save(&built).len();
+            if phases {
+                let wide = built
+                    .clusters
+                    .iter()
+                    .filter(|c| c.flags() & builder::CLUSTER_FLAG_REFS_U32 != 0)
+                    .count();
+                eprintln!(
+                    "clusters with u32 references: {wide} of {}; refs {} B, triangles {} B, vertices {}",
+                    built.clusters.len(),
+                    built.vertex_refs.len() * 4,
+                    built.triangles.len(),
+                    built.vertices.len()
+                );
+            }
             let n = mesh.triangle_count() as f64;
             println!(
                 "| {} | {} | {threads} | {secs:.3} | {cpu:.2} | {:.0} | {:.0} | {:.0}{} (mesh loaded: {:.0}) | {:.2} | {} |",
