@@ -1,10 +1,15 @@
 //! The offline cluster-DAG builder (CPU only, deterministic).
 //!
-//! [`build`] turns a [`Mesh`] into a [`BuiltMesh`]: level-0 clusters of at most 128 triangles
-//! (METIS on the triangle graph), then repeatedly groups of 8..32 clusters (METIS on the cluster
-//! graph) simplified to about half with their borders locked and split into new clusters, until one
-//! root cluster remains. Every cluster stores a `self` and a `parent` (error, LOD sphere) pair as
-//! DESIGN.md's "cut rule" requires; [`verify`] checks the invariants and the cut on many views.
+//! [`build`] turns a [`Mesh`] into a [`BuiltMesh`]: level-0 clusters of at most 128 triangles and
+//! 255 vertices, then repeatedly groups of about 16 (at most 32) clusters simplified to about half
+//! with their borders locked and split into new clusters, until one root cluster remains. Clusters
+//! and groups come from a [`Partitioner`]: meshoptimizer's spatial clusterizer and cluster
+//! partitioner by default (fast, thread-safe; big inputs are clustered in parallel Morton chunks),
+//! or METIS on the triangle / cluster graphs. A group simplification that would fold an edge
+//! (an overlap in some cut) is retried with the fold's neighbourhood locked. Every cluster stores a
+//! `self` and a `parent` (error, LOD sphere) pair as DESIGN.md's "cut rule" requires; the BVH
+//! (fanout 8, leaves of up to 4 groups) fixes the order of the groups; [`verify`] checks the
+//! invariants and the cut on many views.
 //!
 //! Positions are snapped to a per-mesh grid at the start (21 bits per axis), normals to 16-bit
 //! octahedral codes and UVs to 16 bits over the mesh's UV range, so the `.vgeo` file stores exactly
