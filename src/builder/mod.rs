@@ -8,7 +8,7 @@
 //! or METIS on the triangle / cluster graphs. A group simplification that would fold an edge
 //! (an overlap in some cut) is retried with the fold's neighbourhood locked. Every cluster stores a
 //! `self` and a `parent` (error, LOD sphere) pair as DESIGN.md's "cut rule" requires; the BVH
-//! (fanout 8, leaves of up to 4 groups) fixes the order of the groups; [`verify`] checks the
+//! (fanout 8, leaves of up to 4 groups) fixes the order of the groups; [`verify()`] checks the
 //! invariants and the cut on many views.
 //!
 //! Positions are snapped to a per-mesh grid at the start (21 bits per axis), normals to 16-bit
