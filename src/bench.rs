@@ -1604,7 +1604,7 @@ mod tests {
     fn settings_overrides_and_validation() {
         let mut s = Suite::Quick.settings();
         s.validate().unwrap();
-        s.error_sweep = vec![0.0];
+        s.error_sweep = vec![-1.0];
         assert!(s.validate().is_err());
         let full = Suite::Full.settings();
         assert_eq!((full.width, full.height), (1920, 1080));
