@@ -75,7 +75,7 @@ pub struct VerifyArgs {
 pub fn load_input(path: &Path, split_nodes: bool) -> anyhow::Result<Vec<Mesh>> {
     let import = crate::mesh::load(path, &crate::mesh::ImportOptions { split_nodes })?;
     for w in &import.report.warnings {
-        eprintln!("warning: {}: {w}", path.display());
+        eprintln!("warning: {w}");
     }
     Ok(import.meshes)
 }

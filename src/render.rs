@@ -77,7 +77,7 @@ pub struct LoadedScene {
     pub built: Vec<Option<crate::builder::BuiltMesh>>,
     pub placements: Vec<Placement>,
     pub light: Light,
-    /// Import warnings, prefixed with the mesh file.
+    /// Import warnings (each names its file).
     pub warnings: Vec<String>,
 }
 
@@ -122,12 +122,8 @@ impl LoadedScene {
                 built.push(Some(b));
             } else {
                 let (mesh, report) = crate::mesh::load_mesh(&m.path)?;
-                warnings.extend(
-                    report
-                        .warnings
-                        .iter()
-                        .map(|w| format!("{}: {w}", m.path.display())),
-                );
+                // The importer's warnings already name the file.
+                warnings.extend(report.warnings);
                 meshes.push(mesh);
                 built.push(None);
             }
