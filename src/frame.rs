@@ -18,7 +18,7 @@ use crate::passes::view::{FrameSettings, view_gpu};
 use crate::passes::{FrameBuffers, VisPath, visbuffer};
 use crate::render::{Frame, Light, Placement};
 use crate::scene_gpu::GpuScene;
-use crate::shared::{CullCounters, OcclusionGpu};
+use crate::shared::{CullCounters, OcclusionGpu, VIEW_FLAG_DIRECT_VISIBLE};
 
 /// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits.
 pub const MAX_VISIBLE: u32 = 1 << crate::shared::VISBUFFER_CLUSTER_BITS;
@@ -232,6 +232,12 @@ impl VgeoRenderer {
         );
     }
 
+    /// Whether visible-list slots are assigned directly (deterministic): every (instance, cluster)
+    /// pair of the scene fits the visible list.
+    pub fn direct_visible(&self) -> bool {
+        self.scene.instance_clusters <= self.visible_capacity as u64
+    }
+
     fn write_view(
         &mut self,
         camera: &Camera,
@@ -240,11 +246,15 @@ impl VgeoRenderer {
         settings: &FrameSettings,
     ) -> GpuResult<()> {
         self.frame_buffers(width, height)?;
+        let mut settings = *settings;
+        if self.direct_visible() {
+            settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
+        }
         let view = view_gpu(
             camera,
             width,
             height,
-            settings,
+            &settings,
             self.scene.instance_count,
             self.queue_capacity,
             self.visible_capacity,
@@ -311,6 +321,8 @@ impl VgeoRenderer {
         self.ctx.submit_and_wait("vgeo frame", |cmd| {
             timer.reset(cmd);
             visbuffer::clear(cmd, fb);
+            // Direct slots leave holes: empty entries read as all ones.
+            cmd.fill_buffer(&fb.visible, u32::MAX);
             let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
             let raster_stages =
                 vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
@@ -344,6 +356,12 @@ impl VgeoRenderer {
         let main_res = read_cull(fb, Phase::Main, Vec::new())?;
         let post_res = read_cull(fb, Phase::Post, Vec::new())?;
         let vis = visbuffer::download(fb)?;
+        let max_slot = vis
+            .iter()
+            .filter(|v| **v != 0)
+            .map(|v| (*v as u32) >> crate::shared::VISBUFFER_TRIANGLE_BITS)
+            .max();
+        let visible_table = read_visible_table(fb, max_slot)?;
         let color = debug_view.download()?;
         self.history = settings.occlusion.then_some(current);
         let triangles = main_res.counters.triangles as u64 + post_res.counters.triangles as u64;
@@ -363,6 +381,7 @@ impl VgeoRenderer {
             visbuffer: vis,
             main: main_res,
             post: post_res,
+            visible_table,
         })
     }
 
@@ -387,6 +406,7 @@ impl VgeoRenderer {
         let mut timer = Timer::new(&self.ctx, 8)?;
         self.ctx.submit_and_wait("vgeo cull", |cmd| {
             timer.reset(cmd);
+            cmd.fill_buffer(&fb.visible, u32::MAX);
             self.record_cull(cmd, &mut timer, fb, hzb, Phase::Main);
         })?;
         let gpu_ms = timer.results()?;
@@ -424,9 +444,27 @@ pub struct VgeoFrame {
     /// Culling results of each phase (the post phase's visible entries follow the main phase's).
     pub main: CullResult,
     pub post: CullResult,
+    /// The visible list as the GPU left it (up to the largest slot in use): what a visibility-buffer
+    /// value's cluster index points at. Unused slots are all ones.
+    pub visible_table: Vec<[u32; 2]>,
 }
 
 impl VgeoFrame {
+    /// The (instance, cluster) a visibility-buffer value points at; `None` for an empty pixel.
+    pub fn resolve(&self, value: u64) -> Option<([u32; 2], u32)> {
+        if value == 0 {
+            return None;
+        }
+        let low = value as u32;
+        let entry = *self
+            .visible_table
+            .get((low >> crate::shared::VISBUFFER_TRIANGLE_BITS) as usize)?;
+        Some((
+            entry,
+            low & ((1 << crate::shared::VISBUFFER_TRIANGLE_BITS) - 1),
+        ))
+    }
+
     /// Every drawn (instance, cluster), both phases.
     pub fn visible(&self) -> Vec<[u32; 2]> {
         let mut v = self.main.visible.clone();
@@ -441,36 +479,41 @@ impl VgeoFrame {
     }
 }
 
-/// Reads one phase's counters and lists back (the post phase's visible entries start after the
-/// main phase's).
+/// Reads one phase's counters, its SW and HW lists and the visible entries they name (in list
+/// order: SW, then HW). With direct slots the visible list has holes, so entries are found through
+/// the lists, never by position.
 fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> GpuResult<CullResult> {
     let (counters_buf, sw_buf, hw_buf) = fb.phase_lists(phase);
-    let read_counters = |b: &Buffer| -> GpuResult<CullCounters> {
-        Ok(*bytemuck::from_bytes(
-            &b.download()?[..size_of::<CullCounters>()],
-        ))
-    };
-    let counters = read_counters(counters_buf)?;
-    let first = match phase {
-        Phase::Main => 0,
-        Phase::Post => read_counters(&fb.counters)?
-            .visible_count
-            .min(fb.visible_capacity) as usize,
-    };
-    let n_vis = counters.visible_count.min(fb.visible_capacity) as usize;
-    let vis_bytes = fb.visible.download()?;
-    let visible: Vec<[u32; 2]> =
-        bytemuck::cast_slice::<u8, [u32; 2]>(&vis_bytes[8 * first.min(n_vis)..8 * n_vis]).to_vec();
+    let counters: CullCounters =
+        *bytemuck::from_bytes(&counters_buf.download()?[..size_of::<CullCounters>()]);
     let list = |b: &Buffer, n: u32| -> GpuResult<Vec<u32>> {
         let bytes = b.download()?;
         let n = (n.min(fb.visible_capacity)) as usize;
         Ok(bytemuck::cast_slice::<u8, u32>(&bytes[..4 * n]).to_vec())
     };
+    let sw = list(sw_buf, counters.sw_count)?;
+    let hw = list(hw_buf, counters.hw_count)?;
+    let table = read_visible_table(fb, sw.iter().chain(&hw).copied().max())?;
+    let visible = sw
+        .iter()
+        .chain(&hw)
+        .filter_map(|&v| table.get(v as usize).copied())
+        .collect();
     Ok(CullResult {
-        sw: list(sw_buf, counters.sw_count)?,
-        hw: list(hw_buf, counters.hw_count)?,
+        sw,
+        hw,
         counters,
         visible,
         gpu_ms,
     })
+}
+
+/// The visible list up to and including slot `max` (empty when `None`).
+fn read_visible_table(fb: &FrameBuffers, max: Option<u32>) -> GpuResult<Vec<[u32; 2]>> {
+    let Some(max) = max else {
+        return Ok(Vec::new());
+    };
+    let n = (max as usize + 1).min(fb.visible_capacity as usize);
+    let bytes = fb.visible.download()?;
+    Ok(bytemuck::cast_slice::<u8, [u32; 2]>(&bytes[..8 * n]).to_vec())
 }

@@ -41,7 +41,8 @@ pub fn instance_gpu(p: &Placement) -> InstanceVgeo {
         mesh: p.mesh,
         translation_lo: [lx, ly, lz],
         max_scale,
-        color: [p.color[0], p.color[1], p.color[2], 1.0],
+        color: p.color,
+        visible_base: 0,
     }
 }
 
@@ -82,6 +83,9 @@ pub struct GpuScene {
     pub mesh_table: Vec<MeshGpu>,
     pub instance_count: u32,
     pub total_clusters: u32,
+    /// Sum over instances of their mesh's cluster count: the visible-list length that direct slots
+    /// need (see [`crate::shared::VIEW_FLAG_DIRECT_VISIBLE`]).
+    pub instance_clusters: u64,
 }
 
 impl GpuScene {
@@ -135,7 +139,17 @@ impl GpuScene {
                 "scene geometry exceeds 32-bit offsets".into(),
             ));
         }
-        let instances: Vec<InstanceVgeo> = placements.iter().map(instance_gpu).collect();
+        // Direct visible-list slots: each instance owns a range as long as its mesh's cluster count.
+        let mut next = 0u64;
+        let instances: Vec<InstanceVgeo> = placements
+            .iter()
+            .map(|p| {
+                let mut inst = instance_gpu(p);
+                inst.visible_base = next.min(u32::MAX as u64) as u32;
+                next += built[p.mesh as usize].clusters.len() as u64;
+                inst
+            })
+            .collect();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let up = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes, usage);
         Ok(Self {
@@ -148,6 +162,7 @@ impl GpuScene {
             vertex_refs: up("scene vertex refs", bytemuck::cast_slice(&refs))?,
             triangles: up("scene triangles", &tris)?,
             total_clusters: clusters.len() as u32,
+            instance_clusters: next,
             mesh_table: table,
             instance_count: placements.len() as u32,
         })

@@ -36,6 +36,10 @@ pub const VIEW_FLAG_FORCE_SW: u32 = 1;
 pub const VIEW_FLAG_FORCE_HW: u32 = 2;
 /// `ViewGpu::flags`: skip frustum culling (tests compare the pure LOD cut).
 pub const VIEW_FLAG_NO_FRUSTUM: u32 = 4;
+/// `ViewGpu::flags`: visible-list slots are assigned directly (instance's base + cluster index in
+/// its mesh) instead of in atomic order, so the visibility buffer is the same bit for bit on every
+/// run. Used whenever every (instance, cluster) pair of the scene fits the visible list.
+pub const VIEW_FLAG_DIRECT_VISIBLE: u32 = 8;
 /// `BvhNode::flags`: the node is a leaf over groups `first .. first + count`.
 pub const BVH_FLAG_LEAF: u32 = 1;
 /// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).
@@ -113,8 +117,11 @@ pub struct InstanceVgeo {
     pub translation_lo: [f32; 3],
     /// Largest axis scale of `linear` (scales errors and radii).
     pub max_scale: f32,
-    /// Albedo tint (rgb), w unused.
-    pub color: [f32; 4],
+    /// Albedo tint (rgb).
+    pub color: [f32; 3],
+    /// First visible-list slot of this instance when slots are assigned directly
+    /// ([`VIEW_FLAG_DIRECT_VISIBLE`]): slot = `visible_base` + the cluster's index in its mesh.
+    pub visible_base: u32,
 }
 const _: () = assert!(size_of::<InstanceVgeo>() == 96);
 

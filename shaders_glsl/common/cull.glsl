@@ -108,6 +108,11 @@ void push_item(uint64_t item) {
 // camera-relative bounding sphere.
 void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) {
     uint v = atomicAdd(counters.visible_count, 1u);
+    if ((view.flags & VIEW_FLAG_DIRECT_VISIBLE) != 0u) {
+        // The same slot on every run: the instance's base + the cluster's index in its mesh.
+        InstanceVgeo di = instances[instance];
+        v = di.visible_base + (cluster_index - meshes[di.mesh].cluster_offset);
+    }
     if (v >= view.visible_capacity) {
         atomicAdd(counters.visible_overflow, 1u);
         return;

@@ -38,7 +38,8 @@ struct InstanceVgeo {
     uint mesh;
     vec3 translation_lo;
     float max_scale;
-    vec4 color;
+    vec3 color;
+    uint visible_base;
 };
 
 struct ViewGpu {
