@@ -333,7 +333,9 @@ impl Image {
                 Some(4)
             }
             vk::Format::R32_UINT | vk::Format::R32_SFLOAT => Some(4),
-            vk::Format::R32G32_UINT | vk::Format::R64_UINT => Some(8),
+            vk::Format::R32G32_UINT | vk::Format::R64_UINT | vk::Format::R16G16B16A16_SFLOAT => {
+                Some(8)
+            }
             _ => None,
         }
     }
