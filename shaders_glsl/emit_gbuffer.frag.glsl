@@ -30,6 +30,10 @@ layout(set = 1, binding = 0) uniform sampler2D textures[];
 
 layout(push_constant, scalar) uniform Push { uint material; };
 
+// The depth test (EQUAL against the material depth) must run before the shader: only this
+// material's pixels may execute it (and count).
+layout(early_fragment_tests) in;
+
 layout(location = 0) out vec4 out_albedo;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_params;
