@@ -1,8 +1,9 @@
 //! The scene's materials on the GPU: one table of every mesh's materials (global ids: a mesh's
 //! local ids offset by the materials of the meshes before it), the global material of every vertex
 //! (vertices are split per material, so a triangle's material is its first vertex's), per-mesh UV
-//! ranges, and every base-colour texture in one bindless array (texture 0 is white, used where a
-//! material has none or its file cannot be read, with a warning).
+//! ranges, and every base-colour texture (with a mip chain, box-filtered in linear space) in one
+//! bindless array (texture 0 is white, used where a material has none or its file cannot be read,
+//! with a warning).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -68,7 +69,64 @@ pub struct TextureData {
     pub rgba: Vec<u8>,
 }
 
+/// Exact sRGB decode of an 8-bit value.
+pub fn srgb_to_linear(c: u8) -> f32 {
+    let c = c as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Exact sRGB encode to 8 bits.
+pub fn linear_to_srgb(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
 impl TextureData {
+    /// The mip chain below this texture (level 1 onwards; level 0 is `self`): each level halves
+    /// the previous one (rounded down, at least 1) with a 2x2 box filter of the colour in linear
+    /// space (alpha averaged as is), down to 1x1.
+    pub fn mip_chain(&self) -> Vec<(u32, u32, Vec<u8>)> {
+        let lut: Vec<f32> = (0..=255u8).map(srgb_to_linear).collect();
+        let mut out: Vec<(u32, u32, Vec<u8>)> = Vec::new();
+        let (mut w, mut h) = (self.width, self.height);
+        while w > 1 || h > 1 {
+            let prev: &[u8] = out.last().map(|l| l.2.as_slice()).unwrap_or(&self.rgba);
+            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+            let mut next = vec![0u8; 4 * nw as usize * nh as usize];
+            for y in 0..nh {
+                for x in 0..nw {
+                    let mut acc = [0.0f32; 4];
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let sx = (2 * x + dx).min(w - 1) as usize;
+                        let sy = (2 * y + dy).min(h - 1) as usize;
+                        let p = &prev[4 * (sy * w as usize + sx)..][..4];
+                        for k in 0..3 {
+                            acc[k] += lut[p[k] as usize];
+                        }
+                        acc[3] += p[3] as f32;
+                    }
+                    let o = &mut next[4 * (y as usize * nw as usize + x as usize)..][..4];
+                    for k in 0..3 {
+                        o[k] = linear_to_srgb(acc[k] * 0.25);
+                    }
+                    o[3] = (acc[3] * 0.25).round() as u8;
+                }
+            }
+            out.push((nw, nh, next));
+            (w, h) = (nw, nh);
+        }
+        out
+    }
+
     /// The 1x1 white texture (index 0).
     pub fn white() -> Self {
         Self {
@@ -228,18 +286,22 @@ impl GpuMaterials {
         let (textures, warnings) = s.load_textures();
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let up = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes, usage);
+        let chains: Vec<Vec<(u32, u32, Vec<u8>)>> = {
+            use rayon::prelude::*;
+            textures.par_iter().map(TextureData::mip_chain).collect()
+        };
         let mut images = Vec::with_capacity(textures.len());
-        for (i, t) in textures.iter().enumerate() {
+        for (i, (t, chain)) in textures.iter().zip(&chains).enumerate() {
             let name = match &t.path {
                 Some(p) => format!("texture {i} ({})", p.display()),
                 None => "texture 0 (white)".into(),
             };
-            images.push(Image::with_rgba8(
+            let mut levels = vec![(t.width, t.height, t.rgba.as_slice())];
+            levels.extend(chain.iter().map(|(w, h, d)| (*w, *h, d.as_slice())));
+            images.push(Image::with_rgba8_mips(
                 ctx,
                 &name,
-                t.width,
-                t.height,
-                &t.rgba,
+                &levels,
                 vk::Format::R8G8B8A8_SRGB,
             )?);
         }

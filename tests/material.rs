@@ -11,7 +11,7 @@ use vgeo::builder::quantize::{decode_normal, decode_uv};
 use vgeo::builder::{BuildOptions, BuiltMesh, build};
 use vgeo::camera::Camera;
 use vgeo::frame::{VgeoFrame, VgeoRenderer};
-use vgeo::material::{MESH_HAS_UVS, SceneMaterials, TextureData};
+use vgeo::material::{MESH_HAS_UVS, SceneMaterials, TextureData, srgb_to_linear};
 use vgeo::mesh::{Material, Mesh};
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::material_classify::{MATERIAL_TILE, NO_MATERIAL};
@@ -198,38 +198,60 @@ fn each_material_draw_shades_only_its_pixels() {
     assert_no_validation_errors(&ctx);
 }
 
-/// Exact sRGB decode (what an `_SRGB` format's sampler does).
-fn srgb_to_linear(c: u8) -> f32 {
-    let c = c as f32 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+/// A texture's levels (level 0 first) as the GPU has them.
+struct Mips {
+    levels: Vec<(u32, u32, Vec<u8>)>,
 }
 
-/// Bilinear, repeat, level 0 (the pass samples the only level).
-fn sample(t: &TextureData, uv: Vec2) -> Vec4 {
-    let (w, h) = (t.width as i64, t.height as i64);
-    let x = uv.x * t.width as f32 - 0.5;
-    let y = uv.y * t.height as f32 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = (x - x0, y - y0);
-    let texel = |i: i64, j: i64| {
-        let i = i.rem_euclid(w) as usize;
-        let j = j.rem_euclid(h) as usize;
-        let p = &t.rgba[4 * (j * t.width as usize + i)..][..4];
-        Vec4::new(
-            srgb_to_linear(p[0]),
-            srgb_to_linear(p[1]),
-            srgb_to_linear(p[2]),
-            p[3] as f32 / 255.0,
-        )
-    };
-    let (i, j) = (x0 as i64, y0 as i64);
-    let top = texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx;
-    let bottom = texel(i, j + 1) * (1.0 - fx) + texel(i + 1, j + 1) * fx;
-    top * (1.0 - fy) + bottom * fy
+impl Mips {
+    fn new(t: &TextureData) -> Self {
+        let mut levels = vec![(t.width, t.height, t.rgba.clone())];
+        levels.extend(t.mip_chain());
+        Self { levels }
+    }
+
+    /// Bilinear, repeat, one level, sRGB decoded per texel (what an `_SRGB` format's sampler does).
+    fn bilinear(&self, level: usize, uv: Vec2) -> Vec4 {
+        let (tw, th, rgba) = &self.levels[level];
+        let (w, h) = (*tw as i64, *th as i64);
+        let x = uv.x * *tw as f32 - 0.5;
+        let y = uv.y * *th as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let texel = |i: i64, j: i64| {
+            let i = i.rem_euclid(w) as usize;
+            let j = j.rem_euclid(h) as usize;
+            let p = &rgba[4 * (j * *tw as usize + i)..][..4];
+            Vec4::new(
+                srgb_to_linear(p[0]),
+                srgb_to_linear(p[1]),
+                srgb_to_linear(p[2]),
+                p[3] as f32 / 255.0,
+            )
+        };
+        let (i, j) = (x0 as i64, y0 as i64);
+        let top = texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx;
+        let bottom = texel(i, j + 1) * (1.0 - fx) + texel(i + 1, j + 1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+
+    /// Trilinear `textureGrad`: level of detail log2 of the longer scaled derivative.
+    fn sample_grad(&self, uv: Vec2, ddx: Vec2, ddy: Vec2) -> Vec4 {
+        let size = Vec2::new(self.levels[0].0 as f32, self.levels[0].1 as f32);
+        let rho = (ddx * size).length().max((ddy * size).length());
+        let max_level = (self.levels.len() - 1) as f32;
+        let lod = rho.log2().clamp(0.0, max_level);
+        if !lod.is_finite() || lod <= 0.0 {
+            return self.bilinear(0, uv);
+        }
+        let l0 = lod.floor();
+        let f = lod - l0;
+        let a = self.bilinear(l0 as usize, uv);
+        if f == 0.0 {
+            return a;
+        }
+        a * (1.0 - f) + self.bilinear(l0 as usize + 1, uv) * f
+    }
 }
 
 fn ray_barycentrics(dir: Vec3, p: &[Vec3; 3]) -> Option<Vec2> {
@@ -253,7 +275,8 @@ fn q8(x: f32) -> f32 {
 fn cpu_shade(
     built: &BuiltMesh,
     mats: &SceneMaterials,
-    textures: &[TextureData],
+    textures: &[Mips],
+    level0_only: bool,
     camera: &Camera,
     inv: &Mat4,
     light: Vec3,
@@ -292,7 +315,18 @@ fn cpu_shade(
         normal = n[0] * (1.0 - bx - by) + n[1] * bx + n[2] * by;
         if mats.meshes[0].flags & MESH_HAS_UVS != 0 {
             let t = uv[0] * (1.0 - b.x - b.y) + uv[1] * b.x + uv[2] * b.y;
-            albedo *= sample(&textures[mat.base_color_texture as usize], t);
+            let pc = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            let bx = ray_barycentrics(ray(pc + Vec2::X), &p).unwrap_or(b);
+            let by = ray_barycentrics(ray(pc + Vec2::Y), &p).unwrap_or(b);
+            let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+            let ddx = d1 * (bx.x - b.x) + d2 * (bx.y - b.y);
+            let ddy = d1 * (by.x - b.x) + d2 * (by.y - b.y);
+            let tex = &textures[mat.base_color_texture as usize];
+            albedo *= if level0_only {
+                tex.bilinear(0, t)
+            } else {
+                tex.sample_grad(t, ddx, ddy)
+            };
         }
     }
     if normal.length_squared() <= 0.0 {
@@ -355,9 +389,12 @@ fn flight_helmet_shaded_matches_cpu_reference() {
     assert!(mats.texture_paths.len() >= 4, "base-colour textures found");
     let (textures, warnings) = mats.load_textures();
     assert!(warnings.is_empty(), "{warnings:?}");
+    let textures: Vec<Mips> = textures.iter().map(Mips::new).collect();
     let inv = camera.view_proj(W, H).inverse();
     let visible = f.visible();
     let (mut se, mut covered, mut worst) = (0.0f64, 0usize, 0i32);
+    // Against a reference without mip mapping: the GPU image must be farther from it.
+    let mut se_level0 = 0.0f64;
     for (i, &v) in f.visbuffer.iter().enumerate() {
         let got = &f.frame.color[4 * i..4 * i + 3];
         if v == 0 {
@@ -366,21 +403,28 @@ fn flight_helmet_shaded_matches_cpu_reference() {
         let lo = v as u32;
         let entry = visible[(lo >> 7) as usize];
         let tri = built.cluster_triangles(entry[1] as usize)[(lo & 127) as usize];
-        let want = cpu_shade(
-            &built,
-            &mats,
-            &textures,
-            &camera,
-            &inv,
-            light.direction.normalize(),
-            Vec3::from(tint),
-            tri,
-            i as u32 % W,
-            i as u32 / W,
-            W,
-            H,
-        );
+        let shade = |level0_only| {
+            cpu_shade(
+                &built,
+                &mats,
+                &textures,
+                level0_only,
+                &camera,
+                &inv,
+                light.direction.normalize(),
+                Vec3::from(tint),
+                tri,
+                i as u32 % W,
+                i as u32 / W,
+                W,
+                H,
+            )
+        };
+        let want = shade(false);
+        let want0 = shade(true);
         for k in 0..3 {
+            let d0 = got[k] as f64 - want0[k] as f64;
+            se_level0 += d0 * d0;
             let d = got[k] as i32 - want[k] as i32;
             se += (d * d) as f64;
             worst = worst.max(d.abs());
@@ -390,9 +434,11 @@ fn flight_helmet_shaded_matches_cpu_reference() {
     assert!(covered > (W * H / 8) as usize, "the helmet covers the view");
     let mse = se / (3 * covered) as f64;
     let psnr = 10.0 * (255.0f64 * 255.0 / mse.max(1e-12)).log10();
+    let psnr0 = 10.0 * (255.0f64 * 255.0 * (3 * covered) as f64 / se_level0.max(1e-12)).log10();
     eprintln!(
-        "FlightHelmet shaded vs CPU reference: PSNR {psnr:.2} dB over {covered} covered pixels (max channel diff {worst})"
+        "FlightHelmet shaded vs CPU reference: PSNR {psnr:.2} dB over {covered} covered pixels (max channel diff {worst}); vs a reference without mip mapping: {psnr0:.2} dB"
     );
+    assert!(psnr0 < psnr - 3.0, "the GPU samples the mip chain");
     if let Ok(dir) = std::env::var("VGEO_TEST_DUMP") {
         f.frame
             .save_png(&std::path::Path::new(&dir).join("material_flight_helmet.png"))

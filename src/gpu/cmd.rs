@@ -184,7 +184,7 @@ impl Cmd {
             .subresource_range(vk::ImageSubresourceRange {
                 aspect_mask: image.aspect,
                 base_mip_level: 0,
-                level_count: 1,
+                level_count: image.mip_levels,
                 base_array_layer: 0,
                 layer_count: 1,
             })];
@@ -576,21 +576,34 @@ impl Cmd {
         };
     }
 
-    /// Copies a tightly packed buffer into a whole colour image (moved to `TRANSFER_DST_OPTIMAL`).
-    pub fn copy_buffer_to_image(&mut self, buf: &Buffer, image: &Image) {
+    /// Copies tightly packed mip levels from a buffer into an image (moved to
+    /// `TRANSFER_DST_OPTIMAL`): `levels[i]` = (byte offset in `buf`, width, height) of level i.
+    pub fn copy_buffer_to_image(
+        &mut self,
+        buf: &Buffer,
+        image: &Image,
+        levels: &[(u64, u32, u32)],
+    ) {
         self.transition(image, vk::ImageLayout::TRANSFER_DST_OPTIMAL);
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: image.aspect,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
+        let regions: Vec<vk::BufferImageCopy> = levels
+            .iter()
+            .enumerate()
+            .map(|(i, &(offset, width, height))| {
+                vk::BufferImageCopy::default()
+                    .buffer_offset(offset)
+                    .image_subresource(vk::ImageSubresourceLayers {
+                        aspect_mask: image.aspect,
+                        mip_level: i as u32,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    })
+                    .image_extent(vk::Extent3D {
+                        width,
+                        height,
+                        depth: 1,
+                    })
             })
-            .image_extent(vk::Extent3D {
-                width: image.width,
-                height: image.height,
-                depth: 1,
-            });
+            .collect();
         // SAFETY: the image is in TRANSFER_DST layout; the buffer holds a whole image (caller).
         unsafe {
             self.dev().cmd_copy_buffer_to_image(
@@ -598,7 +611,7 @@ impl Cmd {
                 buf.raw,
                 image.raw,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[region],
+                &regions,
             )
         };
     }

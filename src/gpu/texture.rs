@@ -16,31 +16,55 @@ impl Image {
         rgba: &[u8],
         format: vk::Format,
     ) -> GpuResult<Self> {
-        let expected = 4 * width as usize * height as usize;
-        if rgba.len() != expected || width == 0 || height == 0 {
-            return Err(GpuError::Other(format!(
-                "texture `{name}`: {} bytes for {width}x{height} RGBA8 (expected {expected})",
-                rgba.len()
-            )));
+        Self::with_rgba8_mips(ctx, name, &[(width, height, rgba)], format)
+    }
+
+    /// Like [`Image::with_rgba8`] with a mip chain: `levels[i]` = (width, height, texels) of level
+    /// i, each level half the previous one (rounded down, at least 1).
+    pub fn with_rgba8_mips(
+        ctx: &Context,
+        name: &str,
+        levels: &[(u32, u32, &[u8])],
+        format: vk::Format,
+    ) -> GpuResult<Self> {
+        let Some(&(width, height, _)) = levels.first() else {
+            return Err(GpuError::Other(format!("texture `{name}`: no levels")));
+        };
+        let mut regions = Vec::with_capacity(levels.len());
+        let mut offset = 0u64;
+        for (i, &(w, h, texels)) in levels.iter().enumerate() {
+            let expected = 4 * w as usize * h as usize;
+            let (ew, eh) = ((width >> i).max(1), (height >> i).max(1));
+            if texels.len() != expected || w != ew || h != eh {
+                return Err(GpuError::Other(format!(
+                    "texture `{name}` level {i}: {} bytes for {w}x{h} RGBA8 (expected {ew}x{eh})",
+                    texels.len()
+                )));
+            }
+            regions.push((offset, w, h));
+            offset += expected as u64;
         }
-        let image = Image::new(
+        let image = Image::with_levels(
             ctx,
             name,
             width,
             height,
             format,
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            levels.len() as u32,
         )?;
         let mut staging = Buffer::new(
             ctx,
             &format!("{name} (staging)"),
-            rgba.len() as u64,
+            offset,
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryKind::Upload,
         )?;
-        staging.write(0, rgba)?;
+        for (&(o, _, _), &(_, _, texels)) in regions.iter().zip(levels) {
+            staging.write(o, texels)?;
+        }
         ctx.submit_and_wait(&format!("upload {name}"), |cmd| {
-            cmd.copy_buffer_to_image(&staging, &image);
+            cmd.copy_buffer_to_image(&staging, &image, &regions);
             cmd.transition(&image, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
         })?;
         Ok(image)
@@ -164,11 +188,15 @@ impl TextureSet {
         self.textures.is_empty()
     }
 
-    /// GPU bytes of the textures (RGBA8, one level).
+    /// GPU bytes of the textures (RGBA8, all levels).
     pub fn bytes(&self) -> u64 {
         self.textures
             .iter()
-            .map(|t| 4 * t.width as u64 * t.height as u64)
+            .map(|t| {
+                (0..t.mip_levels)
+                    .map(|i| 4 * (t.width >> i).max(1) as u64 * (t.height >> i).max(1) as u64)
+                    .sum::<u64>()
+            })
             .sum()
     }
 }
