@@ -85,9 +85,20 @@ fn front_camera(dist: f64) -> Camera {
 }
 
 /// Per pixel, the global material of its triangle's first vertex from the visibility buffer (CPU
-/// decode; one mesh, one instance), `NO_MATERIAL` where empty.
-fn cpu_pixel_materials(f: &VgeoFrame, built: &BuiltMesh, mats: &SceneMaterials) -> Vec<u32> {
+/// decode), `NO_MATERIAL` where empty.
+fn cpu_pixel_materials(
+    f: &VgeoFrame,
+    built: &[BuiltMesh],
+    placements: &[Placement],
+    mats: &SceneMaterials,
+) -> Vec<u32> {
     let visible = f.visible();
+    // First cluster and first vertex of each mesh in the scene's concatenation.
+    let mut first = vec![(0u32, 0u32)];
+    for b in built {
+        let (c, v) = *first.last().unwrap();
+        first.push((c + b.clusters.len() as u32, v + b.vertices.len() as u32));
+    }
     f.visbuffer
         .iter()
         .map(|&v| {
@@ -95,9 +106,11 @@ fn cpu_pixel_materials(f: &VgeoFrame, built: &BuiltMesh, mats: &SceneMaterials) 
                 return NO_MATERIAL;
             }
             let lo = v as u32;
-            let entry = visible[(lo >> 7) as usize];
-            let tri = built.cluster_triangles(entry[1] as usize)[(lo & 127) as usize];
-            mats.vertex_materials[tri[0] as usize]
+            let [instance, cluster] = visible[(lo >> 7) as usize];
+            let mesh = placements[instance as usize].mesh as usize;
+            let (c0, v0) = first[mesh];
+            let tri = built[mesh].cluster_triangles((cluster - c0) as usize)[(lo & 127) as usize];
+            mats.vertex_materials[(v0 + tri[0]) as usize]
         })
         .collect()
 }
@@ -137,7 +150,7 @@ fn each_material_draw_shades_only_its_pixels() {
         .expect("albedo frame");
     f.check().expect("complete frame");
     let mats = r.scene_materials().clone();
-    let cpu = cpu_pixel_materials(&f, &built, &mats);
+    let cpu = cpu_pixel_materials(&f, std::slice::from_ref(&built), &white_placement(), &mats);
     let passes = r.material_passes().expect("material passes exist");
     assert_eq!(passes.pixel_materials().expect("pixel ids"), cpu);
 
@@ -195,6 +208,61 @@ fn each_material_draw_shades_only_its_pixels() {
             );
         }
     }
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn material_ids_are_offset_per_mesh() {
+    const W: u32 = 192;
+    const H: u32 = 192;
+    let mat = |i: u32| Material {
+        name: format!("m{i}"),
+        base_color: [0.2 + 0.2 * i as f32, 0.5, 1.0 - 0.2 * i as f32, 1.0],
+        ..Material::default()
+    };
+    let a = grid_mesh(2, 1, 2, [2.0, 0.8], (0..2).map(mat).collect());
+    let b = grid_mesh(3, 1, 2, [2.0, 0.8], (2..5).map(mat).collect());
+    let built: Vec<BuiltMesh> = [&a, &b]
+        .iter()
+        .map(|m| build(m, &BuildOptions::default()).expect("grid builds"))
+        .collect();
+    let at = |mesh: u32, y: f64, x: f64| Placement {
+        mesh,
+        transform: DMat4::from_translation(DVec3::new(x, y, 0.0)),
+        color: [1.0; 3],
+    };
+    // Mesh 1 first among the instances, and mesh 0 twice: ids follow meshes, not instances.
+    let placements = vec![at(1, -0.5, 0.0), at(0, 0.5, -0.6), at(0, 0.5, 0.6)];
+    let ctx = gpu();
+    let mut r = VgeoRenderer::new(&ctx, &built, &placements).expect("renderer");
+    assert_eq!(r.scene_materials().count(), 5);
+    r.set_count_fragments(true);
+    let f = r
+        .render(
+            &front_camera(3.0),
+            W,
+            H,
+            &exact(),
+            ViewMode::Materials,
+            &Light::default(),
+        )
+        .expect("frame");
+    f.check().expect("complete frame");
+    let mats = r.scene_materials().clone();
+    let cpu = cpu_pixel_materials(&f, &built, &placements, &mats);
+    let passes = r.material_passes().expect("material passes");
+    assert_eq!(passes.pixel_materials().expect("ids"), cpu);
+    let mut expected = vec![0u32; 5];
+    for &m in cpu.iter().filter(|&&m| m != NO_MATERIAL) {
+        expected[m as usize] += 1;
+    }
+    let counts = passes.fragment_counts().expect("counts");
+    eprintln!("two meshes: fragments per material {counts:?}");
+    assert_eq!(counts, expected);
+    assert!(
+        expected.iter().all(|&c| c > 100),
+        "all five materials on screen"
+    );
     assert_no_validation_errors(&ctx);
 }
 
