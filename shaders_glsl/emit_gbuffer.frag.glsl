@@ -2,6 +2,7 @@
 // Pass `emit_gbuffer`: runs only where the material depth equals this draw's material (depth test
 // EQUAL). Rebuilds the pixel's triangle from the visibility buffer: barycentrics from the camera
 // ray through the pixel centre, UV derivatives from the rays through the next pixels (textureGrad),
+// the normal map (if any) applied in a tangent frame built from the same derivatives,
 // and writes the GBuffer: albedo (sRGB-encoded RGBA8, alpha 1 = covered), normal (world, facing
 // the camera, RGBA16F), params (metallic, roughness, material id low and high byte).
 //! variant image VISBUFFER_IMAGE
@@ -84,11 +85,19 @@ void main() {
     mat3 lin = mat3(inst.linear[0].xyz, inst.linear[1].xyz, inst.linear[2].xyz);
     mat3 normal_matrix = transpose(inverse(lin));
     vec3 normal;
+    bool facing_away = false;
     vec4 albedo = mat.base_color * vec4(inst.color.rgb, 1.0);
     if (ray_barycentrics(dir, p[0], p[1], p[2], b)) {
         vec2 bc = clamp(b, 0.0, 1.0);
         bc.y = min(bc.y, 1.0 - bc.x);
         normal = normal_matrix * (n[0] * (1.0 - bc.x - bc.y) + n[1] * bc.x + n[2] * bc.y);
+        if (!(dot(normal, normal) > 0.0)) {
+            normal = normal_matrix * face;
+        }
+        normal = normalize(normal);
+        // Two-sided: a surface seen from behind gets the negated normal (decided before the
+        // normal map, whose perturbed normal may legitimately lean away from the viewer).
+        facing_away = dot(normal, dir) > 0.0;
         if ((mm.flags & MESH_HAS_UVS) != 0u) {
             vec2 tex_uv = uv[0] * (1.0 - b.x - b.y) + uv[1] * b.x + uv[2] * b.y;
             vec2 bx;
@@ -102,15 +111,35 @@ void main() {
             vec2 ddx = duv1 * (bx.x - b.x) + duv2 * (bx.y - b.y);
             vec2 ddy = duv1 * (by.x - b.x) + duv2 * (by.y - b.y);
             albedo *= textureGrad(textures[mat.base_color_texture], tex_uv, ddx, ddy);
+            if (mat.normal_texture != NO_TEXTURE) {
+                // Tangent from the position and UV derivatives (no stored tangents), as the
+                // Khronos glTF sample viewer does: t along increasing u, b = n x t.
+                vec3 dpx = e1 * (bx.x - b.x) + e2 * (bx.y - b.y);
+                vec3 dpy = e1 * (by.x - b.x) + e2 * (by.y - b.y);
+                float det = ddx.x * ddy.y - ddy.x * ddx.y;
+                vec3 t_raw = (ddy.y * dpx - ddx.y * dpy) / det;
+                vec3 t_ortho = t_raw - normal * dot(normal, t_raw);
+                if (abs(det) > 0.0 && dot(t_ortho, t_ortho) > 0.0 && !any(isinf(t_ortho))) {
+                    vec3 tangent = normalize(t_ortho);
+                    vec3 bitangent = cross(normal, tangent);
+                    vec3 tn = textureGrad(textures[mat.normal_texture], tex_uv, ddx, ddy).xyz * 2.0
+                            - 1.0;
+                    vec3 perturbed = tangent * tn.x + bitangent * tn.y + normal * tn.z;
+                    if (dot(perturbed, perturbed) > 0.0) {
+                        normal = normalize(perturbed);
+                    }
+                }
+            }
         }
     } else {
-        normal = normal_matrix * face;
+        normal = normalize(normal_matrix * face);
+        facing_away = dot(normal, dir) > 0.0;
     }
     if (!(dot(normal, normal) > 0.0)) {
-        normal = normal_matrix * face;
+        normal = -dir;
+        facing_away = false;
     }
-    normal = normalize(normal);
-    if (dot(normal, dir) > 0.0) {
+    if (facing_away) {
         normal = -normal;
     }
     out_albedo = vec4(encode_srgb(albedo.rgb), 1.0);

@@ -1,8 +1,8 @@
 //! The scene's materials on the GPU: one table of every mesh's materials (global ids: a mesh's
 //! local ids offset by the materials of the meshes before it), the global material of every vertex
 //! (vertices are split per material, so a triangle's material is its first vertex's), per-mesh UV
-//! ranges, and every base-colour texture (with a mip chain, box-filtered in linear space) in one
-//! bindless array (texture 0 is white, used where a material has none or its file cannot be read,
+//! ranges, and every base-colour and normal texture (with a mip chain, box-filtered in linear
+//! space) in one bindless array (texture 0 is white, used where a material has none or its file cannot be read,
 //! with a warning).
 
 use std::collections::BTreeMap;
@@ -34,7 +34,8 @@ pub struct MaterialGpu {
     pub roughness: f32,
     /// Index into the texture array (0 = white).
     pub base_color_texture: u32,
-    pub _pad: u32,
+    /// Index of the tangent-space normal map ([`NO_TEXTURE`] = none).
+    pub normal_texture: u32,
 }
 const _: () = assert!(size_of::<MaterialGpu>() == 32);
 
@@ -56,17 +57,22 @@ pub const MESH_HAS_UVS: u32 = 1;
 /// [`MeshMaterialGpu::flags`]: the source had normals.
 pub const MESH_HAS_NORMALS: u32 = 2;
 
+/// [`MaterialGpu::normal_texture`] of a material without a normal map.
+pub const NO_TEXTURE: u32 = u32::MAX;
+
 /// Most materials a scene may have (material depth holds `id + 1` in 24 bits).
 pub const MAX_MATERIALS: usize = (1 << 24) - 2;
 
-/// A decoded RGBA8 texture (sRGB-encoded colour).
+/// A decoded RGBA8 texture: sRGB-encoded colour, or linear data (normal maps).
 #[derive(Clone, Debug)]
 pub struct TextureData {
-    /// Source file (`None` for the built-in white texture).
+    /// Source file (`None` for built-in textures).
     pub path: Option<PathBuf>,
     pub width: u32,
     pub height: u32,
     pub rgba: Vec<u8>,
+    /// Colour (sampled through an sRGB format) rather than linear data.
+    pub srgb: bool,
 }
 
 /// Exact sRGB decode of an 8-bit value.
@@ -92,10 +98,18 @@ pub fn linear_to_srgb(c: f32) -> u8 {
 
 impl TextureData {
     /// The mip chain below this texture (level 1 onwards; level 0 is `self`): each level halves
-    /// the previous one (rounded down, at least 1) with a 2x2 box filter of the colour in linear
-    /// space (alpha averaged as is), down to 1x1.
+    /// the previous one (rounded down, at least 1) with a 2x2 box filter (of the colour in linear
+    /// space for sRGB textures; alpha and linear data averaged as they are), down to 1x1.
     pub fn mip_chain(&self) -> Vec<(u32, u32, Vec<u8>)> {
-        let lut: Vec<f32> = (0..=255u8).map(srgb_to_linear).collect();
+        let lut: Vec<f32> = (0..=255u8)
+            .map(|c| {
+                if self.srgb {
+                    srgb_to_linear(c)
+                } else {
+                    c as f32 / 255.0
+                }
+            })
+            .collect();
         let mut out: Vec<(u32, u32, Vec<u8>)> = Vec::new();
         let (mut w, mut h) = (self.width, self.height);
         while w > 1 || h > 1 {
@@ -116,7 +130,11 @@ impl TextureData {
                     }
                     let o = &mut next[4 * (y as usize * nw as usize + x as usize)..][..4];
                     for k in 0..3 {
-                        o[k] = linear_to_srgb(acc[k] * 0.25);
+                        o[k] = if self.srgb {
+                            linear_to_srgb(acc[k] * 0.25)
+                        } else {
+                            (acc[k] * 0.25 * 255.0).round() as u8
+                        };
                     }
                     o[3] = (acc[3] * 0.25).round() as u8;
                 }
@@ -134,6 +152,18 @@ impl TextureData {
             width: 1,
             height: 1,
             rgba: vec![255; 4],
+            srgb: true,
+        }
+    }
+
+    /// A 1x1 flat normal map (what an unreadable normal map becomes).
+    pub fn flat_normal() -> Self {
+        Self {
+            path: None,
+            width: 1,
+            height: 1,
+            rgba: vec![128, 128, 255, 255],
+            srgb: false,
         }
     }
 }
@@ -149,13 +179,16 @@ pub struct SceneMaterials {
     pub meshes: Vec<MeshMaterialGpu>,
     /// Global material id of every vertex, in the scene's vertex order (meshes concatenated).
     pub vertex_materials: Vec<u32>,
-    /// Texture files by index (index 0, the white texture, has none); each file once.
+    /// Texture files by index (index 0, the white texture, has none); each file once per use
+    /// (colour or normal map).
     pub texture_paths: Vec<Option<PathBuf>>,
+    /// Per texture: colour (sRGB) rather than a normal map (linear).
+    pub texture_srgb: Vec<bool>,
     /// `mesh: material` that named each texture first (for warnings).
     pub texture_users: Vec<String>,
 }
 
-fn load_texture(path: &Path) -> Result<TextureData, String> {
+fn load_texture(path: &Path, srgb: bool) -> Result<TextureData, String> {
     let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let rgba = img.to_rgba8();
     let (width, height) = rgba.dimensions();
@@ -167,6 +200,7 @@ fn load_texture(path: &Path) -> Result<TextureData, String> {
         width,
         height,
         rgba: rgba.into_raw(),
+        srgb,
     })
 }
 
@@ -176,10 +210,11 @@ impl SceneMaterials {
     pub fn new(built: &[BuiltMesh]) -> Result<Self, String> {
         let mut s = Self {
             texture_paths: vec![None],
+            texture_srgb: vec![true],
             texture_users: vec![String::new()],
             ..Default::default()
         };
-        let mut by_path: BTreeMap<PathBuf, u32> = BTreeMap::new();
+        let mut by_path: BTreeMap<(PathBuf, bool), u32> = BTreeMap::new();
         let default = [Material::default()];
         for m in built {
             let mats: &[Material] = if m.materials.is_empty() {
@@ -189,21 +224,31 @@ impl SceneMaterials {
             };
             let offset = s.materials.len() as u32;
             for mat in mats {
-                let tex = match &mat.base_color_texture {
-                    Some(p) => *by_path.entry(p.clone()).or_insert_with(|| {
+                let mut texture = |p: &PathBuf, srgb: bool| {
+                    *by_path.entry((p.clone(), srgb)).or_insert_with(|| {
                         s.texture_paths.push(Some(p.clone()));
+                        s.texture_srgb.push(srgb);
                         s.texture_users
                             .push(format!("{}: material `{}`", m.name, mat.name));
                         s.texture_paths.len() as u32 - 1
-                    }),
-                    None => 0,
+                    })
                 };
+                let tex = mat
+                    .base_color_texture
+                    .as_ref()
+                    .map(|p| texture(p, true))
+                    .unwrap_or(0);
+                let normal_texture = mat
+                    .normal_texture
+                    .as_ref()
+                    .map(|p| texture(p, false))
+                    .unwrap_or(NO_TEXTURE);
                 s.materials.push(MaterialGpu {
                     base_color: mat.base_color,
                     metallic: mat.metallic.clamp(0.0, 1.0),
                     roughness: mat.roughness.clamp(0.0, 1.0),
                     base_color_texture: tex,
-                    _pad: 0,
+                    normal_texture,
                 });
                 s.names.push(mat.name.clone());
             }
@@ -242,9 +287,10 @@ impl SceneMaterials {
         let loaded: Vec<Result<TextureData, String>> = self
             .texture_paths
             .par_iter()
-            .map(|p| match p {
+            .zip(&self.texture_srgb)
+            .map(|(p, &srgb)| match p {
                 None => Ok(TextureData::white()),
-                Some(p) => load_texture(p),
+                Some(p) => load_texture(p, srgb),
             })
             .collect();
         let mut warnings = Vec::new();
@@ -253,11 +299,19 @@ impl SceneMaterials {
             .enumerate()
             .map(|(i, r)| {
                 r.unwrap_or_else(|e| {
-                    warnings.push(format!(
-                        "{}: base-colour texture unreadable, using white: {e}",
-                        self.texture_users[i]
-                    ));
-                    TextureData::white()
+                    if self.texture_srgb[i] {
+                        warnings.push(format!(
+                            "{}: base-colour texture unreadable, using white: {e}",
+                            self.texture_users[i]
+                        ));
+                        TextureData::white()
+                    } else {
+                        warnings.push(format!(
+                            "{}: normal texture unreadable, using a flat one: {e}",
+                            self.texture_users[i]
+                        ));
+                        TextureData::flat_normal()
+                    }
                 })
             })
             .collect();
@@ -302,7 +356,11 @@ impl GpuMaterials {
                 ctx,
                 &name,
                 &levels,
-                vk::Format::R8G8B8A8_SRGB,
+                if t.srgb {
+                    vk::Format::R8G8B8A8_SRGB
+                } else {
+                    vk::Format::R8G8B8A8_UNORM
+                },
             )?);
         }
         if s.materials.is_empty() {

@@ -36,11 +36,23 @@ fn white_placement() -> Vec<Placement> {
 /// A `cols` x `rows` grid of cells over x in [-w/2, w/2], y in [-h/2, h/2] (z = 0, facing +z), each
 /// cell `sub` x `sub` quads of material `cell index % materials.len()`.
 fn grid_mesh(cols: u32, rows: u32, sub: u32, size: [f32; 2], materials: Vec<Material>) -> Mesh {
+    grid_mesh_uv(cols, rows, sub, size, materials, false)
+}
+
+/// [`grid_mesh`], with UVs (u along +x, v along -y, over the whole grid) if `uvs`.
+fn grid_mesh_uv(
+    cols: u32,
+    rows: u32,
+    sub: u32,
+    size: [f32; 2],
+    materials: Vec<Material>,
+    uvs: bool,
+) -> Mesh {
     let mut m = Mesh {
         name: "grid".into(),
         materials,
         has_normals: false,
-        has_uvs: false,
+        has_uvs: uvs,
         ..Default::default()
     };
     let n = cols * sub;
@@ -263,6 +275,71 @@ fn material_ids_are_offset_per_mesh() {
         expected.iter().all(|&c| c > 100),
         "all five materials on screen"
     );
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn normal_maps_follow_the_gltf_tangent_convention() {
+    const W: u32 = 192;
+    const H: u32 = 96;
+    let dir = std::env::temp_dir().join(format!("vgeo-normal-maps-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let map = |name: &str, rgb: [u8; 3]| {
+        let path = dir.join(name);
+        let img = image::RgbaImage::from_pixel(4, 4, image::Rgba([rgb[0], rgb[1], rgb[2], 255]));
+        img.save(&path).expect("write normal map");
+        path
+    };
+    let towards_u = map("u.png", [255, 128, 128]);
+    let up = map("up.png", [128, 255, 128]);
+    let materials: Vec<Material> = [Some(towards_u), Some(up), None]
+        .into_iter()
+        .enumerate()
+        .map(|(i, normal_texture)| Material {
+            name: format!("m{i}"),
+            normal_texture,
+            ..Material::default()
+        })
+        .collect();
+    let mesh = grid_mesh_uv(3, 1, 2, [3.0, 1.0], materials, true);
+    let built = build(&mesh, &BuildOptions::default()).expect("grid builds");
+    let ctx = gpu();
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &white_placement())
+        .expect("renderer");
+    let f = r
+        .render(
+            &front_camera(2.0),
+            W,
+            H,
+            &exact(),
+            ViewMode::Normals,
+            &Light::default(),
+        )
+        .expect("frame");
+    f.check().expect("complete frame");
+    let mats = r.scene_materials().clone();
+    let cpu = cpu_pixel_materials(&f, std::slice::from_ref(&built), &white_placement(), &mats);
+    // World normals: +x (u grows to the right), +y (glTF: green is up, v grows downwards), +z,
+    // everywhere (a perturbed normal leaning away from the view ray is not flipped).
+    let want = [[255u8, 128, 128], [128, 255, 128], [128, 128, 255]];
+    let mut seen = [0usize; 3];
+    for (i, &m) in cpu.iter().enumerate() {
+        if m == NO_MATERIAL {
+            continue;
+        }
+        let px = &f.frame.color[4 * i..4 * i + 3];
+        for k in 0..3 {
+            assert!(
+                (px[k] as i32 - want[m as usize][k] as i32).abs() <= 3,
+                "pixel {i} of material {m}: normal colour {px:?}, expected {:?}",
+                want[m as usize]
+            );
+        }
+        seen[m as usize] += 1;
+    }
+    eprintln!("normal-mapped pixels per material: {seen:?}");
+    assert!(seen.iter().all(|&n| n > 100));
+    let _ = std::fs::remove_dir_all(&dir);
     assert_no_validation_errors(&ctx);
 }
 

@@ -7,7 +7,7 @@ struct MaterialGpu {
     float metallic;
     float roughness;
     uint base_color_texture;  // index into textures[] (0 = white)
-    uint _pad;
+    uint normal_texture;      // tangent-space normal map, NO_TEXTURE = none
 };
 
 struct MeshMaterialGpu {
@@ -40,6 +40,7 @@ struct MaterialViewGpu {
 
 #define MATERIAL_TILE 64u
 #define NO_MATERIAL 0xffffffffu
+#define NO_TEXTURE 0xffffffffu
 
 // Material depth of a global material id: exactly representable, never 0 (the clear value).
 float material_depth(uint id) { return float(id + 1u) * (1.0 / 16777216.0); }
