@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_no_validation_errors, gpu, shared_assets};
+use common::{assert_no_validation_errors, assets, gpu, shared_assets};
 use glam::{DMat4, DVec3, Mat4, Vec2, Vec3, Vec4};
 use vgeo::builder::quantize::{decode_normal, decode_uv};
 use vgeo::builder::{BuildOptions, BuiltMesh, build};
@@ -661,4 +661,65 @@ fn thousand_materials_without_uvs_or_normals_and_a_bad_texture() {
     }
     let _ = std::fs::remove_dir_all(&dir);
     assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn cli_renders_the_material_views() {
+    let dir = std::env::temp_dir().join(format!("vgeo-material-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let mut images = Vec::new();
+    for view in ["shaded", "albedo", "normals", "materials"] {
+        let out = dir.join(format!("{view}.png"));
+        let result = std::process::Command::new(env!("CARGO_BIN_EXE_vgeo"))
+            .env("VGEO_VALIDATION", "1")
+            .arg("render")
+            .arg(assets().join("spot.obj"))
+            .args([
+                "--mode", "vgeo", "--view", view, "--width", "96", "--height", "64",
+            ])
+            .args(["--error-px", "1", "--stats", "-o"])
+            .arg(&out)
+            .output()
+            .expect("vgeo runs");
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        let stdout = String::from_utf8_lossy(&result.stdout);
+        assert!(result.status.success(), "--view {view} failed: {stderr}");
+        assert!(
+            !stderr.contains("validation error"),
+            "--view {view}: {stderr}"
+        );
+        for pass in [
+            "material_classify",
+            "material_depth",
+            "emit_gbuffer",
+            "shade",
+        ] {
+            assert!(
+                stdout.contains(pass),
+                "--view {view}: no timing of {pass}: {stdout}"
+            );
+        }
+        let img = image::open(&out).expect("PNG written").to_rgba8();
+        assert_eq!(img.dimensions(), (96, 64));
+        images.push(img.into_raw());
+    }
+    for i in 0..images.len() {
+        for j in i + 1..images.len() {
+            assert_ne!(images[i], images[j], "views {i} and {j} look the same");
+        }
+    }
+    let result = std::process::Command::new(env!("CARGO_BIN_EXE_vgeo"))
+        .arg("render")
+        .arg(assets().join("spot.obj"))
+        .args(["--mode", "vgeo", "--view", "bogus", "-o"])
+        .arg(dir.join("bogus.png"))
+        .output()
+        .expect("vgeo runs");
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success());
+    assert!(
+        stderr.contains("shaded") && stderr.contains("materials"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
