@@ -30,6 +30,7 @@ use crate::scene_gpu::GpuScene;
 pub struct MaterialGpu {
     /// Linear RGBA factor.
     pub base_color: [f32; 4],
+    /// Metallic and roughness factors in [0, 1].
     pub metallic: f32,
     pub roughness: f32,
     /// Index into the texture array (0 = white).
@@ -43,10 +44,12 @@ const _: () = assert!(size_of::<MaterialGpu>() == 32);
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct MeshMaterialGpu {
+    /// UV of code 0 and of code 65535 (per axis).
     pub uv_min: [f32; 2],
     pub uv_max: [f32; 2],
     /// `MESH_HAS_UVS` | `MESH_HAS_NORMALS`.
     pub flags: u32,
+    /// Global id of the mesh's material 0.
     pub material_offset: u32,
     pub _pad: [u32; 2],
 }
@@ -68,8 +71,10 @@ pub const MAX_MATERIALS: usize = (1 << 24) - 2;
 pub struct TextureData {
     /// Source file (`None` for built-in textures).
     pub path: Option<PathBuf>,
+    /// Size in texels.
     pub width: u32,
     pub height: u32,
+    /// RGBA8 texels, row-major, top row first.
     pub rgba: Vec<u8>,
     /// Colour (sampled through an sRGB format) rather than linear data.
     pub srgb: bool,
@@ -176,6 +181,7 @@ pub struct SceneMaterials {
     pub materials: Vec<MaterialGpu>,
     /// Names, parallel to `materials`.
     pub names: Vec<String>,
+    /// Per mesh: UV range, flags, first global material.
     pub meshes: Vec<MeshMaterialGpu>,
     /// Global material id of every vertex, in the scene's vertex order (meshes concatenated).
     pub vertex_materials: Vec<u32>,
@@ -327,8 +333,9 @@ pub struct GpuMaterials {
     pub meshes: Buffer,
     /// Global material id (u32) per scene vertex.
     pub vertex_materials: Buffer,
-    /// Base-colour textures (sRGB sampled images).
+    /// Base-colour (sRGB) and normal (linear) textures with their mip chains.
     pub textures: TextureSet,
+    /// Number of materials.
     pub count: u32,
     /// Warnings of [`SceneMaterials::new`].
     pub warnings: Vec<String>,

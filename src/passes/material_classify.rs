@@ -36,7 +36,9 @@ pub struct MaterialViewGpu {
     pub viewport: [f32; 4],
     pub tiles_x: u32,
     pub tiles_y: u32,
+    /// Materials in the scene's table.
     pub material_count: u32,
+    /// Capacity of the visible-cluster list (larger indices are ignored).
     pub visible_capacity: u32,
     /// `shade`'s output: 0 shaded, 1 albedo, 2 normals, 3 materials.
     pub mode: u32,
@@ -46,16 +48,21 @@ pub struct MaterialViewGpu {
 }
 const _: () = assert!(size_of::<MaterialViewGpu>() == 144);
 
-/// GBuffer formats.
+/// GBuffer albedo: sRGB-encoded colour, alpha 1 where covered.
 pub const ALBEDO_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// GBuffer normal: world space, facing the camera.
 pub const NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+/// GBuffer params: metallic, roughness, material id low byte, high byte.
 pub const PARAMS_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// Material depth: `(id + 1) / 2^24`, 0 where empty.
 pub const MATERIAL_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// Buffers and images of the material passes, for one resolution and material count.
 pub struct MaterialTargets {
+    /// Size in pixels.
     pub width: u32,
     pub height: u32,
+    /// Classification tiles per row and per column.
     pub tiles_x: u32,
     pub tiles_y: u32,
     /// [`MaterialViewGpu`] (host-visible, written each frame).
