@@ -29,10 +29,11 @@ pub struct BuildArgs {
     /// Triangle ratio of one simplification step.
     #[arg(long = "ratio", default_value_t = 0.5)]
     pub ratio: f32,
-    /// Percentage of input triangles kept at level 0.
+    /// Percentage of input triangles kept at level 0 (UE Nanite's "Keep Triangle Percent").
     #[arg(long = "keep-percent", default_value_t = 100.0)]
     pub keep_percent: f32,
-    /// Object-space error below which input detail is trimmed (0: none).
+    /// Error, relative to the bounding-box diagonal, below which input detail is trimmed
+    /// (UE Nanite's "Trim Relative Error"; 0: none).
     #[arg(long = "trim-error", default_value_t = 0.0)]
     pub trim_error: f32,
     /// Triangle count the fallback mesh aims for.
@@ -50,6 +51,10 @@ pub struct BuildArgs {
     /// Print the statistics as JSON.
     #[arg(long = "json")]
     pub json: bool,
+    /// Partitioner for clusters and groups: `meshopt` (spatial clusters, fastest), `meshopt-flex`
+    /// (adjacency-grown clusters after simplification) or `metis` (slower, serialized).
+    #[arg(long = "partitioner", default_value = "meshopt", value_parser = ["meshopt", "meshopt-flex", "metis"])]
+    pub partitioner: String,
 }
 
 /// `vgeo verify FILE.vgeo`: checks a built mesh (invariants and the cut on random views).
@@ -92,6 +97,11 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         trim_error: a.trim_error,
         fallback_triangles: a.fallback_triangles,
         threads: a.threads,
+        partitioner: match a.partitioner.as_str() {
+            "metis" => builder::Partitioner::Metis,
+            "meshopt-flex" => builder::Partitioner::MeshoptFlex,
+            _ => builder::Partitioner::Meshopt,
+        },
     };
     let out_base = a
         .out

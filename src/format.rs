@@ -3,9 +3,12 @@
 //! Layout (little-endian): a 32-byte header (`magic`, `version`, `section_count`, `checksum`,
 //! `file_length`), a section table of `section_count` entries `{id: u32, reserved: u32, offset: u64,
 //! length: u64}`, then the sections, each 16-byte aligned. `checksum` is FNV-1a 64 over the whole
-//! file with the checksum field taken as zero. Sections: metadata (JSON), vertices
-//! ([`PackedVertex`], 16 B), vertex materials (u16), clusters ([`Cluster`], 96 B), vertex references
-//! (u32 words), local triangle indices (u8), groups ([`Group`], 64 B), BVH nodes ([`BvhNode`], 64 B).
+//! file with the checksum field taken as zero. Sections: metadata (JSON), vertex positions (grid
+//! codes, 2 x u32 per vertex), vertex normals (octahedral, u32 per vertex), vertex UVs (u32 per
+//! vertex; empty when the mesh has no UVs), vertex materials (u16; empty with one material),
+//! clusters ([`Cluster`], 96 B), vertex references (u32 words), packed local triangle indices
+//! (bit streams, see [`Cluster::triangle_offset`]), groups ([`Group`], 64 B), BVH nodes
+//! ([`BvhNode`], 64 B).
 //! The GPU uploads the binary sections as they are.
 //!
 //! [`load`] checks everything before use: magic, version, lengths, the checksum, section bounds,
@@ -23,7 +26,7 @@ use crate::mesh::Material;
 /// File magic.
 pub const MAGIC: [u8; 8] = *b"VGEO\0\r\n\x1a";
 /// Current format version.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 const HEADER_LEN: usize = 32;
 const ENTRY_LEN: usize = 24;
 const MAX_SECTIONS: u32 = 64;
@@ -31,13 +34,15 @@ const MAX_SECTIONS: u32 = 64;
 /// Section ids.
 pub mod section {
     pub const META: u32 = 1;
-    pub const VERTICES: u32 = 2;
+    pub const POSITIONS: u32 = 2;
     pub const VERTEX_MATERIALS: u32 = 3;
     pub const CLUSTERS: u32 = 4;
     pub const VERTEX_REFS: u32 = 5;
     pub const TRIANGLES: u32 = 6;
     pub const GROUPS: u32 = 7;
     pub const BVH: u32 = 8;
+    pub const NORMALS: u32 = 9;
+    pub const UVS: u32 = 10;
 }
 
 /// Why a file could not be loaded.
@@ -80,8 +85,9 @@ struct MetaMaterial {
 #[derive(Serialize, Deserialize)]
 struct Meta {
     name: String,
-    origin: [f64; 3],
-    step: f64,
+    /// Bit patterns of the f64 grid origin and step (JSON numbers do not round-trip every f64).
+    origin_bits: [u64; 3],
+    step_bits: u64,
     uv_min: [f32; 2],
     uv_max: [f32; 2],
     has_normals: bool,
@@ -96,8 +102,8 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
     let q = &m.quantization;
     let meta = Meta {
         name: m.name.clone(),
-        origin: q.origin,
-        step: q.step,
+        origin_bits: q.origin.map(f64::to_bits),
+        step_bits: q.step.to_bits(),
         uv_min: q.uv_min,
         uv_max: q.uv_max,
         has_normals: m.has_normals,
@@ -124,9 +130,18 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
         stats: m.stats.clone(),
     };
     let meta_json = serde_json::to_vec(&meta).unwrap_or_default();
+    let positions: Vec<[u32; 2]> = m.vertices.iter().map(|v| v.position).collect();
+    let normals: Vec<u32> = m.vertices.iter().map(|v| v.normal).collect();
+    let uvs: Vec<u32> = if m.has_uvs {
+        m.vertices.iter().map(|v| v.uv).collect()
+    } else {
+        Vec::new()
+    };
     let sections: Vec<(u32, &[u8])> = vec![
         (section::META, &meta_json),
-        (section::VERTICES, bytemuck::cast_slice(&m.vertices)),
+        (section::POSITIONS, bytemuck::cast_slice(&positions)),
+        (section::NORMALS, bytemuck::cast_slice(&normals)),
+        (section::UVS, bytemuck::cast_slice(&uvs)),
         (
             section::VERTEX_MATERIALS,
             bytemuck::cast_slice(&m.vertex_materials),
@@ -262,16 +277,41 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
     };
     let meta: Meta = serde_json::from_slice(get(section::META, "meta")?)
         .map_err(|e| FormatError::Invalid(format!("section meta: {e}")))?;
-    if !(meta.step.is_finite() && meta.step > 0.0 && meta.origin.iter().all(|x| x.is_finite())) {
+    let origin = meta.origin_bits.map(f64::from_bits);
+    let step = f64::from_bits(meta.step_bits);
+    if !(step.is_finite() && step > 0.0 && origin.iter().all(|x| x.is_finite())) {
         return Err(FormatError::Invalid(
             "section meta: quantization grid is not finite and positive".into(),
         ));
     }
+    let positions = pod_vec::<[u32; 2]>(get(section::POSITIONS, "positions")?, "positions")?;
+    let normals = pod_vec::<u32>(get(section::NORMALS, "normals")?, "normals")?;
+    let uvs = pod_vec::<u32>(get(section::UVS, "uvs")?, "uvs")?;
+    if normals.len() != positions.len()
+        || uvs.len() != if meta.has_uvs { positions.len() } else { 0 }
+    {
+        return Err(FormatError::Invalid(format!(
+            "{} positions, {} normals, {} UVs (has UVs: {})",
+            positions.len(),
+            normals.len(),
+            uvs.len(),
+            meta.has_uvs
+        )));
+    }
+    let vertices = positions
+        .iter()
+        .enumerate()
+        .map(|(i, &position)| PackedVertex {
+            position,
+            normal: normals[i],
+            uv: uvs.get(i).copied().unwrap_or(0),
+        })
+        .collect();
     let m = BuiltMesh {
         name: meta.name,
         quantization: Quantization {
-            origin: meta.origin,
-            step: meta.step,
+            origin,
+            step,
             uv_min: meta.uv_min,
             uv_max: meta.uv_max,
         },
@@ -289,7 +329,7 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
                 normal_texture: x.normal_texture.map(PathBuf::from),
             })
             .collect(),
-        vertices: pod_vec::<PackedVertex>(get(section::VERTICES, "vertices")?, "vertices")?,
+        vertices,
         vertex_materials: pod_vec::<u16>(
             get(section::VERTEX_MATERIALS, "vertex materials")?,
             "vertex materials",

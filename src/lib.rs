@@ -3,11 +3,12 @@
 //! - [`mesh`] imports meshes (glTF, OBJ, PLY, STL, OFF) into a validated, welded [`mesh::Mesh`].
 //! - [`builder`] turns a mesh into a DAG of clusters (CPU only, deterministic); [`format`] stores it.
 //! - [`gpu`] is the only module with raw Vulkan calls; [`baseline`] holds the classic paths.
-//! - [`scene`] reads scene files; [`reference`] has CPU oracles used by tests.
+//! - [`bench`] runs the benchmark scenes in every mode; [`scene`] reads scene files; [`reference`] has CPU oracles used by tests.
 //!
 //! See `docs/architecture.md` for the map of the code.
 
 pub mod baseline;
+pub mod bench;
 pub mod builder;
 pub mod camera;
 pub mod cmd_build;

@@ -30,6 +30,8 @@ enum Command {
     Render(RenderArgs),
     /// Build a mesh's cluster DAG into a .vgeo file.
     Build(vgeo::cmd_build::BuildArgs),
+    /// Benchmark the scenes in the three modes (brute, lod, vgeo): speed, image error, scaling.
+    Bench(vgeo::bench::BenchArgs),
     /// Check a .vgeo file: DAG invariants and crack-free cuts for many views (non-zero exit on failure).
     Verify(vgeo::cmd_build::VerifyArgs),
     /// Without FILE: the Vulkan device, driver and the features vgeo uses. With a .vgeo FILE: its stats.
@@ -102,6 +104,7 @@ fn main() -> ExitCode {
         }),
         Some(Command::Render(a)) => render(&a),
         Some(Command::Build(a)) => vgeo::cmd_build::run_build(&a),
+        Some(Command::Bench(a)) => vgeo::bench::run_bench(&a),
         Some(Command::Verify(a)) => match vgeo::cmd_build::run_verify(&a) {
             Ok(true) => Ok(()),
             Ok(false) => return ExitCode::FAILURE,

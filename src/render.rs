@@ -96,7 +96,21 @@ impl LoadedScene {
         let mut built = Vec::with_capacity(scene.meshes.len());
         let mut warnings = Vec::new();
         for m in &scene.meshes {
-            if m.path
+            let generated = m
+                .path
+                .to_str()
+                .and_then(|p| p.strip_prefix(crate::scene::GENERATED_PREFIX));
+            if let Some(name) = generated {
+                let mesh = crate::bench::generated_mesh(name).ok_or_else(|| {
+                    anyhow::anyhow!(
+                        "mesh `{}`: unknown generated mesh `{name}` (available: grass, box)",
+                        m.name
+                    )
+                })?;
+                meshes.push(mesh);
+                built.push(None);
+            } else if m
+                .path
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("vgeo"))
             {

@@ -55,7 +55,19 @@
 //!
 //! [light]
 //! direction = [0.4, 1.0, 0.6]     # towards the light, default [0.4, 1.0, 0.6]
+//!
+//! # Optional camera path (benchmarks fly it): keyframes, linearly interpolated. Up, field of view
+//! # and near plane are the [camera]'s (or its defaults).
+//! [[path]]
+//! eye = [0, 3, 12]
+//! target = [0, 0, 0]
+//! [[path]]
+//! eye = [4, 2, 6]
+//! target = [0, 0.5, 0]
 //! ```
+//!
+//! A mesh path `generated:NAME` names a mesh made in code (see `crate::bench::generated_mesh`);
+//! it is kept as written, not resolved against the scene's folder.
 //!
 //! Rotations: `rotation_deg = [x, y, z]` is `R = Rz(z) * Ry(y) * Rx(x)` (Blender's "XYZ Euler").
 //! An instance's transform is `translate * rotate * scale`; for procedural entries the random yaw
@@ -141,6 +153,18 @@ pub struct CameraDesc {
     pub near: Option<f32>,
 }
 
+/// A keyframe of a scene's camera path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathKey {
+    /// Camera position, world space.
+    pub eye: DVec3,
+    /// The point looked at, world space (differs from `eye`).
+    pub target: DVec3,
+}
+
+/// Prefix of mesh paths that name a mesh generated in code.
+pub const GENERATED_PREFIX: &str = "generated:";
+
 /// A loaded, validated scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -152,6 +176,8 @@ pub struct Scene {
     pub camera: Option<CameraDesc>,
     /// Unit direction towards the light, world space.
     pub light_dir: Vec3,
+    /// Camera path keyframes (`[[path]]`), in file order; empty when the file has none.
+    pub path: Vec<PathKey>,
 }
 
 impl Scene {
@@ -197,6 +223,7 @@ impl Scene {
             }],
             camera: None,
             light_dir: Vec3::from(DEFAULT_LIGHT_DIR).normalize(),
+            path: Vec::new(),
         }
     }
 
@@ -237,6 +264,69 @@ impl Scene {
     }
 }
 
+impl Scene {
+    /// A camera at `eye` looking at `target` with the explicit camera's up, field of view and near
+    /// plane (defaults: +Y, 45 degrees, near from the eye's distance to the scene's bounds).
+    pub fn camera_at(
+        &self,
+        eye: DVec3,
+        target: DVec3,
+        mesh_bounds: &[([f32; 3], [f32; 3])],
+    ) -> Camera {
+        let (up, fov, near) = match &self.camera {
+            Some(c) => (c.up, c.fov_y_deg, c.near),
+            None => (Vec3::Y, 45.0, None),
+        };
+        let near = near.unwrap_or_else(|| auto_near(eye, self.bounds(mesh_bounds)));
+        Camera::look_at(eye, target, up, fov.to_radians(), near)
+    }
+
+    /// `frames` cameras along the path: keyframes linearly interpolated at evenly spaced parameters,
+    /// the first and last frames on the first and last keyframes (one frame: the first keyframe).
+    /// Without a path: [`Scene::camera`] repeated.
+    pub fn path_cameras(
+        &self,
+        mesh_bounds: &[([f32; 3], [f32; 3])],
+        aspect: f32,
+        frames: u32,
+    ) -> Vec<Camera> {
+        if self.path.is_empty() {
+            return vec![self.camera(mesh_bounds, aspect); frames as usize];
+        }
+        interpolate_path(&self.path, frames)
+            .into_iter()
+            .map(|k| self.camera_at(k.eye, k.target, mesh_bounds))
+            .collect()
+    }
+}
+
+/// `frames` keys along `keys` (non-empty), linearly interpolated at evenly spaced parameters from the
+/// first key to the last.
+pub fn interpolate_path(keys: &[PathKey], frames: u32) -> Vec<PathKey> {
+    let Some(first) = keys.first() else {
+        return Vec::new();
+    };
+    let segments = (keys.len() - 1) as f64;
+    (0..frames)
+        .map(|i| {
+            if frames <= 1 || segments == 0.0 {
+                return *first;
+            }
+            let t = i as f64 / (frames - 1) as f64 * segments;
+            let k = (t.floor() as usize).min(keys.len() - 2);
+            let f = t - k as f64;
+            let (a, b) = (keys[k], keys[k + 1]);
+            let eye = a.eye.lerp(b.eye, f);
+            let mut target = a.target.lerp(b.target, f);
+            if target == eye {
+                // Cannot look at itself: keep the direction of the segment's start.
+                target = eye + (a.target - a.eye);
+            }
+            PathKey { eye, target }
+        })
+        .collect()
+}
+
 /// Near plane for an explicit camera without one: half the distance from the eye to the scene's box,
 /// at least 1e-4 of the box's radius.
 fn auto_near(eye: DVec3, bounds: Option<(DVec3, DVec3)>) -> f32 {
@@ -267,6 +357,15 @@ struct SceneFile {
     scatter: Vec<ScatterEntry>,
     camera: Option<CameraEntry>,
     light: Option<LightEntry>,
+    #[serde(default)]
+    path: Vec<PathEntry>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PathEntry {
+    eye: [f64; 3],
+    target: [f64; 3],
 }
 
 #[derive(Deserialize)]
@@ -511,9 +610,17 @@ fn build(file: SceneFile, base: &Path) -> Result<Scene, Invalid> {
         if m.path.as_os_str().is_empty() {
             return Err((entry, "empty path".into()));
         }
+        let generated = m
+            .path
+            .to_str()
+            .is_some_and(|p| p.starts_with(GENERATED_PREFIX));
         meshes.push(SceneMesh {
             name: m.name.clone(),
-            path: base.join(&m.path),
+            path: if generated {
+                m.path.clone()
+            } else {
+                base.join(&m.path)
+            },
         });
     }
     let find = |name: &str| -> Result<u32, String> {
@@ -685,11 +792,22 @@ fn build(file: SceneFile, base: &Path) -> Result<Scene, Invalid> {
             d.normalize().as_vec3()
         }
     };
+    let mut path = Vec::with_capacity(file.path.len());
+    for (i, k) in file.path.iter().enumerate() {
+        let entry = format!("path #{}", i + 1);
+        let eye = vec3(k.eye, "eye").map_err(|m| (entry.clone(), m))?;
+        let target = vec3(k.target, "target").map_err(|m| (entry.clone(), m))?;
+        if eye == target {
+            return Err((entry, "eye and target are the same point".into()));
+        }
+        path.push(PathKey { eye, target });
+    }
     Ok(Scene {
         meshes,
         instances,
         camera,
         light_dir,
+        path,
     })
 }
 
@@ -933,6 +1051,66 @@ mod tests {
                 assert!(p[2] < 1.0, "instance before the near plane");
             }
         }
+    }
+
+    #[test]
+    fn camera_path_keys_interpolate_and_validate() {
+        let s = parse(&format!(
+            "{MESH}[[instance]]\nmesh = \"m\"\n[camera]\neye = [0, 0, 9]\ntarget = [0, 0, 0]\n\
+             fov_y_deg = 30\nnear = 0.5\n[[path]]\neye = [0, 0, 10]\ntarget = [0, 0, 0]\n\
+             [[path]]\neye = [10, 0, 10]\ntarget = [1, 0, 0]\n[[path]]\neye = [10, 0, 0]\n\
+             target = [1, 0, -1]\n"
+        ))
+        .unwrap();
+        assert_eq!(s.path.len(), 3);
+        assert_eq!(s.path[1].eye, DVec3::new(10.0, 0.0, 10.0));
+        let keys = interpolate_path(&s.path, 5);
+        let eyes: Vec<DVec3> = keys.iter().map(|k| k.eye).collect();
+        assert_eq!(
+            eyes,
+            [
+                DVec3::new(0.0, 0.0, 10.0),
+                DVec3::new(5.0, 0.0, 10.0),
+                DVec3::new(10.0, 0.0, 10.0),
+                DVec3::new(10.0, 0.0, 5.0),
+                DVec3::new(10.0, 0.0, 0.0),
+            ]
+        );
+        assert_eq!(keys[1].target, DVec3::new(0.5, 0.0, 0.0));
+        assert_eq!(interpolate_path(&s.path, 1), vec![s.path[0]]);
+        assert_eq!(interpolate_path(&s.path, 2)[1], s.path[2]);
+        // Cameras take the explicit camera's field of view and near plane.
+        let bounds = [([-1.0f32; 3], [1.0f32; 3])];
+        let cams = s.path_cameras(&bounds, 1.0, 5);
+        assert_eq!(cams.len(), 5);
+        assert_eq!(cams[3].position, DVec3::new(10.0, 0.0, 5.0));
+        assert!((cams[0].fov_y - 30f32.to_radians()).abs() < 1e-6);
+        assert_eq!(cams[0].near, 0.5);
+        // No path: the scene camera, repeated.
+        let s2 = parse(&format!("{MESH}[[instance]]\nmesh = \"m\"\n")).unwrap();
+        assert!(s2.path.is_empty());
+        let cams = s2.path_cameras(&bounds, 1.0, 3);
+        assert_eq!(cams.len(), 3);
+        assert_eq!(cams[0].position, s2.camera(&bounds, 1.0).position);
+        // Errors name the keyframe.
+        let e = err(&format!(
+            "{MESH}[[instance]]\nmesh = \"m\"\n[[path]]\neye = [0, 0, 1]\ntarget = [0, 0, 0]\n\
+             [[path]]\neye = [1, 1, 1]\ntarget = [1, 1, 1]\n"
+        ));
+        assert!(e.contains("path #2") && e.contains("same point"), "{e}");
+        let e = err(&format!(
+            "{MESH}[[instance]]\nmesh = \"m\"\n[[path]]\neye = [0, 0, 1]\n"
+        ));
+        assert!(e.contains("target"), "{e}");
+    }
+
+    #[test]
+    fn generated_mesh_paths_are_kept_as_written() {
+        let s = parse(
+            "[[mesh]]\nname = \"g\"\npath = \"generated:grass\"\n[[instance]]\nmesh = \"g\"\n",
+        )
+        .unwrap();
+        assert_eq!(s.meshes[0].path, Path::new("generated:grass"));
     }
 
     #[test]

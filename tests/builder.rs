@@ -410,37 +410,360 @@ fn assets_dir() -> std::path::PathBuf {
         .expect("shared assets folder not found: set VGEO_SHARED_ASSETS")
 }
 
-/// Real scanned meshes (PLY/OBJ readers of cmd_build until the importers land): build, verify,
-/// round-trip through the file format.
-#[test]
-fn real_meshes_build_and_verify() {
-    let dir = assets_dir();
-    for name in ["scanned/spot.obj", "scanned/bunny.ply"] {
-        let path = dir.join(name);
-        let meshes =
-            vgeo::cmd_build::load_input(&path, false).unwrap_or_else(|e| panic!("{name}: {e:#}"));
-        for mesh in meshes {
-            let t0 = std::time::Instant::now();
-            let built = builder::build(&mesh, &BuildOptions::default())
-                .unwrap_or_else(|e| panic!("{name}: {e}"));
-            let secs = t0.elapsed().as_secs_f64();
-            let bytes = vgeo::format::save(&built);
-            let loaded = vgeo::format::load(&bytes).expect("load");
-            let report = builder::verify(
-                &loaded,
-                &VerifyOptions {
-                    views: 12,
-                    ..Default::default()
-                },
-            );
-            eprintln!(
-                "{name}: {} tris in {secs:.2}s ({:.0} tris/s), {} levels, {:.2} B/tri",
-                mesh.triangle_count(),
-                mesh.triangle_count() as f64 / secs,
-                built.stats.levels.len(),
-                bytes.len() as f64 / mesh.triangle_count() as f64
-            );
-            assert!(report.ok(), "{name}: {report}");
+/// Every mesh file under `sub` of the shared assets (glTF folders: their .gltf/.glb).
+fn asset_files(sub: &str) -> Vec<std::path::PathBuf> {
+    let dir = assets_dir().join(sub);
+    let mut out = Vec::new();
+    let mut stack = vec![dir.clone()];
+    while let Some(d) = stack.pop() {
+        let rd = std::fs::read_dir(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display()));
+        for e in rd.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if vgeo::mesh::Format::from_path(&p).is_some() {
+                out.push(p);
+            }
         }
     }
+    out.sort();
+    assert!(!out.is_empty(), "no meshes in {}", dir.display());
+    out
+}
+
+/// What `vgeo build` + `vgeo verify` do, on one file: import (all meshes merged), build, save,
+/// load, verify; asserts a single root and a passing verify. Returns (triangles, bytes per input
+/// triangle).
+fn build_file_and_verify(path: &std::path::Path, views: usize) -> (usize, f64) {
+    let name = path.display().to_string();
+    let meshes =
+        vgeo::cmd_build::load_input(path, false).unwrap_or_else(|e| panic!("{name}: {e:#}"));
+    let mesh = vgeo::mesh::merge(meshes);
+    let t0 = std::time::Instant::now();
+    let built =
+        builder::build(&mesh, &BuildOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let secs = t0.elapsed().as_secs_f64();
+    let bytes = vgeo::format::save(&built);
+    let loaded = vgeo::format::load(&bytes).unwrap_or_else(|e| panic!("{name}: load: {e}"));
+    assert_eq!(loaded.vertices, built.vertices, "{name}: vertices");
+    assert_eq!(loaded.clusters, built.clusters, "{name}: clusters");
+    assert_eq!(loaded.groups, built.groups, "{name}: groups");
+    assert_eq!(loaded.stats, built.stats, "{name}: stats");
+    assert_eq!(loaded.materials, built.materials, "{name}: materials");
+    assert_eq!(
+        loaded.quantization, built.quantization,
+        "{name}: quantization"
+    );
+    assert_eq!(
+        loaded.vertex_materials, built.vertex_materials,
+        "{name}: vertex materials"
+    );
+    assert_eq!(loaded.bvh, built.bvh, "{name}: bvh");
+    assert_eq!(
+        (
+            &loaded.name,
+            loaded.has_normals,
+            loaded.has_uvs,
+            loaded.root
+        ),
+        (&built.name, built.has_normals, built.has_uvs, built.root),
+        "{name}: header"
+    );
+    assert!(loaded == built, "{name}: file round trip differs");
+    let roots = loaded
+        .clusters
+        .iter()
+        .filter(|c| c.parent_error == f32::INFINITY)
+        .count();
+    assert_eq!(roots, 1, "{name}: {roots} roots");
+    let last = loaded.stats.levels.last().map_or(0, |l| l.clusters);
+    assert_eq!(last, 1, "{name}: the last level has {last} clusters");
+    let report = builder::verify(
+        &loaded,
+        &VerifyOptions {
+            views,
+            ..Default::default()
+        },
+    );
+    let bpt = bytes.len() as f64 / mesh.triangle_count() as f64;
+    eprintln!(
+        "{name}: {} tris in {secs:.2}s ({:.0} tris/s), {} levels, {bpt:.2} B/tri",
+        mesh.triangle_count(),
+        mesh.triangle_count() as f64 / secs,
+        built.stats.levels.len(),
+    );
+    assert!(report.ok(), "{name}: {report}");
+    assert_eq!(report.views_tested, views);
+    (mesh.triangle_count(), bpt)
+}
+
+/// Acceptance 1 and 5 on the scanned meshes: build + verify each, a single root, and at most
+/// 16 bytes per input triangle for the big ones.
+#[test]
+fn real_scanned_meshes() {
+    for path in asset_files("scanned") {
+        let (tris, bpt) = build_file_and_verify(&path, 6);
+        if tris > 50_000 {
+            assert!(
+                bpt <= 16.0,
+                "{}: {bpt:.2} B per input triangle",
+                path.display()
+            );
+        }
+    }
+}
+
+/// Acceptance 1 on the glTF assets (multi-mesh, multi-material, disconnected parts).
+#[test]
+fn real_gltf_meshes() {
+    for path in asset_files("gltf") {
+        build_file_and_verify(&path, 8);
+    }
+}
+
+/// Acceptance 1 on the hard cases (duplicates, degenerates, non-manifold, holes, folds).
+#[test]
+fn real_hard_meshes() {
+    for path in asset_files("hard") {
+        build_file_and_verify(&path, 24);
+    }
+}
+
+/// Acceptance 2 on a real mesh: 1 thread and all threads give identical file bytes.
+#[test]
+fn deterministic_real_mesh() {
+    let path = assets_dir().join("scanned/bunny.ply");
+    let mesh = vgeo::mesh::merge(vgeo::cmd_build::load_input(&path, false).expect("bunny"));
+    let build = |threads| {
+        let b = builder::build(
+            &mesh,
+            &BuildOptions {
+                threads,
+                ..Default::default()
+            },
+        )
+        .expect("build");
+        vgeo::format::save(&b)
+    };
+    let one = build(Some(1));
+    let all = build(None);
+    let four = build(Some(4));
+    assert!(
+        one == all && one == four,
+        "bytes differ between thread counts"
+    );
+}
+
+/// `keep_percent` trims the finest level like UE's "Keep Triangle Percent"; `trim_error` like
+/// "Trim Relative Error": larger errors keep fewer triangles; both still verify.
+#[test]
+fn keep_percent_and_trim_error() {
+    let mut m = (Vec::new(), Vec::new());
+    append(&mut m, sphere(96, 64, [0.0; 3], 1.0));
+    let mesh = mesh_from("trim", m.0, m.1);
+    let opts = |keep: f32, trim: f32| BuildOptions {
+        keep_percent: keep,
+        trim_error: trim,
+        ..Default::default()
+    };
+    let full = builder::build(&mesh, &opts(100.0, 0.0)).expect("full");
+    let n = full.stats.level0_triangles;
+    assert_eq!(full.stats.level0_error, 0.0);
+    let half = builder::build(&mesh, &opts(50.0, 0.0)).expect("half");
+    let h = half.stats.level0_triangles;
+    assert!(
+        h as f64 >= 0.45 * n as f64 && h as f64 <= 0.5 * n as f64 + 2.0,
+        "keep 50%: {h} of {n}"
+    );
+    assert!(half.stats.level0_error > 0.0);
+    assert!(half.stats.stored_triangles < full.stats.stored_triangles);
+    // Fewer levels or the same: the finest level is gone, the coarse end is alike.
+    assert!(half.stats.levels.len() <= full.stats.levels.len());
+    let small = builder::build(&mesh, &opts(100.0, 1e-4)).expect("trim small");
+    let large = builder::build(&mesh, &opts(100.0, 1e-2)).expect("trim large");
+    let (s, l) = (small.stats.level0_triangles, large.stats.level0_triangles);
+    assert!(l < s && s <= n, "trim 1e-2: {l}, 1e-4: {s}, none: {n}");
+    let diag = 2.0 * 3f32.sqrt();
+    assert!(
+        large.stats.level0_error <= 1e-2 * diag * 1.05,
+        "{} > {}",
+        large.stats.level0_error,
+        1e-2 * diag
+    );
+    // Both limits: the stricter wins.
+    let both = builder::build(&mesh, &opts(90.0, 1e-2)).expect("both");
+    assert!(both.stats.level0_triangles <= l.min((0.9 * n as f64) as usize + 1));
+    for b in [&half, &large, &both] {
+        let r = builder::verify(
+            b,
+            &VerifyOptions {
+                views: 16,
+                ..Default::default()
+            },
+        );
+        assert!(r.ok(), "{r}");
+        assert_eq!(
+            b.clusters
+                .iter()
+                .filter(|c| c.parent_error == f32::INFINITY)
+                .count(),
+            1
+        );
+    }
+    // Out-of-range values are errors, not panics.
+    assert!(builder::build(&mesh, &opts(0.0, 0.0)).is_err());
+    assert!(builder::build(&mesh, &opts(100.0, -1.0)).is_err());
+}
+
+/// The other partitioners (METIS, meshopt with adjacency-grown clusters) build and verify too.
+#[test]
+fn other_partitioners() {
+    let mut m = (Vec::new(), Vec::new());
+    append(&mut m, grid(40, 30, [0.0; 3], 0.1));
+    append(&mut m, sphere(32, 20, [2.0, 1.0, 0.0], 0.7));
+    let mesh = mesh_from("partitioners", m.0, m.1);
+    for p in [
+        builder::Partitioner::Metis,
+        builder::Partitioner::MeshoptFlex,
+    ] {
+        let built = builder::build(
+            &mesh,
+            &BuildOptions {
+                partitioner: p,
+                ..Default::default()
+            },
+        )
+        .unwrap_or_else(|e| panic!("{p:?}: {e}"));
+        let r = builder::verify(
+            &built,
+            &VerifyOptions {
+                views: 24,
+                ..Default::default()
+            },
+        );
+        assert!(r.ok(), "{p:?}: {r}");
+        assert_eq!(built.stats.levels.last().map(|l| l.clusters), Some(1));
+    }
+}
+
+/// The verify border rule is not a blanket pass for edges between open-border points: removing a
+/// triangle from the coarse level of a one-quad-wide strip (all its points lie on the border)
+/// leaves two unmatched edges between border points, which the border-chain check rejects.
+#[test]
+fn verify_rejects_crack_between_border_points() {
+    let m = grid(1, 300, [0.0; 3], 0.1);
+    let mesh = mesh_from("strip", m.0, m.1);
+    let mut built = builder::build(&mesh, &BuildOptions::default()).expect("build");
+    let views = VerifyOptions {
+        views: 64,
+        ..Default::default()
+    };
+    assert!(builder::verify(&built, &views).ok());
+    // A triangle of the root with exactly one edge on the root's own border.
+    let root = built.root as usize;
+    let tris = built.cluster_triangles(root);
+    let pos = built.positions();
+    let key = |v: u32| pos[v as usize].map(f32::to_bits);
+    let has = |a: u32, b: u32| {
+        tris.iter()
+            .any(|t| (0..3).any(|e| key(t[e]) == key(a) && key(t[(e + 1) % 3]) == key(b)))
+    };
+    let victim = (0..tris.len())
+        .find(|&i| {
+            let t = tris[i];
+            (0..3).filter(|&e| !has(t[(e + 1) % 3], t[e])).count() == 1
+        })
+        .expect("a root triangle with one border edge");
+    // Rewrite the root's packed indices without the victim.
+    let c = built.clusters[root];
+    let bytes = &built.triangles[c.triangle_offset as usize..];
+    let bits = builder::index_bits(c.vertex_count());
+    let mut local: Vec<u8> = Vec::new();
+    for t in 0..c.triangle_count() as usize {
+        if t != victim {
+            for k in 0..3 {
+                local.push(builder::unpack_index(bytes, bits, 3 * t + k).expect("index") as u8);
+            }
+        }
+    }
+    let mut packed = Vec::new();
+    builder::pack_indices(&local, c.vertex_count(), &mut packed);
+    let at = c.triangle_offset as usize;
+    built.triangles[at..at + packed.len()].copy_from_slice(&packed);
+    built.clusters[root].counts =
+        c.vertex_count() | (c.triangle_count() - 1) << 8 | c.flags() << 16;
+    let report = builder::verify(&built, &views);
+    assert!(
+        !report.ok(),
+        "the crack was not found: {report} (root: {} triangles)",
+        tris.len()
+    );
+    assert!(
+        report
+            .violations
+            .iter()
+            .any(|v| v.contains("border chains broken")),
+        "{report}"
+    );
+}
+
+/// The BVH is clean: node 0 is the root, every node is reachable exactly once, inner nodes have
+/// 1..=8 children, leaves hold 1..=4 groups (several where possible), every group is in exactly
+/// one leaf, and each subtree's error bounds its groups' errors.
+#[test]
+fn bvh_is_clean() {
+    let mut m = (Vec::new(), Vec::new());
+    append(&mut m, grid(120, 80, [0.0; 3], 0.05));
+    let built =
+        builder::build(&mesh_from("bvh", m.0, m.1), &BuildOptions::default()).expect("build");
+    let bvh = &built.bvh;
+    assert!(!bvh.is_empty());
+    let mut seen = vec![0u32; bvh.len()];
+    let mut group_refs = vec![0u32; built.groups.len()];
+    let mut stack = vec![(0u32, f32::INFINITY)];
+    let mut multi_leaves = 0;
+    while let Some((n, parent_err)) = stack.pop() {
+        seen[n as usize] += 1;
+        let node = &bvh[n as usize];
+        assert!(
+            node.max_parent_error <= parent_err,
+            "node {n} error above its parent's"
+        );
+        if node.flags & builder::BVH_FLAG_LEAF != 0 {
+            assert!(
+                (1..=4).contains(&node.count),
+                "leaf {n}: {} groups",
+                node.count
+            );
+            multi_leaves += (node.count > 1) as usize;
+            for g in node.first..node.first + node.count {
+                group_refs[g as usize] += 1;
+                assert!(built.groups[g as usize].error <= node.max_parent_error);
+            }
+        } else {
+            assert!(
+                (1..=8).contains(&node.count),
+                "node {n}: {} children",
+                node.count
+            );
+            for c in node.first..node.first + node.count {
+                stack.push((c, node.max_parent_error));
+            }
+        }
+    }
+    assert!(
+        seen.iter().all(|&s| s == 1),
+        "a node is unreachable or shared"
+    );
+    assert!(
+        group_refs.iter().all(|&r| r == 1),
+        "a group is not in exactly one leaf"
+    );
+    assert!(multi_leaves > 0, "no leaf holds several groups");
+    assert!(
+        bvh.len() < built.groups.len(),
+        "{} nodes for {} groups",
+        bvh.len(),
+        built.groups.len()
+    );
 }

@@ -240,6 +240,15 @@ fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_determ
         .zip(&again.visbuffer)
         .all(|(a, b)| key(&sw, *a) == key(&again, *b));
     assert!(same_sw, "two all-SW renders of the same frame differ");
+    let raw_differ = mixed1
+        .visbuffer
+        .iter()
+        .zip(&mixed2.visbuffer)
+        .filter(|(a, b)| a != b)
+        .count();
+    eprintln!(
+        "determinism: {raw_differ} pixels with different raw visibility-buffer bits between two renders"
+    );
     let same = mixed1
         .visbuffer
         .iter()

@@ -37,13 +37,24 @@ uint cluster_vertex(MeshGpu mesh, Cluster c, uint i) {
     return mesh.vertex_offset + v;
 }
 
-// The three local vertex indices of the cluster's triangle `t`.
+// The three local vertex indices of the cluster's triangle `t`. Indices are bit-packed per cluster
+// (src/builder/mod.rs `pack_indices`): `index_bits(vertex_count)` bits each, little-endian, from the
+// cluster's 4-byte-aligned `triangle_offset`.
 uvec3 cluster_triangle(MeshGpu mesh, Cluster c, uint t) {
-    uint b = mesh.triangle_offset + c.triangle_offset + 3u * t;
+    uint vc = max(cluster_vertex_count(c), 1u);
+    uint bits = uint(max(findMSB(vc - 1u) + 1, 1));
+    uint mask = (1u << bits) - 1u;
+    uint base = (mesh.triangle_offset + c.triangle_offset) * 8u + 3u * t * bits;
     uvec3 r;
     for (uint k = 0u; k < 3u; k++) {
-        uint bk = b + k;
-        r[k] = (triangle_words[bk >> 2] >> (8u * (bk & 3u))) & 0xffu;
+        uint bit = base + k * bits;
+        uint w = bit >> 5;
+        uint sh = bit & 31u;
+        uint v = triangle_words[w] >> sh;
+        if (sh + bits > 32u) {
+            v |= triangle_words[w + 1u] << (32u - sh);
+        }
+        r[k] = v & mask;
     }
     return r;
 }

@@ -1,24 +1,19 @@
-//! BVH over groups (fanout 8): one subtree per build iteration (so that a subtree's largest parent
-//! error is meaningful for LOD culling), joined under a top tree.
+//! BVH over groups (fanout 8, leaves of up to 4 groups): one subtree per build iteration (so that
+//! a subtree's largest parent error is meaningful for LOD culling), joined under a top tree; laid
+//! out breadth-first with no unreachable node.
 
 use super::{BVH_FLAG_LEAF, BvhNode, Group, Sphere};
 
-const FANOUT: usize = 8;
+/// Most children per inner node.
+pub const FANOUT: usize = 8;
 
-#[derive(Clone, Copy)]
-struct Item {
-    node: BvhNode,
-    center: [f32; 3],
-}
-
-fn merge(items: &[Item]) -> BvhNode {
+fn merge(items: &[BvhNode]) -> BvhNode {
     let mut lo = [f32::MAX; 3];
     let mut hi = [f32::MIN; 3];
     let mut err = 0.0f32;
     let mut slo = [f32::MAX; 3];
     let mut shi = [f32::MIN; 3];
-    for it in items {
-        let n = &it.node;
+    for n in items {
         err = err.max(n.max_parent_error);
         for k in 0..3 {
             lo[k] = lo[k].min(n.bounds_min[k]);
@@ -30,7 +25,7 @@ fn merge(items: &[Item]) -> BvhNode {
     let c: [f32; 3] = std::array::from_fn(|k| (slo[k] + shi[k]) * 0.5);
     let mut r = 0.0f32;
     for it in items {
-        let s = it.node.lod_sphere;
+        let s = it.lod_sphere;
         let d = ((c[0] - s[0]) as f64)
             .hypot((c[1] - s[1]) as f64)
             .hypot((c[2] - s[2]) as f64) as f32;
@@ -51,116 +46,190 @@ fn merge(items: &[Item]) -> BvhNode {
     }
 }
 
-/// Splits `items` into at most 8 spatially coherent chunks (three rounds of median splits along the
-/// longest axis of the centres).
-fn split8(items: &mut [Item]) -> Vec<std::ops::Range<usize>> {
-    let mut ranges: Vec<std::ops::Range<usize>> = std::iter::once(0..items.len()).collect();
+/// Most groups per leaf.
+pub const LEAF_GROUPS: usize = 4;
+
+/// A node under construction.
+struct Tmp {
+    node: BvhNode,
+    center: [f32; 3],
+    /// Inner: children; leaf: empty (and `groups` set).
+    children: Vec<Tmp>,
+    groups: Vec<u32>,
+}
+
+fn center_of(n: &BvhNode) -> [f32; 3] {
+    std::array::from_fn(|k| (n.bounds_min[k] + n.bounds_max[k]) * 0.5)
+}
+
+fn inner(children: Vec<Tmp>) -> Tmp {
+    let node = merge(&children.iter().map(|c| c.node).collect::<Vec<_>>());
+    Tmp {
+        center: center_of(&node),
+        node,
+        children,
+        groups: Vec::new(),
+    }
+}
+
+/// Splits `items` into at most 8 spatially coherent runs (three rounds of median splits along the
+/// longest axis of the centres); each run is non-empty.
+fn split8<T>(mut items: Vec<T>, center: &dyn Fn(&T) -> [f32; 3]) -> Vec<Vec<T>> {
+    let mut parts = vec![std::mem::take(&mut items)];
     for _ in 0..3 {
         let mut next = Vec::new();
-        for r in ranges {
-            if r.len() <= 1 {
-                next.push(r);
+        for mut p in parts {
+            if p.len() <= 1 {
+                next.push(p);
                 continue;
             }
-            let slice = &mut items[r.clone()];
             let mut lo = [f32::MAX; 3];
             let mut hi = [f32::MIN; 3];
-            for it in slice.iter() {
+            for it in &p {
+                let c = center(it);
                 for k in 0..3 {
-                    lo[k] = lo[k].min(it.center[k]);
-                    hi[k] = hi[k].max(it.center[k]);
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
                 }
             }
             let axis = (0..3)
                 .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
                 .unwrap_or(0);
-            slice.sort_by(|a, b| a.center[axis].total_cmp(&b.center[axis]));
-            let mid = r.start + r.len() / 2;
-            next.push(r.start..mid);
-            next.push(mid..r.end);
+            p.sort_by(|a, b| center(a)[axis].total_cmp(&center(b)[axis]));
+            let b = p.split_off(p.len() / 2);
+            next.push(p);
+            next.push(b);
         }
-        ranges = next;
+        parts = next;
     }
-    ranges.into_iter().filter(|r| !r.is_empty()).collect()
+    parts.into_iter().filter(|p| !p.is_empty()).collect()
 }
 
-/// Fills `nodes[slot]` with a subtree over `items`.
-fn build_into(nodes: &mut Vec<BvhNode>, slot: usize, items: &mut [Item]) {
-    if items.len() == 1 {
-        nodes[slot] = items[0].node;
-        return;
+/// Subtree over groups `ids` (leaves of at most [`LEAF_GROUPS`]).
+fn build_groups(groups: &[Group], ids: Vec<u32>) -> Tmp {
+    if ids.len() <= LEAF_GROUPS {
+        let nodes: Vec<BvhNode> = ids
+            .iter()
+            .map(|&g| leaf_node(&groups[g as usize]))
+            .collect();
+        let mut node = merge(&nodes);
+        node.flags = BVH_FLAG_LEAF;
+        return Tmp {
+            center: center_of(&node),
+            node,
+            children: Vec::new(),
+            groups: ids,
+        };
     }
-    let mut node = merge(items);
-    let chunks: Vec<std::ops::Range<usize>> = if items.len() <= FANOUT {
-        (0..items.len()).map(|i| i..i + 1).collect()
+    let center = |&g: &u32| center_of(&leaf_node(&groups[g as usize]));
+    // Split into up to 8 children; with few groups, the children are leaves of up to
+    // LEAF_GROUPS each.
+    let parts = if ids.len() <= LEAF_GROUPS * FANOUT {
+        let k = ids.len().div_ceil(LEAF_GROUPS).min(FANOUT);
+        split_k(ids, k, &center)
     } else {
-        split8(items)
+        split8(ids, &center)
     };
-    let first = nodes.len();
-    nodes.resize(first + chunks.len(), BvhNode::default_zeroed());
-    node.first = first as u32;
-    node.count = chunks.len() as u32;
-    nodes[slot] = node;
-    for (i, r) in chunks.into_iter().enumerate() {
-        build_into(nodes, first + i, &mut items[r]);
+    inner(parts.into_iter().map(|p| build_groups(groups, p)).collect())
+}
+
+/// Splits into `k` runs of nearly equal size in the order of the longest axis of the centres.
+fn split_k<T>(mut items: Vec<T>, k: usize, center: &dyn Fn(&T) -> [f32; 3]) -> Vec<Vec<T>> {
+    let mut lo = [f32::MAX; 3];
+    let mut hi = [f32::MIN; 3];
+    for it in &items {
+        let c = center(it);
+        for a in 0..3 {
+            lo[a] = lo[a].min(c[a]);
+            hi[a] = hi[a].max(c[a]);
+        }
+    }
+    let axis = (0..3)
+        .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
+        .unwrap_or(0);
+    items.sort_by(|a, b| center(a)[axis].total_cmp(&center(b)[axis]));
+    let n = items.len();
+    let k = k.clamp(1, n.max(1));
+    let mut out = Vec::with_capacity(k);
+    let mut it = items.into_iter();
+    for i in 0..k {
+        let size = n * (i + 1) / k - n * i / k;
+        out.push(it.by_ref().take(size).collect::<Vec<T>>());
+    }
+    out.into_iter().filter(|p| !p.is_empty()).collect()
+}
+
+/// Tree over subtrees (fanout 8).
+fn build_top(mut items: Vec<Tmp>) -> Tmp {
+    if items.len() == 1
+        && let Some(t) = items.pop()
+    {
+        return t;
+    }
+    if items.len() <= FANOUT {
+        return inner(items);
+    }
+    let parts = split8(items, &|t: &Tmp| t.center);
+    inner(parts.into_iter().map(build_top).collect())
+}
+
+fn leaf_node(g: &Group) -> BvhNode {
+    BvhNode {
+        bounds_min: g.bounds_min,
+        max_parent_error: g.error,
+        bounds_max: g.bounds_max,
+        flags: BVH_FLAG_LEAF,
+        lod_sphere: g.lod_sphere,
+        first: 0,
+        count: 0,
+        _pad: [0; 2],
     }
 }
 
-impl BvhNode {
-    fn default_zeroed() -> Self {
-        bytemuck::Zeroable::zeroed()
-    }
-}
-
-/// Builds the BVH over `groups`; node 0 is the root. Leaves reference one group each.
-pub fn build_bvh(groups: &[Group]) -> Vec<BvhNode> {
+/// Builds the BVH over `groups`: one subtree per build iteration (so that a subtree's largest
+/// parent error is meaningful for LOD culling) joined under a top tree of fanout 8. Returns the
+/// nodes (node 0 is the root; every node is reachable; an inner node's children are contiguous)
+/// and the order in which the groups must be stored so that each leaf's groups `first .. first +
+/// count` are contiguous: `order[i]` is the input index of stored group `i`.
+pub fn build_bvh(groups: &[Group]) -> (Vec<BvhNode>, Vec<u32>) {
     if groups.is_empty() {
-        return Vec::new();
+        return (Vec::new(), Vec::new());
     }
-    let leaf = |gi: usize| {
-        let g = &groups[gi];
-        Item {
-            node: BvhNode {
-                bounds_min: g.bounds_min,
-                max_parent_error: g.error,
-                bounds_max: g.bounds_max,
-                flags: BVH_FLAG_LEAF,
-                lod_sphere: g.lod_sphere,
-                first: gi as u32,
-                count: 1,
-                _pad: [0; 2],
-            },
-            center: std::array::from_fn(|k| (g.bounds_min[k] + g.bounds_max[k]) * 0.5),
+    let mut by_iter: Vec<u32> = (0..groups.len() as u32).collect();
+    by_iter.sort_by_key(|&g| (groups[g as usize].iteration, g));
+    let mut subtrees = Vec::new();
+    let mut i = 0;
+    while i < by_iter.len() {
+        let it = groups[by_iter[i] as usize].iteration;
+        let mut j = i;
+        while j < by_iter.len() && groups[by_iter[j] as usize].iteration == it {
+            j += 1;
         }
-    };
-    // Buckets by iteration (groups are stored in iteration order).
-    let mut buckets: Vec<Vec<Item>> = Vec::new();
-    let mut last = None;
-    for (gi, g) in groups.iter().enumerate() {
-        if last != Some(g.iteration) {
-            buckets.push(Vec::new());
-            last = Some(g.iteration);
+        subtrees.push(build_groups(groups, by_iter[i..j].to_vec()));
+        i = j;
+    }
+    let root = build_top(subtrees);
+    // Breadth-first layout: children of a node are allocated together.
+    let mut nodes = vec![root.node];
+    let mut order = Vec::with_capacity(groups.len());
+    let mut queue = std::collections::VecDeque::new();
+    queue.push_back((0usize, root));
+    while let Some((slot, t)) = queue.pop_front() {
+        if t.children.is_empty() {
+            nodes[slot].flags = BVH_FLAG_LEAF;
+            nodes[slot].first = order.len() as u32;
+            nodes[slot].count = t.groups.len() as u32;
+            order.extend_from_slice(&t.groups);
+        } else {
+            let first = nodes.len();
+            nodes[slot].flags = 0;
+            nodes[slot].first = first as u32;
+            nodes[slot].count = t.children.len() as u32;
+            for (k, c) in t.children.into_iter().enumerate() {
+                nodes.push(c.node);
+                queue.push_back((first + k, c));
+            }
         }
-        if let Some(b) = buckets.last_mut() {
-            b.push(leaf(gi));
-        }
     }
-    let mut nodes = vec![BvhNode::default_zeroed()];
-    if buckets.len() == 1 {
-        build_into(&mut nodes, 0, &mut buckets[0]);
-        return nodes;
-    }
-    // Subtrees per bucket, built in place: their roots become the items of the top tree.
-    let mut roots = Vec::new();
-    for b in &mut buckets {
-        let slot = nodes.len();
-        nodes.push(BvhNode::default_zeroed());
-        build_into(&mut nodes, slot, b);
-        let n = nodes[slot];
-        let center = std::array::from_fn(|k| (n.bounds_min[k] + n.bounds_max[k]) * 0.5);
-        roots.push(Item { node: n, center });
-    }
-    // The top tree: items copy the subtree roots (whose children indices stay valid).
-    build_into(&mut nodes, 0, &mut roots);
-    nodes
+    (nodes, order)
 }

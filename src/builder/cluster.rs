@@ -1,4 +1,6 @@
-//! Graph partitioning with METIS (fixed seed, sorted adjacency) and level-0 / per-group clustering.
+//! Graph partitioning with METIS (fixed seed, sorted adjacency) and level-0 / per-group clustering
+//! ([`super::Partitioner::Metis`]). GKlib's random generator is process-global (`static` state in
+//! `random.c`), so METIS calls are serialized behind a lock for determinism.
 
 use metis::Idx;
 

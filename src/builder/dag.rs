@@ -4,18 +4,44 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use super::cluster::cluster_triangles;
-use super::group::group_clusters;
+use super::cluster::cluster_triangles as metis_cluster_triangles;
+use super::group::group_clusters as metis_group_clusters;
 use super::quantize::{
     decode_position, encode_normal, encode_position, encode_uv, make_quantization,
 };
 use super::simplify::{Mode, simplify};
 use super::{
     BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
-    LevelStats, NO_GROUP, PackedVertex, Sphere,
+    LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
 };
 use crate::mesh::Mesh;
 use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
+
+/// A fast deterministic hasher (FxHash) for the welding maps: keys are small integer tuples.
+#[derive(Default, Clone, Copy)]
+pub(crate) struct Fx(u64);
+impl std::hash::Hasher for Fx {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for c in bytes.chunks(8) {
+            let mut w = [0u8; 8];
+            w[..c.len()].copy_from_slice(c);
+            self.write_u64(u64::from_le_bytes(w));
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(x as u64);
+    }
+    fn write_u16(&mut self, x: u16) {
+        self.write_u64(x as u64);
+    }
+}
+pub(crate) type FxBuild = std::hash::BuildHasherDefault<Fx>;
 
 /// Builds the cluster DAG of `mesh`. Deterministic: the same input gives the same result whatever
 /// the thread count.
@@ -74,6 +100,9 @@ fn check_options(o: &BuildOptions) -> Result<(), BuildError> {
     Ok(())
 }
 
+/// Triangles per level-0 chunk clustered independently (meshoptimizer partitioner).
+const LEVEL0_CHUNK: usize = 16384;
+
 /// Working cluster during the build.
 struct WCluster {
     tris: Vec<[u32; 3]>,
@@ -105,6 +134,8 @@ struct Prepared {
     materials: Vec<u16>,
     positions: Vec<[f32; 3]>,
     pid: Vec<u32>,
+    /// Position of each position id.
+    pid_pos: Vec<[f32; 3]>,
     tris: Vec<[u32; 3]>,
     dropped: usize,
     duplicates: usize,
@@ -143,25 +174,55 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         }
     }
     let quant = make_quantization(lo, hi, uv_lo, uv_hi);
-    let mut key_to_vertex: HashMap<(PackedVertex, u16), u32> = HashMap::new();
-    let mut pos_to_pid: HashMap<[u32; 2], u32> = HashMap::new();
+    let nv = mesh.positions.len();
+    let mut key_to_vertex: HashMap<(PackedVertex, u16), u32, FxBuild> =
+        HashMap::with_capacity_and_hasher(nv, FxBuild::default());
+    let mut pos_to_pid: HashMap<[u32; 2], u32, FxBuild> =
+        HashMap::with_capacity_and_hasher(nv, FxBuild::default());
     let mut vertices = Vec::new();
     let mut materials = Vec::new();
     let mut pid = Vec::new();
     let mut tris = Vec::with_capacity(mesh.triangle_count());
     let mut dropped = 0;
     let mut duplicates = 0;
-    let mut seen: std::collections::HashSet<[u32; 3]> = std::collections::HashSet::new();
+    // Input vertices are encoded once (a vertex is used by ~6 corners).
+    let encoded: Vec<PackedVertex> = mesh
+        .positions
+        .par_iter()
+        .enumerate()
+        .map(|(v, &p)| PackedVertex {
+            position: encode_position(&quant, p),
+            normal: encode_normal(mesh.normals[v]),
+            uv: if mesh.has_uvs {
+                encode_uv(&quant, mesh.uvs[v])
+            } else {
+                0
+            },
+        })
+        .collect();
+    // Per input vertex, the last (material, id) it was welded to: most corners hit it, so the
+    // hash map is consulted about once per vertex, not once per corner. When every vertex has a
+    // single material (the common case), the welding is done by sorting instead and the cache
+    // answers every corner.
+    let mut cache: Vec<(u16, u32)> = vec![(u16::MAX, 0); mesh.positions.len()];
+    if let Some(w) = weld_by_sort(mesh, &encoded) {
+        vertices = w.vertices;
+        materials = w.materials;
+        pid = w.pid;
+        cache = w.cache;
+    }
+    // (canonical point triple, triangle index) of the kept triangles, for duplicate removal.
+    let mut keys: Vec<([u32; 3], u32)> = Vec::with_capacity(mesh.triangle_count());
     for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
         let mat = mesh.material_ids[t] as u16;
         let mut tri = [0u32; 3];
         for k in 0..3 {
             let v = idx[k] as usize;
-            let pv = PackedVertex {
-                position: encode_position(&quant, mesh.positions[v]),
-                normal: encode_normal(mesh.normals[v]),
-                uv: encode_uv(&quant, mesh.uvs[v]),
-            };
+            if cache[v].0 == mat {
+                tri[k] = cache[v].1;
+                continue;
+            }
+            let pv = encoded[v];
             let next = vertices.len() as u32;
             let id = *key_to_vertex.entry((pv, mat)).or_insert(next);
             if id == next {
@@ -170,6 +231,7 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
                 let np = pos_to_pid.len() as u32;
                 pid.push(*pos_to_pid.entry(pv.position).or_insert(np));
             }
+            cache[v] = (mat, id);
             tri[k] = id;
         }
         let p = [
@@ -181,20 +243,40 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
             dropped += 1;
             continue;
         }
-        // Exact duplicates (same three points, same winding) are dropped: they add nothing to the
-        // surface and make coincident layers that simplification cannot keep consistent.
         let r = (0..3).min_by_key(|&i| p[i]).unwrap_or(0);
-        if seen.insert([p[r], p[(r + 1) % 3], p[(r + 2) % 3]]) {
-            tris.push(tri);
-        } else {
+        keys.push(([p[r], p[(r + 1) % 3], p[(r + 2) % 3]], tris.len() as u32));
+        tris.push(tri);
+    }
+    // Exact duplicates (same three points, same winding) are dropped, the first one kept: they
+    // add nothing to the surface and make coincident layers that simplification cannot keep
+    // consistent.
+    keys.par_sort_unstable();
+    let mut keep = vec![true; tris.len()];
+    for w in keys.windows(2) {
+        if w[0].0 == w[1].0 {
+            keep[w[1].1 as usize] = false;
             duplicates += 1;
         }
     }
-    let positions = vertices
+    drop(keys);
+    if duplicates > 0 {
+        let mut i = 0;
+        tris.retain(|_| {
+            i += 1;
+            keep[i - 1]
+        });
+    }
+    let positions: Vec<[f32; 3]> = vertices
         .iter()
         .map(|v| decode_position(&quant, v.position))
         .collect();
+    let npid = pid.iter().max().map_or(0, |&m| m as usize + 1);
+    let mut pid_pos = vec![[0.0f32; 3]; npid];
+    for (v, &p) in pid.iter().enumerate() {
+        pid_pos[p as usize] = positions[v];
+    }
     Ok(Prepared {
+        pid_pos,
         vertices,
         materials,
         positions,
@@ -203,6 +285,160 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         dropped,
         duplicates,
         quant,
+    })
+}
+
+/// The partitioner chosen in the options, with the mesh data it needs.
+#[derive(Clone, Copy)]
+struct Parter<'a> {
+    kind: Partitioner,
+    pid: &'a [u32],
+    positions: &'a [[f32; 3]],
+    pid_pos: &'a [[f32; 3]],
+}
+
+impl Parter<'_> {
+    /// Clusters of `tris`; `level0`: the input's clusters.
+    fn clusters(
+        &self,
+        tris: &[[u32; 3]],
+        max_tris: usize,
+        max_verts: usize,
+        level0: bool,
+    ) -> Vec<Vec<u32>> {
+        match self.kind {
+            Partitioner::Meshopt | Partitioner::MeshoptFlex => super::fastpart::cluster_triangles(
+                tris,
+                self.pid,
+                self.pid_pos,
+                max_tris,
+                max_verts,
+                level0 || self.kind == Partitioner::Meshopt,
+            ),
+            Partitioner::Metis => {
+                metis_cluster_triangles(tris, self.pid, self.positions, max_tris, max_verts)
+            }
+        }
+    }
+
+    fn groups(
+        &self,
+        clusters: &[&[[u32; 3]]],
+        centers: &dyn Fn() -> Vec<[f32; 3]>,
+        target: usize,
+        gmax: usize,
+    ) -> Vec<Vec<u32>> {
+        match self.kind {
+            Partitioner::Meshopt | Partitioner::MeshoptFlex => {
+                super::fastpart::group_clusters(clusters, self.pid, self.pid_pos, target, gmax)
+            }
+            Partitioner::Metis => {
+                metis_group_clusters(clusters, &centers(), self.pid, target, gmax)
+            }
+        }
+    }
+}
+
+/// Welding by sorting (see [`weld_by_sort`]).
+struct Welded {
+    vertices: Vec<PackedVertex>,
+    materials: Vec<u16>,
+    pid: Vec<u32>,
+    /// Per input vertex: (material, welded id); `u16::MAX` material for unreferenced vertices.
+    cache: Vec<(u16, u32)>,
+}
+
+/// Welds equal (encoded vertex, material) pairs by sorting, when every input vertex is used with
+/// a single material (else `None`). Ids are assigned in order of first use by the corners, and
+/// position ids in order of vertex creation: exactly what the hash-map path produces.
+fn weld_by_sort(mesh: &Mesh, encoded: &[PackedVertex]) -> Option<Welded> {
+    let nv = encoded.len();
+    let mut vm = vec![u16::MAX; nv];
+    let mut first: Vec<u32> = Vec::with_capacity(nv);
+    for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
+        let m = mesh.material_ids[t] as u16;
+        for &v in idx {
+            let slot = &mut vm[v as usize];
+            if *slot == u16::MAX {
+                *slot = m;
+                first.push(v);
+            } else if *slot != m {
+                return None;
+            }
+        }
+    }
+    // Rank = order of first use; equal keys take the smallest rank's id.
+    let mut keyed: Vec<(PackedVertex, u16, u32)> = first
+        .iter()
+        .enumerate()
+        .map(|(r, &v)| (encoded[v as usize], vm[v as usize], r as u32))
+        .collect();
+    keyed.par_sort_unstable();
+    let mut rep = vec![0u32; first.len()];
+    let mut i = 0;
+    while i < keyed.len() {
+        let mut j = i + 1;
+        while j < keyed.len() && keyed[j].0 == keyed[i].0 && keyed[j].1 == keyed[i].1 {
+            j += 1;
+        }
+        for e in &keyed[i..j] {
+            rep[e.2 as usize] = keyed[i].2;
+        }
+        i = j;
+    }
+    drop(keyed);
+    let mut id_of_rank = vec![0u32; first.len()];
+    let mut vertices = Vec::new();
+    let mut materials = Vec::new();
+    for r in 0..first.len() {
+        if rep[r] == r as u32 {
+            id_of_rank[r] = vertices.len() as u32;
+            let v = first[r] as usize;
+            vertices.push(encoded[v]);
+            materials.push(vm[v]);
+        } else {
+            id_of_rank[r] = id_of_rank[rep[r] as usize];
+        }
+    }
+    // Position ids in order of vertex creation.
+    let mut by_pos: Vec<([u32; 2], u32)> = vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (v.position, i as u32))
+        .collect();
+    by_pos.par_sort_unstable();
+    let mut first_of = vec![0u32; vertices.len()];
+    let mut i = 0;
+    while i < by_pos.len() {
+        let mut j = i + 1;
+        while j < by_pos.len() && by_pos[j].0 == by_pos[i].0 {
+            j += 1;
+        }
+        for e in &by_pos[i..j] {
+            first_of[e.1 as usize] = by_pos[i].1;
+        }
+        i = j;
+    }
+    drop(by_pos);
+    let mut pid = vec![0u32; vertices.len()];
+    let mut next = 0u32;
+    for i in 0..vertices.len() {
+        if first_of[i] == i as u32 {
+            pid[i] = next;
+            next += 1;
+        } else {
+            pid[i] = pid[first_of[i] as usize];
+        }
+    }
+    let mut cache = vec![(u16::MAX, 0u32); nv];
+    for (r, &v) in first.iter().enumerate() {
+        cache[v as usize] = (vm[v as usize], id_of_rank[r]);
+    }
+    Some(Welded {
+        vertices,
+        materials,
+        pid,
+        cache,
     })
 }
 
@@ -262,6 +498,37 @@ fn group_error(simplify_error: f32, members_max: f32, min_error: f32) -> f32 {
     (simplify_error.max(members_max) * (1.0 + 1.0 / 1024.0)).max(min_error)
 }
 
+/// Directed edges (by position id, key `a << 32 | b`) of some triangles with their use counts,
+/// sorted by key.
+struct Edges(Vec<(u64, u32)>);
+
+impl Edges {
+    fn of(tris: &[[u32; 3]], pid: &[u32]) -> Edges {
+        let mut keys: Vec<u64> = Vec::with_capacity(tris.len() * 3);
+        for t in tris {
+            for e in 0..3 {
+                keys.push((pid[t[e] as usize] as u64) << 32 | pid[t[(e + 1) % 3] as usize] as u64);
+            }
+        }
+        keys.sort_unstable();
+        let mut out: Vec<(u64, u32)> = Vec::with_capacity(keys.len());
+        for k in keys {
+            match out.last_mut() {
+                Some(l) if l.0 == k => l.1 += 1,
+                _ => out.push((k, 1)),
+            }
+        }
+        Edges(out)
+    }
+
+    fn count(&self, a: u32, b: u32) -> u32 {
+        let k = (a as u64) << 32 | b as u64;
+        self.0
+            .binary_search_by_key(&k, |e| e.0)
+            .map_or(0, |i| self.0[i].1)
+    }
+}
+
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
     tris.retain(|t| {
         let p = [pid[t[0] as usize], pid[t[1] as usize], pid[t[2] as usize]];
@@ -280,6 +547,7 @@ fn build_inner(
         materials: vmat,
         positions,
         pid,
+        pid_pos,
         mut tris,
         dropped,
         duplicates,
@@ -297,20 +565,45 @@ fn build_inner(
     let max_tris = opts.max_cluster_triangles as usize;
     let max_verts = MAX_CLUSTER_VERTICES as usize;
 
-    // Optional trimming of the input.
-    if opts.keep_percent < 100.0 || opts.trim_error > 0.0 {
-        let target =
-            ((tris.len() as f64 * opts.keep_percent as f64 / 100.0).round() as usize).max(1);
-        let target = if opts.keep_percent < 100.0 { target } else { 0 };
-        let err = if opts.trim_error > 0.0 {
-            opts.trim_error
-        } else {
-            f32::MAX
-        };
-        let (mut t, _) = simplify(&tris, &positions, &|_| false, target, err, Mode::Locked);
+    // Optional trimming of the input (UE Nanite's "Trim Relative Error" and "Keep Triangle
+    // Percent"): first every detail whose removal costs less than `trim_error` x the bounding-box
+    // diagonal, then, if more than `keep_percent` of the triangles remain, down to that count.
+    // Both reduce: the result satisfies the stricter of the two.
+    let mut trimmed_error = 0.0f32;
+    if opts.trim_error > 0.0 {
+        let (lo, hi) = mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
+        let diag = dist(lo, hi);
+        let (mut t, e) = simplify(
+            &tris,
+            &positions,
+            &|_| false,
+            0,
+            opts.trim_error * diag,
+            Mode::Locked,
+        );
         drop_degenerate(&mut t, &pid);
-        if !t.is_empty() {
+        if !t.is_empty() && t.len() < tris.len() {
             tris = t;
+            trimmed_error = e;
+        }
+    }
+    if opts.keep_percent < 100.0 {
+        let target =
+            ((input_triangles as f64 * opts.keep_percent as f64 / 100.0).round() as usize).max(1);
+        if tris.len() > target {
+            let (mut t, e) = simplify(
+                &tris,
+                &positions,
+                &|_| false,
+                target,
+                f32::MAX,
+                Mode::Locked,
+            );
+            drop_degenerate(&mut t, &pid);
+            if !t.is_empty() && t.len() < tris.len() {
+                tris = t;
+                trimmed_error = trimmed_error.max(e);
+            }
         }
     }
     let level0_triangles = tris.len();
@@ -320,22 +613,63 @@ fn build_inner(
         tris.len()
     ));
 
-    let mut clusters: Vec<WCluster> =
-        cluster_triangles(&tris, &pid, &positions, max_tris, max_verts)
-            .into_iter()
-            .map(|part| {
-                let t: Vec<[u32; 3]> = part.iter().map(|&i| tris[i as usize]).collect();
-                let sphere = points_sphere(t.iter().flatten().map(|&v| positions[v as usize]));
-                WCluster {
-                    tris: t,
-                    self_error: 0.0,
-                    self_sphere: sphere,
-                    creator: NO_GROUP,
-                    level: 0,
-                    group: NO_GROUP,
-                }
-            })
-            .collect();
+    let parter = Parter {
+        kind: opts.partitioner,
+        pid: &pid,
+        positions: &positions,
+        pid_pos: &pid_pos,
+    };
+    // Level-0 clusters. With meshoptimizer, big inputs are cut into spatially compact chunks
+    // (runs of the Morton order of triangle centroids) clustered in parallel; the chunking
+    // depends on the input only, so the result does not depend on the thread count.
+    let chunks: Vec<Vec<u32>> =
+        if opts.partitioner != Partitioner::Metis && tris.len() > 2 * LEVEL0_CHUNK {
+            let centroids: Vec<[f32; 3]> = tris
+                .iter()
+                .map(|t| {
+                    let (a, b, c) = (
+                        positions[t[0] as usize],
+                        positions[t[1] as usize],
+                        positions[t[2] as usize],
+                    );
+                    std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0)
+                })
+                .collect();
+            let codes = super::cluster::morton_codes(&centroids);
+            let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+            order.par_sort_unstable_by_key(|&i| (codes[i as usize], i));
+            let n = order.len().div_ceil(LEVEL0_CHUNK);
+            (0..n)
+                .map(|k| order[k * order.len() / n..(k + 1) * order.len() / n].to_vec())
+                .collect()
+        } else {
+            vec![(0..tris.len() as u32).collect()]
+        };
+    let mut clusters: Vec<WCluster> = chunks
+        .par_iter()
+        .map(|chunk| {
+            let ct: Vec<[u32; 3]> = chunk.iter().map(|&i| tris[i as usize]).collect();
+            parter
+                .clusters(&ct, max_tris, max_verts, true)
+                .into_iter()
+                .map(|part| {
+                    let t: Vec<[u32; 3]> = part.iter().map(|&i| ct[i as usize]).collect();
+                    let sphere = points_sphere(t.iter().flatten().map(|&v| positions[v as usize]));
+                    WCluster {
+                        tris: t,
+                        self_error: 0.0,
+                        self_sphere: sphere,
+                        creator: NO_GROUP,
+                        level: 0,
+                        group: NO_GROUP,
+                    }
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .flatten()
+        .collect();
     drop(tris);
     progress(&format!(
         "{}: level 0: {} clusters",
@@ -366,26 +700,29 @@ fn build_inner(
                 .iter()
                 .map(|&c| clusters[c as usize].tris.as_slice())
                 .collect();
-            let centers: Vec<[f32; 3]> = working
-                .iter()
-                .map(|&c| {
-                    let s = clusters[c as usize].self_sphere;
-                    let t = &clusters[c as usize].tris;
-                    let n = (t.len() * 3) as f32;
-                    let mut m = [0.0f32; 3];
-                    for &v in t.iter().flatten() {
-                        for k in 0..3 {
-                            m[k] += positions[v as usize][k] / n;
+            let centers = || -> Vec<[f32; 3]> {
+                working
+                    .iter()
+                    .map(|&c| {
+                        let s = clusters[c as usize].self_sphere;
+                        let t = &clusters[c as usize].tris;
+                        let n = (t.len() * 3) as f32;
+                        let mut m = [0.0f32; 3];
+                        for &v in t.iter().flatten() {
+                            for k in 0..3 {
+                                m[k] += positions[v as usize][k] / n;
+                            }
                         }
-                    }
-                    if m.iter().all(|x| x.is_finite()) {
-                        m
-                    } else {
-                        [s[0], s[1], s[2]]
-                    }
-                })
-                .collect();
-            group_clusters(&tri_refs, &centers, &pid, group_target * widen, gmax)
+                        if m.iter().all(|x| x.is_finite()) {
+                            m
+                        } else {
+                            [s[0], s[1], s[2]]
+                        }
+                    })
+                    .collect()
+            };
+            parter
+                .groups(&tri_refs, &centers, group_target * widen, gmax)
                 .into_iter()
                 .map(|g| g.into_iter().map(|i| working[i as usize]).collect())
                 .collect()
@@ -406,6 +743,7 @@ fn build_inner(
             }
         }
         let ctx = GroupCtx {
+            parter,
             clusters: &clusters,
             positions: &positions,
             pid: &pid,
@@ -492,6 +830,7 @@ fn build_inner(
         degenerate_dropped: dropped,
         duplicates_dropped: duplicates,
         level0_triangles,
+        level0_error: trimmed_error,
         vertices: vertices.len(),
         levels,
         widened_iterations: widened,
@@ -546,6 +885,7 @@ fn level_stats(
 }
 
 struct GroupCtx<'a> {
+    parter: Parter<'a>,
     clusters: &'a [WCluster],
     positions: &'a [[f32; 3]],
     pid: &'a [u32],
@@ -583,18 +923,90 @@ impl GroupCtx<'_> {
                     (t.len() as f32) <= n as f32 * 0.85
                 }
         };
-        let mut attempts = vec![Mode::Locked, Mode::LockedPrune];
+        // Attempts in order; the second locks the group's open borders too (non-manifold and
+        // open-border input can otherwise fold a border edge onto another).
+        // The last group (nothing to regroup with) also tries gentler targets before sloppy.
+        let mut attempts = vec![
+            (Mode::Locked, false, target),
+            (Mode::Locked, true, target),
+            (Mode::LockedPrune, true, target),
+        ];
         if self.single {
-            attempts.push(Mode::Sloppy);
+            attempts.push((Mode::Locked, true, n * 3 / 4));
+            attempts.push((Mode::Locked, true, n * 9 / 10));
+            attempts.push((Mode::Sloppy, false, target));
         }
+        let in_edges = Edges::of(&tris, self.pid);
+        // Open-border / non-manifold points of the group (computed when first needed).
+        let border = std::cell::OnceCell::new();
+        let locked_border = |v: u32| {
+            let b: &Vec<u32> = border.get_or_init(|| {
+                let mut b = Vec::new();
+                for &(k, f) in &in_edges.0 {
+                    let (x, y) = ((k >> 32) as u32, k as u32);
+                    if in_edges.count(y, x) != f {
+                        b.push(x);
+                        b.push(y);
+                    }
+                }
+                b.sort_unstable();
+                b.dedup();
+                b
+            });
+            locked(v) || b.binary_search(&self.pid[v as usize]).is_ok()
+        };
         let mut result = None;
-        for (i, mode) in attempts.into_iter().enumerate() {
-            let (mut t, e) = simplify(&tris, self.positions, &locked, target, f32::MAX, mode);
+        // Position ids locked because an attempt folded edges at them (grows per round).
+        let mut extra: Vec<u32> = Vec::new();
+        let mut rounds = 0;
+        let mut i = 0;
+        while i < attempts.len() {
+            let (mode, lock_border, goal) = attempts[i];
+            let lock_extra =
+                |v: u32| locked(v) || extra.binary_search(&self.pid[v as usize]).is_ok();
+            let lock: &dyn Fn(u32) -> bool = if lock_border {
+                &locked_border
+            } else {
+                &lock_extra
+            };
+            let (mut t, e) = simplify(&tris, self.positions, lock, goal, f32::MAX, mode);
             drop_degenerate(&mut t, self.pid);
-            if accept(&t) {
-                result = Some((t, e, i > 0));
-                break;
+            // No overlap (verify's rule): an edge used more than once in one direction must be
+            // balanced by the other direction or be used exactly as in the input; otherwise it
+            // is a fold, visible in every cut that shows it.
+            let out_edges = Edges::of(&t, self.pid);
+            let mut folded: Vec<u32> = out_edges
+                .0
+                .iter()
+                .map(|&(k, f)| ((k >> 32) as u32, k as u32, f))
+                .filter(|&(x, y, f)| {
+                    let r = out_edges.count(y, x);
+                    f > 1 && f != r && (f, r) != (in_edges.count(x, y), in_edges.count(y, x))
+                })
+                .flat_map(|(x, y, _)| [x, y])
+                .collect();
+            if folded.is_empty() {
+                if accept(&t) {
+                    result = Some((t, e, i > 0 || rounds > 0));
+                    break;
+                }
+            } else if !lock_border && mode == Mode::Locked && rounds < 8 {
+                // Lock the fold's vertices and their input neighbours, and retry.
+                folded.sort_unstable();
+                folded.dedup();
+                for tri in &tris {
+                    let p = tri.map(|v| self.pid[v as usize]);
+                    if p.iter().any(|x| folded.binary_search(x).is_ok()) {
+                        extra.extend_from_slice(&p);
+                    }
+                }
+                extra.extend(folded);
+                extra.sort_unstable();
+                extra.dedup();
+                rounds += 1;
+                continue;
             }
+            i += 1;
         }
         if result.is_none() && self.single {
             // Last resort: everything fits in one cluster; merge without simplifying.
@@ -610,7 +1022,9 @@ impl GroupCtx<'_> {
         }
         let (t, e, fallback) = result?;
         let error = group_error(e, members_max, self.min_error);
-        let parts = cluster_triangles(&t, self.pid, self.positions, max_tris, max_verts)
+        let parts = self
+            .parter
+            .clusters(&t, max_tris, max_verts, false)
             .into_iter()
             .map(|p| p.iter().map(|&i| t[i as usize]).collect())
             .collect();
@@ -634,103 +1048,127 @@ fn assemble(
     wgroups: Vec<WGroup>,
     mut stats: BuildStats,
 ) -> BuiltMesh {
-    // Clusters ordered by member group so that each group's members are contiguous.
+    // Group bounds, then the BVH, which fixes the order of the groups (each leaf's groups
+    // contiguous); clusters are stored by member group so that a group's members are contiguous.
+    let pre: Vec<Group> = wgroups
+        .iter()
+        .map(|g| {
+            let mut lo = [f32::MAX; 3];
+            let mut hi = [f32::MIN; 3];
+            for &m in &g.members {
+                for &v in wclusters[m as usize].tris.iter().flatten() {
+                    let p = positions[v as usize];
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                }
+            }
+            Group {
+                lod_sphere: g.sphere,
+                bounds_min: lo,
+                error: g.error,
+                bounds_max: hi,
+                first_cluster: 0,
+                cluster_count: g.members.len() as u32,
+                iteration: g.iteration,
+                _pad: [0; 2],
+            }
+        })
+        .collect();
+    let (bvh, gorder) = super::bvh::build_bvh(&pre);
+    let mut new_gid = vec![0u32; wgroups.len()];
+    for (ni, &og) in gorder.iter().enumerate() {
+        new_gid[og as usize] = ni as u32;
+    }
     let mut new_index = vec![0u32; wclusters.len()];
     let mut order = Vec::with_capacity(wclusters.len());
     let mut groups = Vec::with_capacity(wgroups.len());
-    for (gi, g) in wgroups.iter().enumerate() {
+    for &og in &gorder {
         let first = order.len() as u32;
-        let mut lo = [f32::MAX; 3];
-        let mut hi = [f32::MIN; 3];
-        for &m in &g.members {
+        for &m in &wgroups[og as usize].members {
             new_index[m as usize] = order.len() as u32;
             order.push(m);
-            for &v in wclusters[m as usize].tris.iter().flatten() {
+        }
+        let mut g = pre[og as usize];
+        g.first_cluster = first;
+        groups.push(g);
+    }
+    // Per cluster (in parallel): local vertices in first-use order, packed local indices,
+    // vertex references, bounds; then concatenated in order.
+    let nverts = vertices.len();
+    let packed: Vec<(Cluster, Vec<u32>, Vec<u8>)> = order
+        .par_iter()
+        .map(|&ci| {
+            let w = &wclusters[ci as usize];
+            let (local, local_idx) = super::simplify::compact(&w.tris, nverts);
+            let mut lo = [f32::MAX; 3];
+            let mut hi = [f32::MIN; 3];
+            for &v in &local {
                 let p = positions[v as usize];
                 for k in 0..3 {
                     lo[k] = lo[k].min(p[k]);
                     hi[k] = hi[k].max(p[k]);
                 }
             }
-        }
-        debug_assert!(
-            g.members
-                .iter()
-                .all(|&m| wclusters[m as usize].group == gi as u32)
-        );
-        groups.push(Group {
-            lod_sphere: g.sphere,
-            bounds_min: lo,
-            error: g.error,
-            bounds_max: hi,
-            first_cluster: first,
-            cluster_count: g.members.len() as u32,
-            iteration: g.iteration,
-            _pad: [0; 2],
-        });
-    }
+            let local_idx: Vec<u8> = local_idx.iter().map(|&l| l as u8).collect();
+            let mut tri_bytes = Vec::new();
+            super::pack_indices(&local_idx, local.len() as u32, &mut tri_bytes);
+            let base = local.iter().copied().min().unwrap_or(0);
+            let span = local.iter().copied().max().unwrap_or(0) - base;
+            let mut refs = Vec::with_capacity(local.len());
+            let flags = if span < 65536 {
+                for pair in local.chunks(2) {
+                    let a = pair[0] - base;
+                    let b = pair.get(1).map_or(0, |&b| b - base);
+                    refs.push(a | b << 16);
+                }
+                0
+            } else {
+                refs.extend_from_slice(&local);
+                CLUSTER_FLAG_REFS_U32
+            };
+            let g = &wgroups[w.group as usize];
+            let cluster = Cluster {
+                self_sphere: w.self_sphere,
+                parent_sphere: g.sphere,
+                bounds_min: lo,
+                self_error: w.self_error,
+                bounds_max: hi,
+                parent_error: g.error,
+                vertex_ref_offset: 0,
+                vertex_base: if flags == 0 { base } else { 0 },
+                triangle_offset: 0,
+                counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16,
+                group: new_gid[w.group as usize],
+                creator: if w.creator == NO_GROUP {
+                    NO_GROUP
+                } else {
+                    new_gid[w.creator as usize]
+                },
+                level: w.level,
+                _pad: 0,
+            };
+            (cluster, refs, tri_bytes)
+        })
+        .collect();
     let mut clusters = Vec::with_capacity(order.len());
-    let mut refs: Vec<u32> = Vec::new();
-    let mut triangles: Vec<u8> = Vec::new();
+    let mut refs: Vec<u32> = Vec::with_capacity(packed.iter().map(|p| p.1.len()).sum());
+    let mut triangles: Vec<u8> = Vec::with_capacity(packed.iter().map(|p| p.2.len()).sum());
     let mut stored = 0;
-    for &ci in &order {
-        let w = &wclusters[ci as usize];
-        let mut local: Vec<u32> = Vec::new();
-        let mut lo = [f32::MAX; 3];
-        let mut hi = [f32::MIN; 3];
-        let tri_offset = triangles.len() as u32;
-        for t in &w.tris {
-            for &v in t {
-                let li = match local.iter().position(|&x| x == v) {
-                    Some(i) => i,
-                    None => {
-                        local.push(v);
-                        local.len() - 1
-                    }
-                };
-                triangles.push(li as u8);
-                let p = positions[v as usize];
-                for k in 0..3 {
-                    lo[k] = lo[k].min(p[k]);
-                    hi[k] = hi[k].max(p[k]);
-                }
-            }
-        }
-        stored += w.tris.len();
-        let base = local.iter().copied().min().unwrap_or(0);
-        let span = local.iter().copied().max().unwrap_or(0) - base;
-        let ref_offset = refs.len() as u32;
-        let flags = if span < 65536 {
-            for pair in local.chunks(2) {
-                let a = pair[0] - base;
-                let b = pair.get(1).map_or(0, |&b| b - base);
-                refs.push(a | b << 16);
-            }
-            0
-        } else {
-            refs.extend_from_slice(&local);
-            CLUSTER_FLAG_REFS_U32
-        };
-        let g = &wgroups[w.group as usize];
-        clusters.push(Cluster {
-            self_sphere: w.self_sphere,
-            parent_sphere: g.sphere,
-            bounds_min: lo,
-            self_error: w.self_error,
-            bounds_max: hi,
-            parent_error: g.error,
-            vertex_ref_offset: ref_offset,
-            vertex_base: if flags == 0 { base } else { 0 },
-            triangle_offset: tri_offset,
-            counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16,
-            group: w.group,
-            creator: w.creator,
-            level: w.level,
-            _pad: 0,
-        });
+    for (mut c, r, t) in packed {
+        c.vertex_ref_offset = refs.len() as u32;
+        c.triangle_offset = triangles.len() as u32;
+        stored += c.triangle_count() as usize;
+        refs.extend_from_slice(&r);
+        triangles.extend_from_slice(&t);
+        clusters.push(c);
     }
-    let root = new_index[order[order.len() - 1] as usize];
-    let bvh = super::bvh::build_bvh(&groups);
+    let root = wgroups
+        .iter()
+        .find(|g| g.iteration == u32::MAX)
+        .and_then(|g| g.members.first())
+        .map_or(0, |&r| new_index[r as usize]);
     stats.clusters = clusters.len();
     stats.groups = groups.len();
     stats.bvh_nodes = bvh.len();

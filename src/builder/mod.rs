@@ -1,10 +1,15 @@
 //! The offline cluster-DAG builder (CPU only, deterministic).
 //!
-//! [`build`] turns a [`Mesh`] into a [`BuiltMesh`]: level-0 clusters of at most 128 triangles
-//! (METIS on the triangle graph), then repeatedly groups of 8..32 clusters (METIS on the cluster
-//! graph) simplified to about half with their borders locked and split into new clusters, until one
-//! root cluster remains. Every cluster stores a `self` and a `parent` (error, LOD sphere) pair as
-//! DESIGN.md's "cut rule" requires; [`verify`] checks the invariants and the cut on many views.
+//! [`build`] turns a [`Mesh`] into a [`BuiltMesh`]: level-0 clusters of at most 128 triangles and
+//! 255 vertices, then repeatedly groups of about 16 (at most 32) clusters simplified to about half
+//! with their borders locked and split into new clusters, until one root cluster remains. Clusters
+//! and groups come from a [`Partitioner`]: meshoptimizer's spatial clusterizer and cluster
+//! partitioner by default (fast, thread-safe; big inputs are clustered in parallel Morton chunks),
+//! or METIS on the triangle / cluster graphs. A group simplification that would fold an edge
+//! (an overlap in some cut) is retried with the fold's neighbourhood locked. Every cluster stores a
+//! `self` and a `parent` (error, LOD sphere) pair as DESIGN.md's "cut rule" requires; the BVH
+//! (fanout 8, leaves of up to 4 groups) fixes the order of the groups; [`verify()`] checks the
+//! invariants and the cut on many views.
 //!
 //! Positions are snapped to a per-mesh grid at the start (21 bits per axis), normals to 16-bit
 //! octahedral codes and UVs to 16 bits over the mesh's UV range, so the `.vgeo` file stores exactly
@@ -14,6 +19,7 @@ pub mod bvh;
 pub mod cluster;
 pub mod cut;
 pub mod dag;
+pub mod fastpart;
 pub mod group;
 pub mod quantize;
 pub mod simplify;
@@ -38,15 +44,34 @@ pub struct BuildOptions {
     pub group_max: u32,
     /// Target triangle ratio of one simplification step (0.5: half).
     pub simplify_ratio: f32,
-    /// Percentage of the input triangles to keep at level 0 (100: all); below 100 the input is
-    /// simplified first (no locks) and that becomes the finest level.
+    /// UE Nanite's "Keep Triangle Percent": percentage of the input triangles kept at level 0
+    /// (100: all); below 100 the input is simplified first and that becomes the finest level.
     pub keep_percent: f32,
-    /// Object-space error allowed when trimming the input (with `keep_percent`); 0: no trimming by error.
+    /// UE Nanite's "Trim Relative Error": detail whose removal costs less than this error,
+    /// relative to the bounding-box diagonal, is removed from the input before the build
+    /// (0: none). With `keep_percent`, the stricter of the two wins.
     pub trim_error: f32,
     /// Triangle count the fallback mesh ([`BuiltMesh::fallback_mesh`]) aims for.
     pub fallback_triangles: u32,
     /// Worker threads (`None`: rayon's default). The output does not depend on it.
     pub threads: Option<usize>,
+    /// Graph partitioner for clusters and groups.
+    pub partitioner: Partitioner,
+}
+
+/// Which partitioner makes clusters and groups.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Partitioner {
+    /// meshoptimizer's spatial clusterizer (`meshopt_buildMeshletsSpatial`) and cluster
+    /// partitioner: fastest, and parallel (the default).
+    #[default]
+    Meshopt,
+    /// As `Meshopt`, but clusters after simplification grow along triangle adjacency
+    /// (`meshopt_buildMeshletsFlex`): about 20% slower, slightly fewer bytes.
+    MeshoptFlex,
+    /// METIS on the triangle / cluster graphs: tighter borders, slower, and serialized (METIS's
+    /// random generator is process-global, so calls hold a lock for determinism).
+    Metis,
 }
 
 impl Default for BuildOptions {
@@ -60,6 +85,7 @@ impl Default for BuildOptions {
             trim_error: 0.0,
             fallback_triangles: 2000,
             threads: None,
+            partitioner: Partitioner::default(),
         }
     }
 }
@@ -118,7 +144,9 @@ pub struct Cluster {
     pub vertex_ref_offset: u32,
     /// Added to the u16 vertex references (unused with [`CLUSTER_FLAG_REFS_U32`]).
     pub vertex_base: u32,
-    /// Offset (in bytes) of the cluster's local triangle indices in [`BuiltMesh::triangles`].
+    /// Offset (in bytes, a multiple of 4) of the cluster's packed local triangle indices in
+    /// [`BuiltMesh::triangles`]: `3 * triangle_count` indices of [`index_bits`]`(vertex_count)`
+    /// bits each, as a little-endian bit stream (index `k` starts at bit `k * bits`).
     pub triangle_offset: u32,
     /// `vertex_count | triangle_count << 8 | flags << 16`.
     pub counts: u32,
@@ -153,6 +181,52 @@ impl Cluster {
             self.vertex_count().div_ceil(2)
         }
     }
+}
+
+/// Bits per packed local triangle index of a cluster with `vertex_count` vertices (1..=8).
+pub fn index_bits(vertex_count: u32) -> u32 {
+    (32 - vertex_count.saturating_sub(1).leading_zeros()).max(1)
+}
+
+/// Bytes of a cluster's packed triangle indices, padded to a multiple of 4.
+pub fn packed_triangle_bytes(vertex_count: u32, triangle_count: u32) -> usize {
+    ((3 * triangle_count as usize * index_bits(vertex_count) as usize).div_ceil(32)) * 4
+}
+
+/// Appends the packed form of `local` (indices `< vertex_count`) to `out` (see
+/// [`Cluster::triangle_offset`]).
+pub fn pack_indices(local: &[u8], vertex_count: u32, out: &mut Vec<u8>) {
+    let bits = index_bits(vertex_count);
+    let mut acc = 0u64;
+    let mut n = 0u32;
+    let start = out.len();
+    for &l in local {
+        acc |= (l as u64) << n;
+        n += bits;
+        while n >= 8 {
+            out.push(acc as u8);
+            acc >>= 8;
+            n -= 8;
+        }
+    }
+    if n > 0 {
+        out.push(acc as u8);
+    }
+    let len = (out.len() - start).div_ceil(4) * 4;
+    out.resize(start + len, 0);
+}
+
+/// Local index `k` of a packed stream starting at `bytes[0]` with `bits` per index; `None` when it
+/// lies outside `bytes`.
+pub fn unpack_index(bytes: &[u8], bits: u32, k: usize) -> Option<u32> {
+    let bit = k * bits as usize;
+    let lo = *bytes.get(bit / 8)? as u32;
+    let hi = if (bit % 8) + bits as usize > 8 {
+        *bytes.get(bit / 8 + 1)? as u32
+    } else {
+        0
+    };
+    Some(((lo | hi << 8) >> (bit % 8)) & ((1 << bits) - 1))
 }
 
 /// A group: clusters simplified together. Its members are the clusters
@@ -198,8 +272,10 @@ pub struct BvhNode {
 }
 const _: () = assert!(size_of::<BvhNode>() == 64);
 
-/// A vertex as stored: position on the mesh grid (21 bits per axis in 63 bits), octahedral normal
-/// (2 x 16 bits), UV (2 x 16 bits over the mesh's UV range).
+/// A vertex: position on the mesh grid (21 bits per axis in 63 bits), octahedral normal
+/// (2 x 16 bits), UV (2 x 16 bits over the mesh's UV range; 0 when the mesh has no UVs). The file
+/// stores these as separate streams (positions 8 B, normals 4 B, UVs 4 B only when the mesh has
+/// UVs), see [`crate::format`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Pod, Zeroable)]
 pub struct PackedVertex {
@@ -245,8 +321,11 @@ pub struct BuildStats {
     pub degenerate_dropped: usize,
     /// Exact duplicate triangles dropped (same points, same winding).
     pub duplicates_dropped: usize,
-    /// Level-0 triangles (after degenerate removal and `keep_percent`).
+    /// Level-0 triangles (after degenerate removal, `trim_error` and `keep_percent`).
     pub level0_triangles: usize,
+    /// Object-space error of trimming the input to level 0 (0 without trimming).
+    #[serde(default)]
+    pub level0_error: f32,
     pub vertices: usize,
     pub clusters: usize,
     pub groups: usize,
@@ -275,7 +354,7 @@ pub struct BuiltMesh {
     pub clusters: Vec<Cluster>,
     /// Vertex references of all clusters (u16 pairs or u32 words, see [`Cluster`]).
     pub vertex_refs: Vec<u32>,
-    /// Local triangle indices of all clusters, 3 per triangle.
+    /// Packed local triangle indices of all clusters (see [`Cluster::triangle_offset`]).
     pub triangles: Vec<u8>,
     pub groups: Vec<Group>,
     pub bvh: Vec<BvhNode>,
@@ -312,15 +391,14 @@ impl BuiltMesh {
     /// Triangles of cluster `ci` as global vertex indices.
     pub fn cluster_triangles(&self, ci: usize) -> Vec<[u32; 3]> {
         let c = &self.clusters[ci];
-        let base = c.triangle_offset as usize;
+        let bytes = &self.triangles[c.triangle_offset as usize..];
+        let bits = index_bits(c.vertex_count());
         (0..c.triangle_count() as usize)
             .map(|t| {
-                let l = &self.triangles[base + 3 * t..base + 3 * t + 3];
-                [
-                    self.vertex_ref(c, l[0] as u32),
-                    self.vertex_ref(c, l[1] as u32),
-                    self.vertex_ref(c, l[2] as u32),
-                ]
+                std::array::from_fn(|k| {
+                    let l = unpack_index(bytes, bits, 3 * t + k).unwrap_or(0);
+                    self.vertex_ref(c, l)
+                })
             })
             .collect()
     }

@@ -4,8 +4,37 @@
 const OPT_SPARSE_NONE: u32 = 0;
 /// meshopt_SimplifyErrorAbsolute.
 const OPT_ERROR_ABSOLUTE: u32 = 4;
-/// meshopt_SimplifyPrune (meshoptimizer 0.22): removes disconnected parts that are not locked.
+/// meshopt_SimplifyPrune (meshoptimizer >= 0.22): removes disconnected parts that are not locked.
 const OPT_PRUNE: u32 = 8;
+
+thread_local! {
+    /// Per-thread scratch map global vertex -> local index (all `u32::MAX` between calls).
+    static SCRATCH: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The distinct vertices of `tris` in first-use order, and `tris` as indices into them.
+pub(crate) fn compact(tris: &[[u32; 3]], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
+    SCRATCH.with(|cell| {
+        let mut map = cell.borrow_mut();
+        if map.len() < vertex_count {
+            map.resize(vertex_count, u32::MAX);
+        }
+        let mut verts = Vec::new();
+        let mut indices = Vec::with_capacity(tris.len() * 3);
+        for &v in tris.iter().flatten() {
+            let m = &mut map[v as usize];
+            if *m == u32::MAX {
+                *m = verts.len() as u32;
+                verts.push(v);
+            }
+            indices.push(*m);
+        }
+        for &v in &verts {
+            map[v as usize] = u32::MAX;
+        }
+        (verts, indices)
+    })
+}
 
 /// How to simplify.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,12 +58,9 @@ pub(crate) fn simplify(
     target_error: f32,
     mode: Mode,
 ) -> (Vec<[u32; 3]>, f32) {
-    // Compact vertex buffer of the group (keeps meshopt's work proportional to the group).
-    let mut verts: Vec<u32> = tris.iter().flatten().copied().collect();
-    verts.sort_unstable();
-    verts.dedup();
-    let local = |v: u32| verts.binary_search(&v).unwrap_or(0) as u32;
-    let indices: Vec<u32> = tris.iter().flatten().map(|&v| local(v)).collect();
+    // Compact vertex buffer of the group (keeps meshopt's work proportional to the group), in
+    // first-use order.
+    let (verts, indices) = compact(tris, positions.len());
     let pos: Vec<[f32; 3]> = verts.iter().map(|&v| positions[v as usize]).collect();
     let lock: Vec<u8> = verts.iter().map(|&v| locked(v) as u8).collect();
     let mut dest = vec![0u32; indices.len()];
@@ -81,6 +107,7 @@ pub(crate) fn simplify(
                     pos.as_ptr().cast(),
                     pos.len(),
                     12,
+                    lock.as_ptr(),
                     target_tris * 3,
                     f32::MAX,
                     &mut err,

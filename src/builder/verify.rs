@@ -45,6 +45,9 @@ pub struct VerifyReport {
     pub cut_triangles_max: usize,
     /// Cut edges accepted as simplified open borders (both ends on the input's open border).
     pub border_edges_accepted: usize,
+    /// Simple open-border loops of the input, on which the cut's border chains are checked
+    /// (each must go around its loop exactly once, forward).
+    pub border_loops: usize,
 }
 
 impl VerifyReport {
@@ -58,13 +61,14 @@ impl fmt::Display for VerifyReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "{} ({} violations; {} views, cut {}..{} triangles, {} simplified border edges)",
+            "{} ({} violations; {} views, cut {}..{} triangles, {} simplified border edges, {} border loops checked)",
             if self.ok() { "OK" } else { "FAILED" },
             self.violation_count,
             self.views_tested,
             self.cut_triangles_min,
             self.cut_triangles_max,
-            self.border_edges_accepted
+            self.border_edges_accepted,
+            self.border_loops
         )?;
         for v in &self.violations {
             writeln!(f, "  - {v}")?;
@@ -197,8 +201,11 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
             continue;
         }
         let to = c.triangle_offset as u64;
-        if to + 3 * tc as u64 > m.triangles.len() as u64 {
-            s.add(format!("cluster {ci}: triangles out of range"));
+        let tbytes = super::packed_triangle_bytes(vc, tc) as u64;
+        if !to.is_multiple_of(4) || to + tbytes > m.triangles.len() as u64 {
+            s.add(format!(
+                "cluster {ci}: triangles out of range or misaligned"
+            ));
             continue;
         }
         for i in 0..vc {
@@ -215,9 +222,11 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
                 break;
             }
         }
-        if let Some(t) = m.triangles[to as usize..(to + 3 * tc as u64) as usize]
-            .iter()
-            .find(|&&l| l as u32 >= vc)
+        let bytes = &m.triangles[to as usize..(to + tbytes) as usize];
+        let bits = super::index_bits(vc);
+        if let Some(t) = (0..3 * tc as usize)
+            .map(|k| super::unpack_index(bytes, bits, k).unwrap_or(u32::MAX))
+            .find(|&l| l >= vc)
         {
             s.add(format!(
                 "cluster {ci}: local index {t} >= vertex count {vc}"
@@ -369,6 +378,46 @@ fn check_dag(m: &BuiltMesh, s: &mut Sink) {
             }
         }
     }
+    if visits != m.bvh.len() {
+        s.add(format!(
+            "BVH: {visits} of {} nodes reachable from node 0",
+            m.bvh.len()
+        ));
+    }
+    for (ni, n) in m.bvh.iter().enumerate() {
+        let leaf = n.flags & BVH_FLAG_LEAF != 0;
+        let max = if leaf {
+            super::bvh::LEAF_GROUPS
+        } else {
+            super::bvh::FANOUT
+        };
+        if n.count == 0 || n.count as usize > max {
+            s.add(format!("BVH node {ni}: {} children (1..={max})", n.count));
+            continue;
+        }
+        // Children (nodes or groups) must lie inside the node: box, LOD sphere, error.
+        for i in n.first..n.first + n.count {
+            let (lo, hi, sphere, err) = if leaf {
+                let g = &m.groups[i as usize];
+                (g.bounds_min, g.bounds_max, g.lod_sphere, g.error)
+            } else {
+                let c = &m.bvh[i as usize];
+                (c.bounds_min, c.bounds_max, c.lod_sphere, c.max_parent_error)
+            };
+            let inside = (0..3).all(|k| n.bounds_min[k] <= lo[k] && hi[k] <= n.bounds_max[k]);
+            if !inside
+                || !contains(&n.lod_sphere, &sphere)
+                || err.partial_cmp(&n.max_parent_error) == Some(std::cmp::Ordering::Greater)
+                || err.is_nan()
+            {
+                s.add(format!(
+                    "BVH node {ni}: child {i} not enclosed (box {inside}, sphere {}, error {err} vs {})",
+                    contains(&n.lod_sphere, &sphere),
+                    n.max_parent_error
+                ));
+            }
+        }
+    }
     if let Some(g) = refs.iter().position(|&r| r != 1) {
         s.add(format!(
             "BVH: group {g} referenced {} times (and maybe others)",
@@ -442,6 +491,57 @@ fn check_cuts(m: &BuiltMesh, tris: &[Vec<[u32; 3]>], opts: &VerifyOptions, s: &m
             uf.0[ra as usize] = rb;
         }
     }
+    // Simple border loops of the input: components of open-border edges where every point has
+    // exactly one outgoing and one incoming border edge (used once, never in reverse). Each point
+    // gets its loop and its index along the loop, so that a cut's border chain can be checked.
+    let np = ids.len();
+    let mut next_on_border = vec![u32::MAX; np];
+    let mut degree = vec![(0u32, 0u32); np];
+    for (&k, &c) in &orig_edges {
+        let (a, b) = ((k >> 32) as u32, k as u32);
+        if c == 1 && count(&orig_edges, b, a) == 0 {
+            next_on_border[a as usize] = b;
+            degree[a as usize].0 += 1;
+            degree[b as usize].1 += 1;
+        } else if (c, count(&orig_edges, b, a)) != (1, 1) {
+            // Non-manifold or multiply-used border edges: their points are not on simple loops.
+            degree[a as usize].0 += 8;
+            degree[b as usize].1 += 8;
+        }
+    }
+    let mut loop_of = vec![u32::MAX; np];
+    let mut loop_idx = vec![0u32; np];
+    let mut loop_len: Vec<u32> = Vec::new();
+    for start in 0..np {
+        if !border[start] || loop_of[start] != u32::MAX || degree[start] != (1, 1) {
+            continue;
+        }
+        // Walk; the loop is simple if it returns to `start` through degree-(1, 1) points only.
+        let mut walk = vec![start as u32];
+        let mut cur = next_on_border[start];
+        let mut simple = true;
+        while cur != start as u32 {
+            if cur == u32::MAX
+                || degree[cur as usize] != (1, 1)
+                || loop_of[cur as usize] != u32::MAX
+                || walk.len() > np
+            {
+                simple = false;
+                break;
+            }
+            walk.push(cur);
+            cur = next_on_border[cur as usize];
+        }
+        if simple {
+            let id = loop_len.len() as u32;
+            for (i, &v) in walk.iter().enumerate() {
+                loop_of[v as usize] = id;
+                loop_idx[v as usize] = i as u32;
+            }
+            loop_len.push(walk.len() as u32);
+        }
+    }
+    s.r.border_loops = loop_len.len();
     // Parents of each cluster (clusters created by its group), for the path check.
     let mut children: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
     for (ci, c) in m.clusters.iter().enumerate() {
@@ -556,6 +656,36 @@ fn check_cuts(m: &BuiltMesh, tris: &[Vec<[u32; 3]>], opts: &VerifyOptions, s: &m
                 cracks += 1
             }
             example.get_or_insert((a, b, f, r, f0, r0));
+        }
+        // Border chains: on each simple input border loop, the cut's edges used once in one
+        // direction only must form one chain that goes around the loop exactly once, forward
+        // (a simplified border replaces a run of border edges by a chord in the same direction);
+        // a crack ending on the border, a backward or overlapping chord breaks this.
+        let mut walked = vec![0u64; loop_len.len()];
+        let mut out_deg: HashMap<u32, (u32, u32)> = HashMap::new();
+        for (&k, &f) in &edges {
+            let (a, b) = ((k >> 32) as u32, k as u32);
+            let l = loop_of[a as usize];
+            if f != 1 || count(&edges, b, a) != 0 || l == u32::MAX || loop_of[b as usize] != l {
+                continue;
+            }
+            let len = loop_len[l as usize];
+            let d = (loop_idx[b as usize] + len - loop_idx[a as usize]) % len;
+            walked[l as usize] += d as u64;
+            out_deg.entry(a).or_default().0 += 1;
+            out_deg.entry(b).or_default().1 += 1;
+        }
+        let bad_loops = walked
+            .iter()
+            .zip(&loop_len)
+            .filter(|&(&w, &len)| w != 0 && w != len as u64)
+            .count();
+        let bad_points = out_deg.values().filter(|d| **d != (1, 1)).count();
+        if bad_loops > 0 || bad_points > 0 {
+            s.add(format!(
+                "{what}: border chains broken on {bad_loops} of {} input border loops ({bad_points} points without one incoming and one outgoing border edge)",
+                loop_len.len()
+            ));
         }
         if let Some((a, b, f, r, f0, r0)) = example {
             s.add(format!(

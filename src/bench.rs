@@ -1,0 +1,1614 @@
+//! `vgeo bench`: the benchmark scenes in the three modes (`brute`, `lod`, `vgeo`), speed against
+//! image error, and scaling to billions of triangles (DESIGN.md, "Baselines" and "Measures").
+//!
+//! For every scene and every frame of its camera path, `brute` renders the full-detail reference;
+//! `lod` and `vgeo` render at every pixel threshold of the sweep, each threshold's whole path in
+//! order (so vgeo's occlusion culling sees the previous frame of the same run). Each render is
+//! measured (GPU ms per pass from timestamps, CPU ms of the render call including its read-back,
+//! triangles, clusters and instances drawn) and compared with brute's image of the same frame
+//! ([`image_error`]). Results go to `--out`: `bench.json`, `bench.md`, SVG plots and a few images.
+//!
+//! Scenes are the TOML files `outdoor`, `indoor`, `foliage`, `drawcalls` and `stress` under
+//! `assets/scenes`. `stress` is a template instance repeated on an N x N x N grid (N from the suite
+//! or `--stress-n`); its camera path is made from the grid's size.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Context as _, Result, bail};
+use glam::{DMat4, DVec3, Vec3};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+
+use crate::baseline::brute::Brute;
+use crate::baseline::lod::{Lod, LodOptions};
+use crate::builder::BuiltMesh;
+use crate::camera::Camera;
+use crate::frame::VgeoRenderer;
+use crate::gpu::Context;
+use crate::mesh::{Material, Mesh};
+use crate::passes::debug_view::ViewMode;
+use crate::passes::view::FrameSettings;
+use crate::render::{Frame, Light, Placement};
+use crate::scene::{GENERATED_PREFIX, Scene};
+
+/// The benchmark scenes with a scene file of their own, in run order (`stress` comes last).
+pub const SCENES: [&str; 4] = ["outdoor", "indoor", "foliage", "drawcalls"];
+
+/// Relative depth difference above which two pixels show different surfaces.
+pub const DEPTH_TOLERANCE: f32 = 1e-3;
+
+/// A benchmark suite: sizes and sweeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Suite {
+    /// Tiny: CI on lavapipe (160x120, 2 frames, scenes thinned, small stress grids).
+    Quick,
+    /// The real sizes, for a discrete GPU (1920x1080, full scenes, stress up to N = 100).
+    Full,
+}
+
+impl Suite {
+    /// `quick` or `full`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "quick" => Some(Suite::Quick),
+            "full" => Some(Suite::Full),
+            _ => None,
+        }
+    }
+
+    /// The suite's settings.
+    pub fn settings(self) -> BenchSettings {
+        match self {
+            Suite::Quick => BenchSettings {
+                suite: self,
+                width: 160,
+                height: 120,
+                frames: 2,
+                // 0 (full detail) checks the comparison: vgeo and lod must then equal brute.
+                error_sweep: vec![0.0, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0],
+                stress_n: vec![1, 2],
+                max_scene_triangles: Some(1_500_000),
+                brute_max_triangles: 2_000_000_000,
+                warmup: false,
+                scenes: SCENES.iter().map(|s| s.to_string()).collect(),
+                stress: true,
+            },
+            Suite::Full => BenchSettings {
+                suite: self,
+                width: 1920,
+                height: 1080,
+                frames: 16,
+                error_sweep: vec![0.25, 0.5, 1.0, 2.0, 4.0, 8.0],
+                stress_n: vec![1, 2, 4, 8, 12, 16, 20, 32, 64, 100],
+                max_scene_triangles: None,
+                brute_max_triangles: 2_000_000_000,
+                warmup: true,
+                scenes: SCENES.iter().map(|s| s.to_string()).collect(),
+                stress: true,
+            },
+        }
+    }
+}
+
+/// What a benchmark run does.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BenchSettings {
+    /// The suite these settings started from.
+    pub suite: Suite,
+    /// Image size in pixels.
+    pub width: u32,
+    pub height: u32,
+    /// Frames along each scene's camera path.
+    pub frames: u32,
+    /// Pixel thresholds of `lod` and `vgeo` (the first of them equal to 1 is "the" 1 px figure).
+    pub error_sweep: Vec<f32>,
+    /// Grid sizes of the `stress` scene (N x N x N instances each).
+    pub stress_n: Vec<u32>,
+    /// Thin scenes above this many (instanced) triangles by keeping every k-th instance.
+    pub max_scene_triangles: Option<u64>,
+    /// `brute` and `lod` skip frames that would draw more triangles than this.
+    pub brute_max_triangles: u64,
+    /// Render each mode once before measuring (pipeline warm-up).
+    pub warmup: bool,
+    /// Scenes with a scene file to run (of [`SCENES`]).
+    pub scenes: Vec<String>,
+    /// Run the `stress` grids.
+    pub stress: bool,
+}
+
+/// Command-line arguments of `vgeo bench`.
+#[derive(clap::Args, Clone, Debug)]
+pub struct BenchArgs {
+    /// `quick` (tiny, CI on lavapipe) or `full` (1920x1080, the real sizes).
+    #[arg(long, default_value = "quick")]
+    pub suite: String,
+    /// Output folder (created): bench.json, bench.md, plots, images.
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Folder with the scene files (default: assets/scenes here, else in the source tree).
+    #[arg(long)]
+    pub scenes_dir: Option<PathBuf>,
+    /// Scenes to run, comma-separated (outdoor, indoor, foliage, drawcalls, stress); default all.
+    #[arg(long, value_delimiter = ',')]
+    pub scenes: Option<Vec<String>>,
+    /// Stress grid sizes N, comma-separated (N x N x N instances), instead of the suite's.
+    #[arg(long, value_delimiter = ',')]
+    pub stress_n: Option<Vec<u32>>,
+    /// Pixel thresholds to sweep, comma-separated, instead of the suite's.
+    #[arg(long, value_delimiter = ',')]
+    pub sweep: Option<Vec<f32>>,
+    /// Frames along each camera path, instead of the suite's.
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Image width, instead of the suite's.
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height, instead of the suite's.
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+impl BenchArgs {
+    /// The settings these arguments ask for (the suite's, with the overrides), validated.
+    pub fn settings(&self) -> Result<BenchSettings> {
+        let suite = Suite::parse(&self.suite).with_context(|| {
+            format!("unknown --suite `{}` (available: quick, full)", self.suite)
+        })?;
+        let mut s = suite.settings();
+        if let Some(names) = &self.scenes {
+            s.stress = names.iter().any(|n| n == "stress");
+            s.scenes = Vec::new();
+            for n in names {
+                if SCENES.contains(&n.as_str()) {
+                    s.scenes.push(n.clone());
+                } else if n != "stress" {
+                    bail!(
+                        "unknown scene `{n}` in --scenes (available: {}, stress)",
+                        SCENES.join(", ")
+                    );
+                }
+            }
+        }
+        if let Some(n) = &self.stress_n {
+            s.stress_n = n.clone();
+        }
+        if let Some(e) = &self.sweep {
+            s.error_sweep = e.clone();
+        }
+        if let Some(f) = self.frames {
+            s.frames = f;
+        }
+        if let Some(w) = self.width {
+            s.width = w;
+        }
+        if let Some(h) = self.height {
+            s.height = h;
+        }
+        s.validate()?;
+        Ok(s)
+    }
+}
+
+impl BenchSettings {
+    /// Checks sizes, frame count, sweep values and grid sizes.
+    pub fn validate(&self) -> Result<()> {
+        if !(1..=16384).contains(&self.width) || !(1..=16384).contains(&self.height) {
+            bail!("width and height must be between 1 and 16384");
+        }
+        if self.frames == 0 {
+            bail!("frames must be at least 1");
+        }
+        if self.error_sweep.is_empty()
+            || self.error_sweep.iter().any(|e| !e.is_finite() || *e < 0.0)
+        {
+            bail!("the sweep needs at least one threshold, each finite and >= 0 (0: full detail)");
+        }
+        if self.stress && (self.stress_n.is_empty() || self.stress_n.contains(&0)) {
+            bail!("stress grid sizes must be >= 1");
+        }
+        let most = self.stress_n.iter().map(|&n| (n as u64).pow(3)).max();
+        if most.unwrap_or(0) > crate::scene::MAX_INSTANCES {
+            bail!(
+                "a stress grid has more than {} instances",
+                crate::scene::MAX_INSTANCES
+            );
+        }
+        Ok(())
+    }
+}
+
+/// Image error of a frame against the reference (brute's full-detail image of the same view).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ImageError {
+    /// Share of pixels whose visible surface differs: covered in one image only, or depths more
+    /// than [`DEPTH_TOLERANCE`] apart (relative).
+    pub surface_diff: f64,
+    /// Share of pixels covered in one image only.
+    pub coverage_diff: f64,
+    /// Relative depth error `|d - d_ref| / d_ref` over pixels covered in both: mean and max.
+    pub depth_err_mean: f64,
+    pub depth_err_max: f64,
+    /// Mean squared error of the lit RGB image (8-bit units).
+    pub mse: f64,
+    /// PSNR of the lit RGB image in dB; infinite (`null` in JSON) only when the images are equal.
+    #[serde(serialize_with = "finite_or_null")]
+    pub psnr_db: f64,
+}
+
+fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    if v.is_finite() {
+        s.serialize_f64(*v)
+    } else {
+        s.serialize_none()
+    }
+}
+
+/// PSNR in dB of 8-bit images with mean squared error `mse` (infinite when 0).
+pub fn psnr(mse: f64) -> f64 {
+    if mse <= 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (255.0f64 * 255.0 / mse).log10()
+    }
+}
+
+/// Compares `test` with `reference` (same size): see [`ImageError`]. Depth 0 is "nothing drawn"
+/// (reverse-Z); the lit images are compared on RGB.
+pub fn image_error(reference: &Frame, test: &Frame) -> Result<ImageError> {
+    let n = (reference.width as usize) * (reference.height as usize);
+    if test.width != reference.width
+        || test.height != reference.height
+        || reference.depth.len() != n
+        || test.depth.len() != n
+        || reference.color.len() != 4 * n
+        || test.color.len() != 4 * n
+    {
+        bail!(
+            "cannot compare a {}x{} frame with a {}x{} reference",
+            test.width,
+            test.height,
+            reference.width,
+            reference.height
+        );
+    }
+    let (mut surface, mut coverage, mut both) = (0usize, 0usize, 0usize);
+    let (mut dsum, mut dmax) = (0.0f64, 0.0f64);
+    for (&a, &b) in reference.depth.iter().zip(&test.depth) {
+        let (ca, cb) = (a > 0.0, b > 0.0);
+        if ca != cb {
+            coverage += 1;
+            surface += 1;
+        } else if ca {
+            both += 1;
+            let rel = ((b - a).abs() / a) as f64;
+            dsum += rel;
+            dmax = dmax.max(rel);
+            if (b - a).abs() > DEPTH_TOLERANCE * a.max(b) {
+                surface += 1;
+            }
+        }
+    }
+    let mut sq = 0.0f64;
+    for (pa, pb) in reference
+        .color
+        .chunks_exact(4)
+        .zip(test.color.chunks_exact(4))
+    {
+        for k in 0..3 {
+            let d = pa[k] as f64 - pb[k] as f64;
+            sq += d * d;
+        }
+    }
+    let mse = sq / (3 * n.max(1)) as f64;
+    Ok(ImageError {
+        surface_diff: surface as f64 / n.max(1) as f64,
+        coverage_diff: coverage as f64 / n.max(1) as f64,
+        depth_err_mean: if both > 0 { dsum / both as f64 } else { 0.0 },
+        depth_err_max: dmax,
+        mse,
+        psnr_db: psnr(mse),
+    })
+}
+
+/// One measured render.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameRecord {
+    pub scene: String,
+    /// `brute`, `lod` or `vgeo`.
+    pub mode: String,
+    /// Pixel threshold (`None` for brute).
+    pub error_px: Option<f32>,
+    /// Index along the camera path.
+    pub frame: u32,
+    /// GPU milliseconds, all passes.
+    pub gpu_ms: f64,
+    /// GPU milliseconds per pass, in recording order.
+    pub passes: Vec<(String, f64)>,
+    /// Wall-clock milliseconds of the render call (recording, submission, wait and read-back).
+    pub cpu_ms: f64,
+    /// Triangles drawn (vgeo: of the drawn clusters).
+    pub triangles: u64,
+    /// Clusters drawn (vgeo only).
+    pub clusters: Option<u64>,
+    /// Instances drawn: brute draws all; vgeo counts those passing frustum and occlusion culling;
+    /// `None` for lod (its renderer does not report it).
+    pub instances_visible: Option<u64>,
+    /// Against brute's image of the same frame; `None` when brute was skipped.
+    pub error: Option<ImageError>,
+}
+
+/// A mode that did not run (or failed) for a scene, and why.
+#[derive(Clone, Debug, Serialize)]
+pub struct Skipped {
+    pub scene: String,
+    pub mode: String,
+    pub error_px: Option<f32>,
+    pub reason: String,
+}
+
+/// A scene as run.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneInfo {
+    /// `outdoor`, ..., or `stress_n{N}`.
+    pub name: String,
+    pub file: PathBuf,
+    /// Stress grid size.
+    pub stress_n: Option<u32>,
+    /// Instances rendered, and in the scene (more when the suite thinned it).
+    pub instances: u64,
+    pub instances_in_scene: u64,
+    /// Instanced triangles rendered (full detail).
+    pub scene_triangles: u64,
+    /// Triangles of the unique meshes (full detail).
+    pub stored_triangles: u64,
+    pub meshes: Vec<String>,
+    pub frames: u32,
+    /// Seconds to import and build the meshes not cached yet.
+    pub prepare_s: f64,
+}
+
+/// Per scene, mode and threshold: means over the frames and memory.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    pub scene: String,
+    pub mode: String,
+    pub error_px: Option<f32>,
+    pub frames: u32,
+    pub scene_triangles: u64,
+    pub gpu_ms_mean: f64,
+    pub gpu_ms_max: f64,
+    /// Mean GPU ms per pass name (passes recorded twice, e.g. per culling phase, are added).
+    pub passes_mean: Vec<(String, f64)>,
+    pub cpu_ms_mean: f64,
+    pub triangles_mean: f64,
+    pub clusters_mean: Option<f64>,
+    pub instances_visible_mean: Option<f64>,
+    pub surface_diff_mean: Option<f64>,
+    pub surface_diff_max: Option<f64>,
+    pub depth_err_mean: Option<f64>,
+    pub depth_err_max: Option<f64>,
+    /// From the mean squared error over all frames; `null` when every frame was equal.
+    #[serde(serialize_with = "opt_finite_or_null")]
+    pub psnr_db: Option<f64>,
+    /// GPU bytes of geometry (meshes, LOD chains or cluster DAGs) and of instance records.
+    pub geometry_bytes: u64,
+    pub instance_bytes: u64,
+    /// `geometry_bytes` per full-detail triangle of the unique meshes.
+    pub bytes_per_stored_triangle: f64,
+}
+
+fn opt_finite_or_null<S: serde::Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+    match v {
+        Some(v) if v.is_finite() => s.serialize_f64(*v),
+        _ => s.serialize_none(),
+    }
+}
+
+/// Everything a run measured.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    pub device: String,
+    pub driver: String,
+    pub api_version: String,
+    pub validation: bool,
+    /// `git rev-parse --short HEAD` (with `-dirty` for local changes) where available.
+    pub commit: Option<String>,
+    /// UTC, ISO 8601.
+    pub date: String,
+    pub settings: BenchSettings,
+    pub scenes: Vec<SceneInfo>,
+    pub records: Vec<FrameRecord>,
+    pub summary: Vec<Summary>,
+    pub skipped: Vec<Skipped>,
+    /// GPU memory per scene and mode.
+    pub memory: Vec<MemoryRecord>,
+    pub wall_s: f64,
+    /// Example images for the output folder (file stem, frame): the middle frame of each path,
+    /// brute and both other modes at the threshold nearest 1 px.
+    #[serde(skip)]
+    pub images: Vec<(String, Frame)>,
+}
+
+/// GPU memory a mode holds for a scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct MemoryRecord {
+    pub scene: String,
+    pub mode: String,
+    /// Meshes (brute), all LOD levels (lod) or cluster DAGs with BVH (vgeo).
+    pub geometry_bytes: u64,
+    /// Instance records (vgeo's per-frame work buffers are not counted).
+    pub instance_bytes: u64,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Generated meshes.
+
+/// A mesh made in code, named in scene files as `generated:NAME`: `grass` (a clump of 24 thin
+/// disconnected blades, 168 triangles, about 1 unit tall and wide, base at y = 0) or `box` (a
+/// unit cube centred at the origin, flat normals).
+pub fn generated_mesh(name: &str) -> Option<Mesh> {
+    let mut mesh = match name {
+        "grass" => grass_clump(24, 4, 7),
+        "box" => unit_box(),
+        _ => return None,
+    };
+    mesh.name = name.to_string();
+    mesh.material_ids = vec![0; mesh.indices.len() / 3];
+    mesh.materials = vec![Material::default()];
+    mesh.uvs = vec![[0.0; 2]; mesh.positions.len()];
+    mesh.has_uvs = false;
+    Some(mesh)
+}
+
+/// A grass clump: `blades` blades of `segments` quads and a tip triangle each.
+fn grass_clump(blades: u32, segments: u32, seed: u64) -> Mesh {
+    let mut rng = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut unit = move || {
+        // xorshift64*: deterministic, good enough for placement.
+        rng ^= rng >> 12;
+        rng ^= rng << 25;
+        rng ^= rng >> 27;
+        (rng.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut m = Mesh::default();
+    for _ in 0..blades {
+        let angle = unit() * std::f64::consts::TAU;
+        let r = unit().sqrt() * 0.3;
+        let base = DVec3::new(r * angle.cos(), 0.0, r * angle.sin());
+        let facing = unit() * std::f64::consts::TAU;
+        let side = DVec3::new(facing.cos(), 0.0, facing.sin());
+        let lean = DVec3::new(-facing.sin(), 0.0, facing.cos()) * (0.2 + 0.4 * unit());
+        let height = 0.6 + 0.4 * unit();
+        let width = 0.04 + 0.03 * unit();
+        let first = m.positions.len() as u32;
+        for s in 0..segments {
+            let t = s as f64 / segments as f64;
+            let centre = base + DVec3::Y * (height * t) + lean * (t * t);
+            let w = width * (1.0 - t * 0.8);
+            for sign in [-1.0, 1.0] {
+                m.positions
+                    .push((centre + side * (w * 0.5 * sign)).as_vec3().into());
+            }
+        }
+        let tip = base + DVec3::Y * height + lean;
+        m.positions.push(tip.as_vec3().into());
+        for s in 0..segments - 1 {
+            let (a, b) = (first + 2 * s, first + 2 * s + 1);
+            m.indices.extend_from_slice(&[a, b, a + 2, b, b + 2, a + 2]);
+        }
+        let last = first + 2 * (segments - 1);
+        m.indices.extend_from_slice(&[last, last + 1, last + 2]);
+    }
+    m.normals = vec![[0.0; 3]; m.positions.len()];
+    crate::mesh::fill_missing_normals(&mut m);
+    m.has_normals = false;
+    m
+}
+
+/// A unit cube centred at the origin, 24 vertices (flat normals), 12 triangles.
+fn unit_box() -> Mesh {
+    let mut m = Mesh::default();
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let mut n = Vec3::ZERO;
+            n[axis] = sign;
+            let u = n.any_orthonormal_pair().0;
+            let v = n.cross(u);
+            let first = m.positions.len() as u32;
+            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                m.positions.push((0.5 * (n + u * a + v * b)).into());
+                m.normals.push(n.into());
+            }
+            m.indices.extend_from_slice(&[
+                first,
+                first + 1,
+                first + 2,
+                first,
+                first + 2,
+                first + 3,
+            ]);
+        }
+    }
+    m.has_normals = true;
+    m
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene preparation.
+
+/// A mesh imported (or generated) and built, shared by the scenes that use it.
+struct Prepared {
+    mesh: Mesh,
+    built: BuiltMesh,
+}
+
+/// Meshes by path, kept across the scenes of a run.
+#[derive(Default)]
+struct MeshCache {
+    meshes: HashMap<PathBuf, Arc<Prepared>>,
+}
+
+impl MeshCache {
+    /// Imports and builds (in parallel) every mesh of `scene` not cached yet.
+    fn prepare(&mut self, scene: &Scene) -> Result<Vec<Arc<Prepared>>> {
+        use rayon::prelude::*;
+        let mut missing: Vec<PathBuf> = scene
+            .meshes
+            .iter()
+            .map(|m| m.path.clone())
+            .filter(|p| !self.meshes.contains_key(p))
+            .collect();
+        missing.sort();
+        missing.dedup();
+        let made: Vec<Result<(PathBuf, Prepared)>> = missing
+            .par_iter()
+            .map(|path| {
+                let text = path.to_string_lossy();
+                let mesh = match text.strip_prefix(GENERATED_PREFIX) {
+                    Some(name) => generated_mesh(name).with_context(|| {
+                        format!("unknown generated mesh `{text}` (available: generated:grass, generated:box)")
+                    })?,
+                    None => crate::mesh::load_mesh(path)?.0,
+                };
+                mesh.validate()
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+                let built = crate::builder::build(&mesh, &crate::builder::BuildOptions::default())
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+                Ok((path.clone(), Prepared { mesh, built }))
+            })
+            .collect();
+        for r in made {
+            let (path, p) = r?;
+            self.meshes.insert(path, Arc::new(p));
+        }
+        scene
+            .meshes
+            .iter()
+            .map(|m| {
+                self.meshes
+                    .get(&m.path)
+                    .cloned()
+                    .with_context(|| format!("{}: not prepared", m.path.display()))
+            })
+            .collect()
+    }
+}
+
+/// A scene ready to render: meshes, placements and the cameras of its path.
+struct BenchScene {
+    info: SceneInfo,
+    meshes: Vec<Arc<Prepared>>,
+    placements: Vec<Placement>,
+    cameras: Vec<Camera>,
+    light: Light,
+}
+
+impl BenchScene {
+    fn mesh_list(&self) -> Vec<Mesh> {
+        self.meshes.iter().map(|p| p.mesh.clone()).collect()
+    }
+
+    fn built_list(&self) -> Vec<BuiltMesh> {
+        self.meshes.iter().map(|p| p.built.clone()).collect()
+    }
+}
+
+fn mesh_bounds(meshes: &[Arc<Prepared>]) -> Vec<([f32; 3], [f32; 3])> {
+    meshes
+        .iter()
+        .map(|p| p.mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3])))
+        .collect()
+}
+
+fn triangles_of(placements: &[Placement], meshes: &[Arc<Prepared>]) -> u64 {
+    placements
+        .iter()
+        .map(|p| meshes[p.mesh as usize].mesh.triangle_count() as u64)
+        .sum()
+}
+
+/// Keeps every k-th placement (the smallest k) so that at most `cap` triangles remain.
+fn thin(placements: Vec<Placement>, meshes: &[Arc<Prepared>], cap: Option<u64>) -> Vec<Placement> {
+    let tris = triangles_of(&placements, meshes);
+    let Some(cap) = cap else { return placements };
+    if tris <= cap || placements.len() <= 1 {
+        return placements;
+    }
+    let k = tris.div_ceil(cap.max(1)) as usize;
+    placements.into_iter().step_by(k).collect()
+}
+
+fn load_scene(
+    cache: &mut MeshCache,
+    file: &Path,
+    name: &str,
+    settings: &BenchSettings,
+    stress_n: Option<u32>,
+) -> Result<BenchScene> {
+    let t0 = Instant::now();
+    let scene = Scene::load(file)?;
+    let meshes = cache.prepare(&scene)?;
+    let prepare_s = t0.elapsed().as_secs_f64();
+    let bounds = mesh_bounds(&meshes);
+    let aspect = settings.width as f32 / settings.height as f32;
+    let (placements, cameras) = match stress_n {
+        None => {
+            let placements: Vec<Placement> = scene
+                .instances
+                .iter()
+                .map(|i| Placement {
+                    mesh: i.mesh,
+                    transform: i.transform,
+                    color: i.color,
+                })
+                .collect();
+            let cameras = scene.path_cameras(&bounds, aspect, settings.frames);
+            (placements, cameras)
+        }
+        Some(n) => stress_grid(&scene, &bounds, n, settings.frames)?,
+    };
+    let instances_in_scene = placements.len() as u64;
+    let placements = thin(placements, &meshes, settings.max_scene_triangles);
+    let stored_triangles = meshes.iter().map(|p| p.mesh.triangle_count() as u64).sum();
+    Ok(BenchScene {
+        info: SceneInfo {
+            name: name.to_string(),
+            file: file.to_path_buf(),
+            stress_n,
+            instances: placements.len() as u64,
+            instances_in_scene,
+            scene_triangles: triangles_of(&placements, &meshes),
+            stored_triangles,
+            meshes: scene.meshes.iter().map(|m| m.name.clone()).collect(),
+            frames: cameras.len() as u32,
+            prepare_s,
+        },
+        meshes,
+        placements,
+        cameras,
+        light: Light {
+            direction: scene.light_dir,
+        },
+    })
+}
+
+/// The stress scene: the file's first instance repeated on an `n`^3 grid (spacing 1.3 times the
+/// instance's largest extent), and a path from outside the grid's corner into it.
+fn stress_grid(
+    scene: &Scene,
+    bounds: &[([f32; 3], [f32; 3])],
+    n: u32,
+    frames: u32,
+) -> Result<(Vec<Placement>, Vec<Camera>)> {
+    let template = scene
+        .instances
+        .first()
+        .context("the stress scene needs an instance to repeat")?;
+    let one = Scene {
+        instances: vec![template.clone()],
+        ..scene.clone()
+    };
+    let (lo, hi) = one
+        .bounds(bounds)
+        .context("the stress scene's mesh is empty")?;
+    let size = (hi - lo).max_element();
+    let spacing = size * 1.3;
+    let centre0 = (lo + hi) * 0.5;
+    let mut placements = Vec::with_capacity((n as usize).pow(3));
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let offset = DVec3::new(i as f64, j as f64, k as f64) * spacing - centre0;
+                placements.push(Placement {
+                    mesh: template.mesh,
+                    transform: DMat4::from_translation(offset) * template.transform,
+                    color: template.color,
+                });
+            }
+        }
+    }
+    // The grid spans [-size/2, (n - 1) spacing + size/2] on every axis.
+    let extent = (n - 1) as f64 * spacing + size;
+    let centre = DVec3::splat((n - 1) as f64 * spacing * 0.5);
+    let keys = [
+        crate::scene::PathKey {
+            eye: centre + DVec3::new(0.9, 0.55, 1.6) * extent,
+            target: centre,
+        },
+        crate::scene::PathKey {
+            eye: centre + DVec3::new(0.35, 0.3, 0.75) * extent,
+            target: centre + DVec3::new(-0.1, 0.0, 0.0) * extent,
+        },
+    ];
+    let near = (size * 0.01) as f32;
+    let cameras = crate::scene::interpolate_path(&keys, frames)
+        .into_iter()
+        .map(|k| Camera::look_at(k.eye, k.target, Vec3::Y, 45f32.to_radians(), near))
+        .collect();
+    Ok((placements, cameras))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Running.
+
+/// Where scene files are: `assets/scenes` in the working directory, else in the source tree.
+pub fn default_scenes_dir() -> PathBuf {
+    let local = Path::new("assets/scenes");
+    if local.join("outdoor.toml").exists() {
+        return local.to_path_buf();
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes")
+}
+
+/// Runs the benchmark with `settings` on `ctx`, reading scene files from `scenes_dir`; `progress`
+/// shows a progress bar. Writes nothing (see [`write_outputs`]).
+pub fn run(
+    ctx: &Context,
+    settings: &BenchSettings,
+    scenes_dir: &Path,
+    progress: bool,
+) -> Result<BenchReport> {
+    settings.validate()?;
+    let t0 = Instant::now();
+    let mut jobs: Vec<(String, PathBuf, Option<u32>)> = settings
+        .scenes
+        .iter()
+        .map(|s| (s.clone(), scenes_dir.join(format!("{s}.toml")), None))
+        .collect();
+    if settings.stress {
+        for &n in &settings.stress_n {
+            jobs.push((
+                format!("stress_n{n}"),
+                scenes_dir.join("stress.toml"),
+                Some(n),
+            ));
+        }
+    }
+    let sweep = settings.error_sweep.len() as u64;
+    let per_scene = settings.frames as u64 * (1 + 2 * sweep);
+    let bar = if progress {
+        let b = ProgressBar::new(per_scene * jobs.len() as u64);
+        b.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} renders  {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    let caps = ctx.caps();
+    let mut report = BenchReport {
+        device: caps.device_name.clone(),
+        driver: format!("{} {}", caps.driver_name, caps.driver_info),
+        api_version: caps.api_version.clone(),
+        validation: caps.validation,
+        commit: git_commit(),
+        date: utc_now(),
+        settings: settings.clone(),
+        scenes: Vec::new(),
+        records: Vec::new(),
+        summary: Vec::new(),
+        skipped: Vec::new(),
+        memory: Vec::new(),
+        wall_s: 0.0,
+        images: Vec::new(),
+    };
+    let mut cache = MeshCache::default();
+    for (name, file, stress_n) in &jobs {
+        bar.set_message(format!("{name}: building meshes"));
+        let scene = load_scene(&mut cache, file, name, settings, *stress_n)
+            .with_context(|| format!("scene `{name}`"))?;
+        run_scene(ctx, settings, &scene, &mut report, &bar)
+            .with_context(|| format!("scene `{name}`"))?;
+        report.scenes.push(scene.info);
+    }
+    bar.finish_and_clear();
+    report.summary = summarize(&report);
+    report.wall_s = t0.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// The memory a mode holds for a scene: (geometry bytes, instance bytes).
+type Memory = (u64, u64);
+
+fn run_scene(
+    ctx: &Context,
+    settings: &BenchSettings,
+    scene: &BenchScene,
+    report: &mut BenchReport,
+    bar: &ProgressBar,
+) -> Result<()> {
+    let (w, h) = (settings.width, settings.height);
+    let name = &scene.info.name;
+    let frames = scene.cameras.len() as u64;
+    let sweep = &settings.error_sweep;
+    let skip = |report: &mut BenchReport, mode: &str, e: Option<f32>, reason: String| {
+        report.skipped.push(Skipped {
+            scene: name.clone(),
+            mode: mode.into(),
+            error_px: e,
+            reason,
+        });
+    };
+    let mut memory: HashMap<&'static str, Memory> = HashMap::new();
+
+    // brute: the reference images.
+    bar.set_message(format!("{name}: brute"));
+    let mut reference: Vec<Option<Frame>> = vec![None; scene.cameras.len()];
+    let meshes = scene.mesh_list();
+    if scene.info.scene_triangles > settings.brute_max_triangles {
+        skip(
+            report,
+            "brute",
+            None,
+            format!(
+                "{} scene triangles, more than the limit of {}",
+                scene.info.scene_triangles, settings.brute_max_triangles
+            ),
+        );
+        bar.inc(frames);
+    } else {
+        let brute = Brute::new(ctx, &meshes)?;
+        memory.insert(
+            "brute",
+            (
+                brute.geometry_bytes(),
+                scene.placements.len() as u64 * size_of::<crate::shared::InstanceGpu>() as u64,
+            ),
+        );
+        if settings.warmup {
+            brute.render(&scene.placements, &scene.cameras[0], &scene.light, w, h)?;
+        }
+        for (f, cam) in scene.cameras.iter().enumerate() {
+            let t = Instant::now();
+            let frame = brute.render(&scene.placements, cam, &scene.light, w, h)?;
+            let cpu_ms = t.elapsed().as_secs_f64() * 1e3;
+            report.records.push(FrameRecord {
+                scene: name.clone(),
+                mode: "brute".into(),
+                error_px: None,
+                frame: f as u32,
+                gpu_ms: frame.gpu_total_ms(),
+                passes: frame.gpu_ms.clone(),
+                cpu_ms,
+                triangles: frame.triangles,
+                clusters: None,
+                instances_visible: Some(scene.placements.len() as u64),
+                error: None,
+            });
+            reference[f] = Some(frame);
+            bar.inc(1);
+        }
+    }
+
+    // lod, every threshold.
+    bar.set_message(format!("{name}: lod"));
+    let lod = Lod::new(ctx, &meshes, &LodOptions::default())?;
+    let lod_instance_bytes =
+        scene.placements.len() as u64 * size_of::<crate::shared::InstanceGpu>() as u64;
+    memory.insert("lod", (lod.geometry_bytes(), lod_instance_bytes));
+    for &e in sweep {
+        // Triangles the selection would draw at the frame with the most (frustum culling aside).
+        let mut most = 0u64;
+        for cam in &scene.cameras {
+            let levels = lod.selection(&scene.placements, cam, h, e)?;
+            let tris: u64 = scene
+                .placements
+                .iter()
+                .zip(&levels)
+                .map(|(p, &l)| lod.lod_triangle_counts(p.mesh as usize)[l as usize] as u64)
+                .sum();
+            most = most.max(tris);
+        }
+        if most > settings.brute_max_triangles {
+            skip(
+                report,
+                "lod",
+                Some(e),
+                format!(
+                    "would draw up to {most} triangles, more than the limit of {}",
+                    settings.brute_max_triangles
+                ),
+            );
+            bar.inc(frames);
+            continue;
+        }
+        if settings.warmup {
+            lod.render(&scene.placements, &scene.cameras[0], &scene.light, w, h, e)?;
+        }
+        for (f, cam) in scene.cameras.iter().enumerate() {
+            let t = Instant::now();
+            let frame = lod.render(&scene.placements, cam, &scene.light, w, h, e)?;
+            let cpu_ms = t.elapsed().as_secs_f64() * 1e3;
+            let error = match &reference[f] {
+                Some(r) => Some(image_error(r, &frame)?),
+                None => None,
+            };
+            report.records.push(FrameRecord {
+                scene: name.clone(),
+                mode: "lod".into(),
+                error_px: Some(e),
+                frame: f as u32,
+                gpu_ms: frame.gpu_total_ms(),
+                passes: frame.gpu_ms.clone(),
+                cpu_ms,
+                triangles: frame.triangles,
+                clusters: None,
+                instances_visible: None,
+                error,
+            });
+            save_example(report, name, "lod", Some(e), f, &frame, &reference[f]);
+            bar.inc(1);
+        }
+    }
+    drop(lod);
+
+    // vgeo, every threshold, each threshold's path from a fresh history.
+    bar.set_message(format!("{name}: vgeo"));
+    let built = scene.built_list();
+    let mut vgeo = match VgeoRenderer::new(ctx, &built, &scene.placements) {
+        Ok(r) => Some(r),
+        Err(err) => {
+            skip(report, "vgeo", None, format!("failed: {err}"));
+            bar.inc(frames * sweep.len() as u64);
+            None
+        }
+    };
+    if let Some(r) = vgeo.as_mut() {
+        memory.insert(
+            "vgeo",
+            (
+                r.scene.geometry_bytes(),
+                scene.placements.len() as u64 * size_of::<crate::shared::InstanceVgeo>() as u64,
+            ),
+        );
+        for &e in sweep {
+            let fs = FrameSettings {
+                error_px: e,
+                ..FrameSettings::default()
+            };
+            r.reset_history();
+            if settings.warmup {
+                r.render(&scene.cameras[0], w, h, &fs, ViewMode::Lit, &scene.light)?;
+                r.reset_history();
+            }
+            for (f, cam) in scene.cameras.iter().enumerate() {
+                let t = Instant::now();
+                let vf = r.render(cam, w, h, &fs, ViewMode::Lit, &scene.light)?;
+                let cpu_ms = t.elapsed().as_secs_f64() * 1e3;
+                if let Err(msg) = vf.check() {
+                    skip(
+                        report,
+                        "vgeo",
+                        Some(e),
+                        format!("failed at frame {f}: {msg}"),
+                    );
+                    bar.inc(frames - f as u64);
+                    break;
+                }
+                let (m, p) = (&vf.main.counters, &vf.post.counters);
+                let error = match &reference[f] {
+                    Some(rf) => Some(image_error(rf, &vf.frame)?),
+                    None => None,
+                };
+                report.records.push(FrameRecord {
+                    scene: name.clone(),
+                    mode: "vgeo".into(),
+                    error_px: Some(e),
+                    frame: f as u32,
+                    gpu_ms: vf.frame.gpu_total_ms(),
+                    passes: vf.frame.gpu_ms.clone(),
+                    cpu_ms,
+                    triangles: vf.frame.triangles,
+                    clusters: Some(
+                        (m.sw_count + m.hw_count) as u64 + (p.sw_count + p.hw_count) as u64,
+                    ),
+                    instances_visible: Some(
+                        m.instances_visible as u64 + p.instances_visible as u64,
+                    ),
+                    error,
+                });
+                save_example(report, name, "vgeo", Some(e), f, &vf.frame, &reference[f]);
+                bar.inc(1);
+            }
+        }
+    }
+    for mode in ["brute", "lod", "vgeo"] {
+        if let Some(&(geometry_bytes, instance_bytes)) = memory.get(mode) {
+            report.memory.push(MemoryRecord {
+                scene: name.clone(),
+                mode: mode.into(),
+                geometry_bytes,
+                instance_bytes,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Keeps the middle frame's images at 1 px (and brute's) for the output folder.
+fn save_example(
+    report: &mut BenchReport,
+    scene: &str,
+    mode: &str,
+    e: Option<f32>,
+    f: usize,
+    frame: &Frame,
+    reference: &Option<Frame>,
+) {
+    let mid = (report.settings.frames as usize - 1) / 2;
+    if f != mid || e != first_one_px(&report.settings.error_sweep) {
+        return;
+    }
+    if let Some(r) = reference
+        && mode == "lod"
+    {
+        report.images.push((format!("{scene}_brute"), r.clone()));
+    }
+    report
+        .images
+        .push((format!("{scene}_{mode}_1px"), frame.clone()));
+}
+
+/// The sweep's threshold closest to 1 px (the headline figure).
+fn first_one_px(sweep: &[f32]) -> Option<f32> {
+    sweep
+        .iter()
+        .copied()
+        .min_by(|a, b| (a - 1.0).abs().total_cmp(&(b - 1.0).abs()))
+}
+
+fn mean(v: impl Iterator<Item = f64>) -> Option<f64> {
+    let (mut s, mut n) = (0.0, 0usize);
+    for x in v {
+        s += x;
+        n += 1;
+    }
+    (n > 0).then(|| s / n as f64)
+}
+
+fn summarize(report: &BenchReport) -> Vec<Summary> {
+    let mut keys: Vec<(String, String, Option<f32>)> = Vec::new();
+    for r in &report.records {
+        let k = (r.scene.clone(), r.mode.clone(), r.error_px);
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    keys.into_iter()
+        .map(|(scene, mode, e)| {
+            let rs: Vec<&FrameRecord> = report
+                .records
+                .iter()
+                .filter(|r| r.scene == scene && r.mode == mode && r.error_px == e)
+                .collect();
+            let info = report.scenes.iter().find(|s| s.name == scene);
+            let mut passes: Vec<(String, f64)> = Vec::new();
+            for r in &rs {
+                for (p, ms) in &r.passes {
+                    match passes.iter_mut().find(|(n, _)| n == p) {
+                        Some(x) => x.1 += ms,
+                        None => passes.push((p.clone(), *ms)),
+                    }
+                }
+            }
+            for p in passes.iter_mut() {
+                p.1 /= rs.len().max(1) as f64;
+            }
+            let errs: Vec<&ImageError> = rs.iter().filter_map(|r| r.error.as_ref()).collect();
+            let (geometry_bytes, instance_bytes) = report
+                .memory
+                .iter()
+                .find(|m| m.scene == scene && m.mode == mode)
+                .map_or((0, 0), |m| (m.geometry_bytes, m.instance_bytes));
+            let stored = info.map_or(0, |i| i.stored_triangles);
+            Summary {
+                frames: rs.len() as u32,
+                scene_triangles: info.map_or(0, |i| i.scene_triangles),
+                gpu_ms_mean: mean(rs.iter().map(|r| r.gpu_ms)).unwrap_or(0.0),
+                gpu_ms_max: rs.iter().map(|r| r.gpu_ms).fold(0.0, f64::max),
+                passes_mean: passes,
+                cpu_ms_mean: mean(rs.iter().map(|r| r.cpu_ms)).unwrap_or(0.0),
+                triangles_mean: mean(rs.iter().map(|r| r.triangles as f64)).unwrap_or(0.0),
+                clusters_mean: mean(rs.iter().filter_map(|r| r.clusters.map(|c| c as f64))),
+                instances_visible_mean: mean(
+                    rs.iter()
+                        .filter_map(|r| r.instances_visible.map(|c| c as f64)),
+                ),
+                surface_diff_mean: mean(errs.iter().map(|e| e.surface_diff)),
+                surface_diff_max: errs.iter().map(|e| e.surface_diff).reduce(f64::max),
+                depth_err_mean: mean(errs.iter().map(|e| e.depth_err_mean)),
+                depth_err_max: errs.iter().map(|e| e.depth_err_max).reduce(f64::max),
+                psnr_db: mean(errs.iter().map(|e| e.mse)).map(psnr),
+                geometry_bytes,
+                instance_bytes,
+                bytes_per_stored_triangle: geometry_bytes as f64 / stored.max(1) as f64,
+                scene,
+                mode,
+                error_px: e,
+            }
+        })
+        .collect()
+}
+
+fn git_commit() -> Option<String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::process::Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .current_dir(dir)
+        .output()
+        .ok()?;
+    if !out.status.success() {
+        return None;
+    }
+    let mut c = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    let dirty = std::process::Command::new("git")
+        .args(["status", "--porcelain", "--untracked-files=no"])
+        .current_dir(dir)
+        .output()
+        .ok()
+        .is_some_and(|o| o.status.success() && !o.stdout.is_empty());
+    if dirty {
+        c.push_str("-dirty");
+    }
+    (!c.is_empty()).then_some(c)
+}
+
+/// The current UTC time, ISO 8601 (no date crate: days since 1970 to the civil date).
+fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs()) as i64;
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    // Howard Hinnant's civil_from_days.
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + (m <= 2) as i64;
+    format!(
+        "{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z",
+        rem / 3600,
+        rem / 60 % 60,
+        rem % 60
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output.
+
+/// Writes `bench.json`, `bench.md`, the plots (`speed_error_<scene>.svg`, `stress_scaling.svg`,
+/// `stress_memory.svg`) and example images (`images/`) into `out` (created).
+pub fn write_outputs(report: &BenchReport, out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let json = serde_json::to_string_pretty(report)?;
+    let p = out.join("bench.json");
+    std::fs::write(&p, json).with_context(|| format!("cannot write {}", p.display()))?;
+    let p = out.join("bench.md");
+    std::fs::write(&p, markdown(report))
+        .with_context(|| format!("cannot write {}", p.display()))?;
+    for s in &report.scenes {
+        let series = speed_error_series(report, &s.name);
+        if series.iter().any(|(_, pts)| !pts.is_empty()) {
+            plot_speed_error(
+                &out.join(format!("speed_error_{}.svg", s.name)),
+                &s.name,
+                &series,
+            )?;
+        }
+    }
+    let scaling = scaling_series(report);
+    if scaling.iter().any(|(_, pts)| !pts.is_empty()) {
+        plot_scaling(
+            &out.join("stress_scaling.svg"),
+            "stress: GPU time against scene triangles (1 px)",
+            "GPU ms per frame",
+            &scaling
+                .iter()
+                .map(|(m, p)| (m.clone(), p.iter().map(|x| (x.0, x.1)).collect()))
+                .collect::<Vec<_>>(),
+        )?;
+        plot_scaling(
+            &out.join("stress_memory.svg"),
+            "stress: GPU memory (geometry + instances) against scene triangles",
+            "MiB",
+            &scaling
+                .iter()
+                .map(|(m, p)| (m.clone(), p.iter().map(|x| (x.0, x.2)).collect()))
+                .collect::<Vec<_>>(),
+        )?;
+    }
+    if !report.images.is_empty() {
+        let dir = out.join("images");
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create {}", dir.display()))?;
+        for (stem, frame) in &report.images {
+            frame.save_png(&dir.join(format!("{stem}.png")))?;
+        }
+    }
+    Ok(())
+}
+
+/// Per mode (lod, vgeo): (surface-difference %, GPU ms, threshold) for each threshold.
+type SpeedSeries = Vec<(String, Vec<(f64, f64, f32)>)>;
+
+fn speed_error_series(report: &BenchReport, scene: &str) -> SpeedSeries {
+    ["lod", "vgeo"]
+        .iter()
+        .map(|mode| {
+            let mut pts: Vec<(f64, f64, f32)> = report
+                .summary
+                .iter()
+                .filter(|s| s.scene == scene && s.mode == *mode)
+                .filter_map(|s| Some((s.surface_diff_mean? * 100.0, s.gpu_ms_mean, s.error_px?)))
+                .collect();
+            pts.sort_by(|a, b| a.2.total_cmp(&b.2));
+            (mode.to_string(), pts)
+        })
+        .collect()
+}
+
+/// Per mode: (scene triangles, GPU ms, MiB) for each stress grid, at the 1 px threshold.
+/// Per mode: (scene triangles, GPU ms, MiB) points.
+type ScalingSeries = Vec<(String, Vec<(f64, f64, f64)>)>;
+
+fn scaling_series(report: &BenchReport) -> ScalingSeries {
+    let one = first_one_px(&report.settings.error_sweep);
+    ["brute", "lod", "vgeo"]
+        .iter()
+        .map(|mode| {
+            let mut pts: Vec<(f64, f64, f64)> = report
+                .summary
+                .iter()
+                .filter(|s| s.scene.starts_with("stress_n") && s.mode == *mode)
+                .filter(|s| *mode == "brute" || s.error_px == one)
+                .map(|s| {
+                    (
+                        s.scene_triangles as f64,
+                        s.gpu_ms_mean,
+                        (s.geometry_bytes + s.instance_bytes) as f64 / (1u64 << 20) as f64,
+                    )
+                })
+                .collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            (mode.to_string(), pts)
+        })
+        .collect()
+}
+
+fn color_of(mode: &str) -> plotters::style::RGBColor {
+    match mode {
+        "brute" => plotters::style::RGBColor(90, 90, 90),
+        "lod" => plotters::style::RGBColor(220, 110, 30),
+        _ => plotters::style::RGBColor(30, 110, 220),
+    }
+}
+
+fn plot_speed_error(path: &Path, scene: &str, series: &SpeedSeries) -> Result<()> {
+    use plotters::prelude::*;
+    let pts = series.iter().flat_map(|(_, p)| p.iter());
+    let xmax = pts.clone().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.1;
+    let ymax = pts.map(|p| p.1).fold(0.0, f64::max).max(1e-3) * 1.1;
+    let root = SVGBackend::new(path, (800, 500)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("{scene}: GPU time against image error (labels: px threshold)"),
+            ("sans-serif", 18),
+        )
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0f64..xmax, 0f64..ymax)?;
+    chart
+        .configure_mesh()
+        .x_desc("pixels whose visible surface differs from brute (%)")
+        .y_desc("GPU ms per frame (mean over the path)")
+        .draw()?;
+    for (mode, pts) in series {
+        let c = color_of(mode);
+        chart
+            .draw_series(LineSeries::new(pts.iter().map(|p| (p.0, p.1)), c))?
+            .label(mode.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+        chart.draw_series(pts.iter().map(|p| Circle::new((p.0, p.1), 3, c.filled())))?;
+        chart.draw_series(
+            pts.iter()
+                .map(|p| Text::new(format!("{}", p.2), (p.0, p.1), ("sans-serif", 11))),
+        )?;
+    }
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.8))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+fn plot_scaling(
+    path: &Path,
+    title: &str,
+    y_desc: &str,
+    series: &[(String, Vec<(f64, f64)>)],
+) -> Result<()> {
+    use plotters::prelude::*;
+    let pts: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|(_, p)| p.iter().copied())
+        .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+        .collect();
+    let (xmin, xmax) = pts
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), p| (a.min(p.0), b.max(p.0)));
+    let (ymin, ymax) = pts
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    if pts.is_empty() {
+        return Ok(());
+    }
+    let root = SVGBackend::new(path, (800, 500)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            (xmin * 0.7..xmax * 1.4).log_scale(),
+            (ymin * 0.7..ymax * 1.4).log_scale(),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc("scene triangles (instanced, full detail)")
+        .y_desc(y_desc)
+        .x_label_formatter(&|x| format!("{x:.0e}"))
+        .draw()?;
+    for (mode, pts) in series {
+        let c = color_of(mode);
+        let pts: Vec<(f64, f64)> = pts
+            .iter()
+            .copied()
+            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+            .collect();
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), c))?
+            .label(mode.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 3, c.filled())))?;
+    }
+    chart
+        .configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.8))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+fn fmt_opt(v: Option<f64>, f: impl Fn(f64) -> String) -> String {
+    v.map_or("-".into(), f)
+}
+
+/// The Markdown report: settings, one table per scene, the stress scaling, what was skipped.
+pub fn markdown(report: &BenchReport) -> String {
+    use std::fmt::Write as _;
+    let s = &report.settings;
+    let mut md = String::new();
+    let _ = writeln!(md, "# vgeo bench ({:?} suite)\n", s.suite);
+    let _ = writeln!(
+        md,
+        "- device: {} ({}), Vulkan {}{}",
+        report.device,
+        report.driver,
+        report.api_version,
+        if report.validation {
+            ", validation on"
+        } else {
+            ""
+        }
+    );
+    let _ = writeln!(
+        md,
+        "- commit: {}; date: {}; wall time {:.1} s",
+        report.commit.as_deref().unwrap_or("unknown"),
+        report.date,
+        report.wall_s
+    );
+    let _ = writeln!(
+        md,
+        "- {}x{}, {} frames per path, thresholds {:?} px; GPU ms from timestamps (mean over the path), CPU ms of the render call including read-back",
+        s.width, s.height, s.frames, s.error_sweep
+    );
+    let _ = writeln!(
+        md,
+        "- image error against brute of the same frame: surface diff = pixels whose visible surface differs (coverage, or depth off by > {DEPTH_TOLERANCE} relative); depth error relative; PSNR of the lit image\n"
+    );
+    for info in &report.scenes {
+        let _ = writeln!(
+            md,
+            "## {}\n\n{} instances{}, {} scene triangles, {} stored triangles ({})\n",
+            info.name,
+            info.instances,
+            if info.instances != info.instances_in_scene {
+                format!(" (thinned from {})", info.instances_in_scene)
+            } else {
+                String::new()
+            },
+            info.scene_triangles,
+            info.stored_triangles,
+            info.meshes.join(", ")
+        );
+        md.push_str("| mode | px | GPU ms | CPU ms | triangles | clusters | instances | surface diff % | depth err mean / max | PSNR dB | geometry MiB | B/stored tri |\n");
+        md.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        for r in report.summary.iter().filter(|r| r.scene == info.name) {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {:.3} | {:.1} | {:.0} | {} | {} | {} | {} | {} | {:.1} | {:.1} |",
+                r.mode,
+                r.error_px.map_or("-".into(), |e| e.to_string()),
+                r.gpu_ms_mean,
+                r.cpu_ms_mean,
+                r.triangles_mean,
+                fmt_opt(r.clusters_mean, |c| format!("{c:.0}")),
+                fmt_opt(r.instances_visible_mean, |c| format!("{c:.0}")),
+                fmt_opt(r.surface_diff_mean, |x| format!("{:.3}", x * 100.0)),
+                match (r.depth_err_mean, r.depth_err_max) {
+                    (Some(a), Some(b)) => format!("{a:.1e} / {b:.1e}"),
+                    _ => "-".into(),
+                },
+                match (r.psnr_db, r.surface_diff_mean) {
+                    (Some(p), _) if p.is_finite() => format!("{p:.1}"),
+                    (Some(_), _) => "inf (equal)".into(),
+                    (None, _) => "-".into(),
+                },
+                r.geometry_bytes as f64 / (1u64 << 20) as f64,
+                r.bytes_per_stored_triangle,
+            );
+        }
+        for k in report.skipped.iter().filter(|k| k.scene == info.name) {
+            let _ = writeln!(
+                md,
+                "| {} | {} | skipped: {} |||||||||| ",
+                k.mode,
+                k.error_px.map_or("-".into(), |e| e.to_string()),
+                k.reason
+            );
+        }
+        md.push('\n');
+    }
+    let scaling = scaling_series(report);
+    if scaling.iter().any(|(_, p)| !p.is_empty()) {
+        md.push_str("## stress scaling (1 px)\n\n| mode | scene triangles | GPU ms | MiB (geometry + instances) |\n|---|---|---|---|\n");
+        for (mode, pts) in &scaling {
+            for p in pts {
+                let _ = writeln!(md, "| {mode} | {:.3e} | {:.3} | {:.1} |", p.0, p.1, p.2);
+            }
+        }
+        md.push('\n');
+    }
+    md
+}
+
+/// `vgeo bench`: runs the suite and writes the outputs; prints where they are.
+pub fn run_bench(args: &BenchArgs) -> Result<()> {
+    let settings = args.settings()?;
+    let scenes_dir = args.scenes_dir.clone().unwrap_or_else(default_scenes_dir);
+    let ctx =
+        Context::new(&crate::gpu::ContextOptions::from_env()).context("cannot start Vulkan")?;
+    let report = run(&ctx, &settings, &scenes_dir, !args.quiet)?;
+    write_outputs(&report, &args.out)?;
+    print!("{}", markdown(&report));
+    println!("wrote {}", args.out.display());
+    let errors = ctx.validation_errors();
+    if !errors.is_empty() {
+        bail!("{} Vulkan validation error(s) (see above)", errors.len());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(depth: Vec<f32>, color: Vec<u8>) -> Frame {
+        Frame {
+            width: depth.len() as u32,
+            height: 1,
+            color,
+            depth,
+            gpu_ms: Vec::new(),
+            triangles: 0,
+        }
+    }
+
+    #[test]
+    fn image_error_counts_coverage_depth_and_psnr() {
+        let a = frame(vec![0.5, 0.5, 0.0, 0.2], vec![10; 16]);
+        assert_eq!(image_error(&a, &a).unwrap().psnr_db, f64::INFINITY);
+        assert_eq!(image_error(&a, &a).unwrap().surface_diff, 0.0);
+        let mut c = vec![10u8; 16];
+        c[0] = 20; // one channel off by 10: mse = 100 / 12
+        let b = frame(vec![0.5, 0.5004, 0.3, 0.21], c);
+        let e = image_error(&a, &b).unwrap();
+        // Pixel 1: within 1e-3 relative; pixel 2: coverage; pixel 3: 5 % off.
+        assert_eq!(e.coverage_diff, 0.25);
+        assert_eq!(e.surface_diff, 0.5);
+        assert!((e.depth_err_max - 0.05).abs() < 1e-5, "{}", e.depth_err_max);
+        assert!((e.mse - 100.0 / 12.0).abs() < 1e-9);
+        assert!((e.psnr_db - psnr(100.0 / 12.0)).abs() < 1e-9 && e.psnr_db.is_finite());
+        let small = frame(vec![0.5], vec![0; 4]);
+        assert!(image_error(&a, &small).is_err());
+    }
+
+    #[test]
+    fn generated_meshes_are_valid() {
+        let g = generated_mesh("grass").unwrap();
+        g.validate().unwrap();
+        assert_eq!(g.triangle_count(), 24 * 7);
+        let (lo, hi) = g.bounds().unwrap();
+        assert!(lo[1] >= 0.0 && hi[1] > 0.5 && hi[1] < 1.5, "{lo:?} {hi:?}");
+        let b = generated_mesh("box").unwrap();
+        b.validate().unwrap();
+        assert_eq!(b.triangle_count(), 12);
+        assert_eq!(b.bounds().unwrap(), ([-0.5; 3], [0.5; 3]));
+        // Outward winding: each triangle's normal agrees with its vertices' normals.
+        for t in b.indices.chunks_exact(3) {
+            let p = |i: u32| Vec3::from(b.positions[i as usize]);
+            let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+            assert!(n.dot(Vec3::from(b.normals[t[0] as usize])) > 0.0);
+        }
+        assert!(generated_mesh("nope").is_none());
+    }
+
+    #[test]
+    fn utc_date_is_iso() {
+        let d = utc_now();
+        assert_eq!(d.len(), 20, "{d}");
+        assert!(d.starts_with("20") && d.ends_with('Z'));
+    }
+
+    #[test]
+    fn settings_overrides_and_validation() {
+        let mut s = Suite::Quick.settings();
+        s.validate().unwrap();
+        s.error_sweep = vec![-1.0];
+        assert!(s.validate().is_err());
+        let full = Suite::Full.settings();
+        assert_eq!((full.width, full.height), (1920, 1080));
+        assert_eq!(*full.stress_n.last().unwrap(), 100);
+        assert_eq!(first_one_px(&full.error_sweep), Some(1.0));
+    }
+}
