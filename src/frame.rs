@@ -1,12 +1,14 @@
 //! One vgeo frame: orders the passes, owns the per-frame buffers, reads back results and stats.
 //!
-//! `instance_cull` -> `cluster_cull` -> `raster_sw` + `raster_hw` -> `debug_view`. The CPU records a
+//! `instance_cull` -> `cluster_cull` -> `raster_sw` + `raster_hw` -> `debug_view` (or, for the
+//! material views, `material_classify` -> `material_depth` -> `emit_gbuffer` -> `shade`). The CPU records a
 //! fixed command buffer: nothing in it depends on the number of instances or clusters, the counts
 //! live on the GPU and reach the rasterizers through indirect arguments.
 
 use crate::builder::BuiltMesh;
 use crate::camera::Camera;
 use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Timer, vk};
+use crate::material::{MaterialPasses, SceneMaterials, ShadeMode};
 use crate::passes::cluster_cull::{ClusterCull, default_workgroups};
 use crate::passes::cull::Phase;
 use crate::passes::debug_view::{DebugView, ViewMode};
@@ -74,6 +76,11 @@ pub struct VgeoRenderer {
     fb: Option<FrameBuffers>,
     pyramid: Option<DepthPyramid>,
     debug_view: Option<DebugView>,
+    /// The scene's materials (CPU) and, once a material view was rendered, the material passes.
+    scene_materials: SceneMaterials,
+    materials: Option<MaterialPasses>,
+    /// Whether `emit_gbuffer` counts fragments per material (tests).
+    count_fragments: bool,
     /// The view whose HZB is in the pyramid (the previous frame's), if any.
     history: Option<OcclusionGpu>,
     vis_path: VisPath,
@@ -102,6 +109,7 @@ impl VgeoRenderer {
             ));
         }
         let scene = GpuScene::new(ctx, built, placements)?;
+        let scene_materials = SceneMaterials::new(built).map_err(GpuError::Other)?;
         // Every BVH node is visited at most once per instance, and at most every cluster drawn.
         let nodes: u64 = placements
             .iter()
@@ -123,6 +131,9 @@ impl VgeoRenderer {
             fb: None,
             pyramid: None,
             debug_view: None,
+            scene_materials,
+            materials: None,
+            count_fragments: false,
             history: None,
             vis_path,
             queue_capacity,
@@ -143,6 +154,40 @@ impl VgeoRenderer {
     pub fn set_cull_workgroups(&mut self, n: u32) -> GpuResult<()> {
         self.cluster_cull = ClusterCull::new(&self.ctx, n)?;
         Ok(())
+    }
+
+    /// The scene's material table (global ids: each mesh's ids offset by the meshes before it).
+    pub fn scene_materials(&self) -> &SceneMaterials {
+        &self.scene_materials
+    }
+
+    /// The material passes, once a material view ([`ViewMode::is_material`]) was rendered.
+    pub fn material_passes(&self) -> Option<&MaterialPasses> {
+        self.materials.as_ref()
+    }
+
+    /// Makes `emit_gbuffer` count its fragments per material (read with
+    /// [`MaterialPasses::fragment_counts`]).
+    pub fn set_count_fragments(&mut self, on: bool) {
+        self.count_fragments = on;
+        if let Some(m) = self.materials.as_mut() {
+            m.count_fragments = on;
+        }
+    }
+
+    /// Uploads the materials (decoding the textures) and creates the material passes, if not yet
+    /// done; returns the texture warnings (unreadable files, drawn white).
+    pub fn prepare_materials(&mut self) -> GpuResult<Vec<String>> {
+        if self.materials.is_none() {
+            let mut m = MaterialPasses::new(&self.ctx, &self.scene_materials, self.vis_path)?;
+            m.count_fragments = self.count_fragments;
+            self.materials = Some(m);
+        }
+        Ok(self
+            .materials
+            .as_ref()
+            .map(|m| m.gpu.warnings.clone())
+            .unwrap_or_default())
     }
 
     /// The visibility-buffer path in use.
@@ -288,6 +333,23 @@ impl VgeoRenderer {
         light: &Light,
     ) -> GpuResult<VgeoFrame> {
         self.write_view(camera, width, height, settings)?;
+        let shade_mode = match mode {
+            ViewMode::Shaded => Some(ShadeMode::Shaded),
+            ViewMode::Albedo => Some(ShadeMode::Albedo),
+            ViewMode::Normals => Some(ShadeMode::Normals),
+            ViewMode::Materials => Some(ShadeMode::Materials),
+            _ => None,
+        };
+        if let Some(sm) = shade_mode {
+            self.prepare_materials()?;
+            let fb = self
+                .fb
+                .as_ref()
+                .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+            if let Some(m) = self.materials.as_mut() {
+                m.prepare(fb, camera, light.direction, sm)?;
+            }
+        }
         let levels = self
             .pyramid
             .as_ref()
@@ -316,7 +378,8 @@ impl VgeoRenderer {
             .debug_view
             .as_ref()
             .ok_or_else(|| GpuError::Other("debug view missing".into()))?;
-        let mut timer = Timer::new(&self.ctx, 16)?;
+        let materials = self.materials.as_ref().filter(|_| mode.is_material());
+        let mut timer = Timer::new(&self.ctx, 24)?;
         let mut result = Ok(());
         self.ctx.submit_and_wait("vgeo frame", |cmd| {
             timer.reset(cmd);
@@ -349,7 +412,10 @@ impl VgeoRenderer {
                 // the HZB the next frame's main phase tests against.
                 pyramid.record(cmd, &mut timer, fb);
             }
-            result = debug_view.record(cmd, &mut timer, &self.scene, fb, mode, light.direction);
+            result = match materials {
+                Some(m) => m.record(cmd, &mut timer, &self.scene, fb),
+                None => debug_view.record(cmd, &mut timer, &self.scene, fb, mode, light.direction),
+            };
         })?;
         result?;
         let gpu_ms = timer.results()?;
@@ -362,7 +428,10 @@ impl VgeoRenderer {
             .map(|v| (*v as u32) >> crate::shared::VISBUFFER_TRIANGLE_BITS)
             .max();
         let visible_table = read_visible_table(fb, max_slot)?;
-        let color = debug_view.download()?;
+        let color = match materials {
+            Some(m) => m.download()?,
+            None => debug_view.download()?,
+        };
         self.history = settings.occlusion.then_some(current);
         let triangles = main_res.counters.triangles as u64 + post_res.counters.triangles as u64;
         let depth = vis

@@ -62,7 +62,8 @@ struct RenderArgs {
     /// Pixel error threshold of `--mode lod` and `--mode vgeo` (0 = full detail).
     #[arg(long, default_value_t = 1.0)]
     error_px: f32,
-    /// What `--mode vgeo` shows: lit, depth, triangles, clusters, instances, lod, hwsw.
+    /// What `--mode vgeo` shows: lit, depth, triangles, clusters, instances, lod, hwsw (debug
+    /// views), or shaded, albedo, normals, materials (the material passes).
     #[arg(long, default_value = "lit")]
     view: String,
     /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).
@@ -150,7 +151,11 @@ fn render(a: &RenderArgs) -> Result<()> {
         anyhow::bail!("unknown --mode `{}` (available: brute, lod, vgeo)", a.mode);
     }
     let view = ViewMode::parse(&a.view).with_context(|| {
-        let names: Vec<_> = ViewMode::ALL.iter().map(|m| m.name()).collect();
+        let names: Vec<_> = ViewMode::ALL
+            .iter()
+            .chain(ViewMode::MATERIAL.iter())
+            .map(|m| m.name())
+            .collect();
         format!(
             "unknown --view `{}` (available: {})",
             a.view,

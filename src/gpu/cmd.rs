@@ -5,7 +5,7 @@ use std::sync::atomic::Ordering;
 
 use ash::vk;
 
-use super::{Buffer, ComputePipeline, Context, GraphicsPipeline, Image};
+use super::{Buffer, ComputePipeline, Context, GraphicsPipeline, Image, TextureSet};
 
 /// A descriptor pushed with `vkCmdPushDescriptorSetKHR` (binding i = entry i).
 pub enum Desc<'a> {
@@ -184,7 +184,7 @@ impl Cmd {
             .subresource_range(vk::ImageSubresourceRange {
                 aspect_mask: image.aspect,
                 base_mip_level: 0,
-                level_count: 1,
+                level_count: image.mip_levels,
                 base_array_layer: 0,
                 layer_count: 1,
             })];
@@ -533,6 +533,87 @@ impl Cmd {
     pub fn dispatch(&mut self, x: u32, y: u32, z: u32) {
         // SAFETY: a compute pipeline is bound by the caller.
         unsafe { self.dev().cmd_dispatch(self.cb, x, y, z) };
+    }
+
+    /// Binds a bindless texture array as descriptor set 1 of a graphics pipeline (created with
+    /// [`GraphicsPipeline::with_textures`]).
+    pub fn bind_graphics_textures(&mut self, p: &GraphicsPipeline, textures: &TextureSet) {
+        // SAFETY: the pipeline's layout has the set's layout at set 1.
+        unsafe {
+            self.dev().cmd_bind_descriptor_sets(
+                self.cb,
+                vk::PipelineBindPoint::GRAPHICS,
+                p.layout,
+                1,
+                &[textures.set],
+                &[],
+            )
+        };
+    }
+
+    /// Binds a bindless texture array as descriptor set 1 of a compute pipeline (created with
+    /// [`ComputePipeline::with_textures`]).
+    pub fn bind_compute_textures(&mut self, p: &ComputePipeline, textures: &TextureSet) {
+        // SAFETY: the pipeline's layout has the set's layout at set 1.
+        unsafe {
+            self.dev().cmd_bind_descriptor_sets(
+                self.cb,
+                vk::PipelineBindPoint::COMPUTE,
+                p.layout,
+                1,
+                &[textures.set],
+                &[],
+            )
+        };
+    }
+
+    /// `vkCmdDraw` with a first instance.
+    pub fn draw_instanced(&mut self, vertex_count: u32, instance_count: u32, first_instance: u32) {
+        // SAFETY: a graphics pipeline is bound inside a rendering pass.
+        unsafe {
+            self.dev()
+                .cmd_draw(self.cb, vertex_count, instance_count, 0, first_instance)
+        };
+    }
+
+    /// Copies tightly packed mip levels from a buffer into an image (moved to
+    /// `TRANSFER_DST_OPTIMAL`): `levels[i]` = (byte offset in `buf`, width, height) of level i.
+    pub fn copy_buffer_to_image(
+        &mut self,
+        buf: &Buffer,
+        image: &Image,
+        levels: &[(u64, u32, u32)],
+    ) {
+        self.transition(image, vk::ImageLayout::TRANSFER_DST_OPTIMAL);
+        let regions: Vec<vk::BufferImageCopy> = levels
+            .iter()
+            .enumerate()
+            .map(|(i, &(offset, width, height))| {
+                vk::BufferImageCopy::default()
+                    .buffer_offset(offset)
+                    .image_subresource(vk::ImageSubresourceLayers {
+                        aspect_mask: image.aspect,
+                        mip_level: i as u32,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    })
+                    .image_extent(vk::Extent3D {
+                        width,
+                        height,
+                        depth: 1,
+                    })
+            })
+            .collect();
+        // SAFETY: the image is in TRANSFER_DST layout; the buffer holds a whole image (caller).
+        unsafe {
+            self.dev().cmd_copy_buffer_to_image(
+                self.cb,
+                buf.raw,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &regions,
+            )
+        };
     }
 
     /// Copies a whole colour image (in any layout) into a buffer, tightly packed.

@@ -198,7 +198,8 @@ impl Drop for Buffer {
     }
 }
 
-/// A 2D image with one mip level and a view; freed on drop.
+/// A 2D image with a view over all its mip levels (one unless made by [`Image::with_rgba8_mips`]);
+/// freed on drop.
 pub struct Image {
     ctx: Context,
     pub(crate) raw: vk::Image,
@@ -208,6 +209,8 @@ pub struct Image {
     pub width: u32,
     pub height: u32,
     pub(crate) aspect: vk::ImageAspectFlags,
+    /// Mip levels (transitions cover them all).
+    pub mip_levels: u32,
     /// Current layout, tracked in recording order (commands are recorded in execution order).
     pub(crate) layout: std::sync::atomic::AtomicI32,
     name: String,
@@ -223,6 +226,20 @@ impl Image {
         format: vk::Format,
         usage: vk::ImageUsageFlags,
     ) -> GpuResult<Self> {
+        Self::with_levels(ctx, name, width, height, format, usage, 1)
+    }
+
+    /// Creates a device-local 2D image with `mip_levels` levels (at least 1).
+    pub(crate) fn with_levels(
+        ctx: &Context,
+        name: &str,
+        width: u32,
+        height: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        mip_levels: u32,
+    ) -> GpuResult<Self> {
+        let mip_levels = mip_levels.max(1);
         let dev = ctx.device();
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -232,7 +249,7 @@ impl Image {
                 height,
                 depth: 1,
             })
-            .mip_levels(1)
+            .mip_levels(mip_levels)
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -281,7 +298,7 @@ impl Image {
             .subresource_range(vk::ImageSubresourceRange {
                 aspect_mask: aspect,
                 base_mip_level: 0,
-                level_count: 1,
+                level_count: mip_levels,
                 base_array_layer: 0,
                 layer_count: 1,
             });
@@ -298,6 +315,7 @@ impl Image {
             width,
             height,
             aspect,
+            mip_levels,
             layout: std::sync::atomic::AtomicI32::new(vk::ImageLayout::UNDEFINED.as_raw()),
             name: name.into(),
         })
@@ -333,7 +351,9 @@ impl Image {
                 Some(4)
             }
             vk::Format::R32_UINT | vk::Format::R32_SFLOAT => Some(4),
-            vk::Format::R32G32_UINT | vk::Format::R64_UINT => Some(8),
+            vk::Format::R32G32_UINT | vk::Format::R64_UINT | vk::Format::R16G16B16A16_SFLOAT => {
+                Some(8)
+            }
             _ => None,
         }
     }

@@ -10,6 +10,7 @@ mod context;
 mod memory;
 mod pipeline;
 mod query;
+mod texture;
 
 pub use ash::vk;
 pub use cmd::{Cmd, Desc, RenderTarget};
@@ -17,6 +18,7 @@ pub use context::{Caps, Context, ContextOptions};
 pub use memory::{Buffer, Image, MemoryKind};
 pub use pipeline::{ComputePipeline, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage};
 pub use query::Timer;
+pub use texture::TextureSet;
 
 /// Errors of the GPU layer.
 #[derive(Debug, thiserror::Error)]

@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use super::{Context, GpuError, GpuResult, VkResultExt};
+use super::{Context, GpuError, GpuResult, TextureSet, VkResultExt};
 
 /// A shader stage's SPIR-V (as embedded by build.rs).
 #[derive(Clone, Copy)]
@@ -38,6 +38,7 @@ fn layout(
     bindings: &[vk::DescriptorType],
     stages: vk::ShaderStageFlags,
     push_constant_size: u32,
+    extra_sets: &[vk::DescriptorSetLayout],
 ) -> GpuResult<Layout> {
     let b: Vec<_> = bindings
         .iter()
@@ -57,7 +58,8 @@ fn layout(
     let set = unsafe { ctx.device().create_descriptor_set_layout(&info, None) }
         .call("vkCreateDescriptorSetLayout")?;
     ctx.set_name(set, &format!("{name} set layout"));
-    let sets = [set];
+    let mut sets = vec![set];
+    sets.extend_from_slice(extra_sets);
     let ranges = [vk::PushConstantRange {
         stage_flags: stages,
         offset: 0,
@@ -92,12 +94,40 @@ impl ComputePipeline {
         bindings: &[vk::DescriptorType],
         push_constant_size: u32,
     ) -> GpuResult<Self> {
+        Self::with_sets(ctx, shader, bindings, push_constant_size, &[])
+    }
+
+    /// Like [`ComputePipeline::new`] with a bindless texture array as descriptor set 1.
+    pub fn with_textures(
+        ctx: &Context,
+        shader: ShaderStage<'_>,
+        bindings: &[vk::DescriptorType],
+        push_constant_size: u32,
+        textures: &TextureSet,
+    ) -> GpuResult<Self> {
+        Self::with_sets(
+            ctx,
+            shader,
+            bindings,
+            push_constant_size,
+            &[textures.layout],
+        )
+    }
+
+    fn with_sets(
+        ctx: &Context,
+        shader: ShaderStage<'_>,
+        bindings: &[vk::DescriptorType],
+        push_constant_size: u32,
+        extra_sets: &[vk::DescriptorSetLayout],
+    ) -> GpuResult<Self> {
         let l = layout(
             ctx,
             shader.name,
             bindings,
             vk::ShaderStageFlags::COMPUTE,
             push_constant_size,
+            extra_sets,
         )?;
         let m = module(ctx, shader)?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
@@ -173,8 +203,32 @@ pub struct GraphicsPipeline {
 impl GraphicsPipeline {
     /// Creates the pipeline.
     pub fn new(ctx: &Context, d: &GraphicsPipelineDesc<'_>) -> GpuResult<Self> {
+        Self::with_sets(ctx, d, &[])
+    }
+
+    /// Like [`GraphicsPipeline::new`] with a bindless texture array as descriptor set 1.
+    pub fn with_textures(
+        ctx: &Context,
+        d: &GraphicsPipelineDesc<'_>,
+        textures: &TextureSet,
+    ) -> GpuResult<Self> {
+        Self::with_sets(ctx, d, &[textures.layout])
+    }
+
+    fn with_sets(
+        ctx: &Context,
+        d: &GraphicsPipelineDesc<'_>,
+        extra_sets: &[vk::DescriptorSetLayout],
+    ) -> GpuResult<Self> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let l = layout(ctx, d.name, d.bindings, stages, d.push_constant_size)?;
+        let l = layout(
+            ctx,
+            d.name,
+            d.bindings,
+            stages,
+            d.push_constant_size,
+            extra_sets,
+        )?;
         let vm = module(ctx, d.vertex)?;
         let fm = match module(ctx, d.fragment) {
             Ok(m) => m,

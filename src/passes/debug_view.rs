@@ -36,6 +36,16 @@ pub enum ViewMode {
     Lod,
     /// Orange for clusters drawn by `raster_hw`, blue for `raster_sw`.
     HwSw,
+    /// The material passes' output: materials (base colour, textures, metallic/roughness) lit by
+    /// the directional light plus ambient (`material_classify` -> `material_depth` ->
+    /// `emit_gbuffer` -> `shade`; not drawn by this pass).
+    Shaded,
+    /// The GBuffer's albedo (material passes).
+    Albedo,
+    /// The GBuffer's world normal as colour (material passes).
+    Normals,
+    /// A hashed colour per material (material passes).
+    Materials,
 }
 
 impl ViewMode {
@@ -50,8 +60,21 @@ impl ViewMode {
         ViewMode::HwSw,
     ];
 
+    /// The modes drawn by the material passes instead of this one.
+    pub const MATERIAL: [ViewMode; 4] = [
+        ViewMode::Shaded,
+        ViewMode::Albedo,
+        ViewMode::Normals,
+        ViewMode::Materials,
+    ];
+
+    /// Whether the material passes draw this mode (see [`ViewMode::MATERIAL`]).
+    pub fn is_material(self) -> bool {
+        ViewMode::MATERIAL.contains(&self)
+    }
+
     /// The mode's name on the command line (`lit`, `depth`, `triangles`, `clusters`, `instances`,
-    /// `lod`, `hwsw`).
+    /// `lod`, `hwsw`, `shaded`, `albedo`, `normals`, `materials`).
     pub fn name(self) -> &'static str {
         match self {
             ViewMode::Lit => "lit",
@@ -61,6 +84,10 @@ impl ViewMode {
             ViewMode::Instances => "instances",
             ViewMode::Lod => "lod",
             ViewMode::HwSw => "hwsw",
+            ViewMode::Shaded => "shaded",
+            ViewMode::Albedo => "albedo",
+            ViewMode::Normals => "normals",
+            ViewMode::Materials => "materials",
         }
     }
 
@@ -70,7 +97,10 @@ impl ViewMode {
         match s.as_str() {
             "hw-sw" | "hw_sw" => Some(ViewMode::HwSw),
             "level" => Some(ViewMode::Lod),
-            _ => ViewMode::ALL.into_iter().find(|m| m.name() == s),
+            _ => ViewMode::ALL
+                .into_iter()
+                .chain(ViewMode::MATERIAL)
+                .find(|m| m.name() == s),
         }
     }
 
@@ -83,6 +113,8 @@ impl ViewMode {
             ViewMode::Instances => 4,
             ViewMode::Lod => 5,
             ViewMode::HwSw => 6,
+            // Drawn by the material passes; `record` refuses them.
+            ViewMode::Shaded | ViewMode::Albedo | ViewMode::Normals | ViewMode::Materials => 0,
         }
     }
 }
@@ -202,6 +234,12 @@ impl DebugView {
                 fb.height,
                 fb.vis_path(),
                 fb.visible_capacity
+            )));
+        }
+        if mode.is_material() {
+            return Err(GpuError::Other(format!(
+                "{NAME}: view `{}` is drawn by the material passes",
+                mode.name()
             )));
         }
         use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};

@@ -2,7 +2,8 @@
 //! share the pass's name), and the per-frame buffers they share ([`FrameBuffers`]).
 //!
 //! Data flow of one frame (see `crate::frame`):
-//! `instance_cull` -> `cluster_cull` -> (`raster_sw`, `raster_hw`) -> `debug_view`.
+//! `instance_cull` -> `cluster_cull` -> (`raster_sw`, `raster_hw`) -> `debug_view`, or for the
+//! material views `material_classify` -> `material_depth` -> `emit_gbuffer` -> `shade`.
 //! - the work queue: u64 items `instance << 32 | bvh node` (global node index), empty = all ones;
 //! - the visible-cluster list: `uvec2(instance, global cluster index)`;
 //! - the SW and HW lists: u32 indices into the visible list;
@@ -12,9 +13,13 @@
 pub mod cluster_cull;
 pub mod debug_view;
 pub mod depth_pyramid;
+pub mod emit_gbuffer;
 pub mod instance_cull;
+pub mod material_classify;
+pub mod material_depth;
 pub mod raster_hw;
 pub mod raster_sw;
+pub mod shade;
 pub mod view;
 pub mod visbuffer;
 

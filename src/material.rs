@@ -1,0 +1,573 @@
+//! The scene's materials on the GPU: one table of every mesh's materials (global ids: a mesh's
+//! local ids offset by the materials of the meshes before it), the global material of every vertex
+//! (vertices are split per material, so a triangle's material is its first vertex's), per-mesh UV
+//! ranges, and every base-colour and normal texture (with a mip chain, box-filtered in linear
+//! space) in one bindless array (texture 0 is white, used where a material has none or its file cannot be read,
+//! with a warning).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use bytemuck::{Pod, Zeroable};
+
+use glam::Vec3;
+
+use crate::builder::BuiltMesh;
+use crate::camera::Camera;
+use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Image, TextureSet, Timer, vk};
+use crate::mesh::Material;
+use crate::passes::emit_gbuffer::EmitGbuffer;
+use crate::passes::material_classify::{MaterialClassify, MaterialTargets, MaterialViewGpu};
+use crate::passes::material_depth::MaterialDepth;
+use crate::passes::shade::Shade;
+use crate::passes::{FrameBuffers, VisPath};
+use crate::render::BACKGROUND;
+use crate::scene_gpu::GpuScene;
+
+/// One material as the shaders read it (mirrors `MaterialGpu` in shaders_glsl/common/material.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct MaterialGpu {
+    /// Linear RGBA factor.
+    pub base_color: [f32; 4],
+    /// Metallic and roughness factors in [0, 1].
+    pub metallic: f32,
+    pub roughness: f32,
+    /// Index into the texture array (0 = white).
+    pub base_color_texture: u32,
+    /// Index of the tangent-space normal map ([`NO_TEXTURE`] = none).
+    pub normal_texture: u32,
+}
+const _: () = assert!(size_of::<MaterialGpu>() == 32);
+
+/// Per mesh: UV range of its vertex codes and flags (mirrors `MeshMaterialGpu` in GLSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct MeshMaterialGpu {
+    /// UV of code 0 and of code 65535 (per axis).
+    pub uv_min: [f32; 2],
+    pub uv_max: [f32; 2],
+    /// `MESH_HAS_UVS` | `MESH_HAS_NORMALS`.
+    pub flags: u32,
+    /// Global id of the mesh's material 0.
+    pub material_offset: u32,
+    pub _pad: [u32; 2],
+}
+const _: () = assert!(size_of::<MeshMaterialGpu>() == 32);
+
+/// [`MeshMaterialGpu::flags`]: the source had texture coordinates.
+pub const MESH_HAS_UVS: u32 = 1;
+/// [`MeshMaterialGpu::flags`]: the source had normals.
+pub const MESH_HAS_NORMALS: u32 = 2;
+
+/// [`MaterialGpu::normal_texture`] of a material without a normal map.
+pub const NO_TEXTURE: u32 = u32::MAX;
+
+/// Most materials a scene may have (material depth holds `id + 1` in 24 bits).
+pub const MAX_MATERIALS: usize = (1 << 24) - 2;
+
+/// A decoded RGBA8 texture: sRGB-encoded colour, or linear data (normal maps).
+#[derive(Clone, Debug)]
+pub struct TextureData {
+    /// Source file (`None` for built-in textures).
+    pub path: Option<PathBuf>,
+    /// Size in texels.
+    pub width: u32,
+    pub height: u32,
+    /// RGBA8 texels, row-major, top row first.
+    pub rgba: Vec<u8>,
+    /// Colour (sampled through an sRGB format) rather than linear data.
+    pub srgb: bool,
+}
+
+/// Exact sRGB decode of an 8-bit value.
+pub fn srgb_to_linear(c: u8) -> f32 {
+    let c = c as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Exact sRGB encode to 8 bits.
+pub fn linear_to_srgb(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+impl TextureData {
+    /// The mip chain below this texture (level 1 onwards; level 0 is `self`): each level halves
+    /// the previous one (rounded down, at least 1) with a 2x2 box filter (of the colour in linear
+    /// space for sRGB textures; alpha and linear data averaged as they are), down to 1x1.
+    pub fn mip_chain(&self) -> Vec<(u32, u32, Vec<u8>)> {
+        let lut: Vec<f32> = (0..=255u8)
+            .map(|c| {
+                if self.srgb {
+                    srgb_to_linear(c)
+                } else {
+                    c as f32 / 255.0
+                }
+            })
+            .collect();
+        let mut out: Vec<(u32, u32, Vec<u8>)> = Vec::new();
+        let (mut w, mut h) = (self.width, self.height);
+        while w > 1 || h > 1 {
+            let prev: &[u8] = out.last().map(|l| l.2.as_slice()).unwrap_or(&self.rgba);
+            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+            let mut next = vec![0u8; 4 * nw as usize * nh as usize];
+            for y in 0..nh {
+                for x in 0..nw {
+                    let mut acc = [0.0f32; 4];
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let sx = (2 * x + dx).min(w - 1) as usize;
+                        let sy = (2 * y + dy).min(h - 1) as usize;
+                        let p = &prev[4 * (sy * w as usize + sx)..][..4];
+                        for k in 0..3 {
+                            acc[k] += lut[p[k] as usize];
+                        }
+                        acc[3] += p[3] as f32;
+                    }
+                    let o = &mut next[4 * (y as usize * nw as usize + x as usize)..][..4];
+                    for k in 0..3 {
+                        o[k] = if self.srgb {
+                            linear_to_srgb(acc[k] * 0.25)
+                        } else {
+                            (acc[k] * 0.25 * 255.0).round() as u8
+                        };
+                    }
+                    o[3] = (acc[3] * 0.25).round() as u8;
+                }
+            }
+            out.push((nw, nh, next));
+            (w, h) = (nw, nh);
+        }
+        out
+    }
+
+    /// The 1x1 white texture (index 0).
+    pub fn white() -> Self {
+        Self {
+            path: None,
+            width: 1,
+            height: 1,
+            rgba: vec![255; 4],
+            srgb: true,
+        }
+    }
+
+    /// A 1x1 flat normal map (what an unreadable normal map becomes).
+    pub fn flat_normal() -> Self {
+        Self {
+            path: None,
+            width: 1,
+            height: 1,
+            rgba: vec![128, 128, 255, 255],
+            srgb: false,
+        }
+    }
+}
+
+/// The scene's materials on the CPU (what [`GpuMaterials`] uploads; also what CPU references read).
+/// Textures are named here and decoded by [`SceneMaterials::load_textures`].
+#[derive(Clone, Debug, Default)]
+pub struct SceneMaterials {
+    /// Global material table.
+    pub materials: Vec<MaterialGpu>,
+    /// Names, parallel to `materials`.
+    pub names: Vec<String>,
+    /// Per mesh: UV range, flags, first global material.
+    pub meshes: Vec<MeshMaterialGpu>,
+    /// Global material id of every vertex, in the scene's vertex order (meshes concatenated).
+    pub vertex_materials: Vec<u32>,
+    /// Texture files by index (index 0, the white texture, has none); each file once per use
+    /// (colour or normal map).
+    pub texture_paths: Vec<Option<PathBuf>>,
+    /// Per texture: colour (sRGB) rather than a normal map (linear).
+    pub texture_srgb: Vec<bool>,
+    /// `mesh: material` that named each texture first (for warnings).
+    pub texture_users: Vec<String>,
+}
+
+fn load_texture(path: &Path, srgb: bool) -> Result<TextureData, String> {
+    let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let rgba = img.to_rgba8();
+    let (width, height) = rgba.dimensions();
+    if width == 0 || height == 0 {
+        return Err(format!("{}: empty image", path.display()));
+    }
+    Ok(TextureData {
+        path: Some(path.to_path_buf()),
+        width,
+        height,
+        rgba: rgba.into_raw(),
+        srgb,
+    })
+}
+
+impl SceneMaterials {
+    /// Gathers the materials of `built` (meshes without materials get [`Material::default`]) and
+    /// names their base-colour textures (each file once).
+    pub fn new(built: &[BuiltMesh]) -> Result<Self, String> {
+        let mut s = Self {
+            texture_paths: vec![None],
+            texture_srgb: vec![true],
+            texture_users: vec![String::new()],
+            ..Default::default()
+        };
+        let mut by_path: BTreeMap<(PathBuf, bool), u32> = BTreeMap::new();
+        let default = [Material::default()];
+        for m in built {
+            let mats: &[Material] = if m.materials.is_empty() {
+                &default
+            } else {
+                &m.materials
+            };
+            let offset = s.materials.len() as u32;
+            for mat in mats {
+                let mut texture = |p: &PathBuf, srgb: bool| {
+                    *by_path.entry((p.clone(), srgb)).or_insert_with(|| {
+                        s.texture_paths.push(Some(p.clone()));
+                        s.texture_srgb.push(srgb);
+                        s.texture_users
+                            .push(format!("{}: material `{}`", m.name, mat.name));
+                        s.texture_paths.len() as u32 - 1
+                    })
+                };
+                let tex = mat
+                    .base_color_texture
+                    .as_ref()
+                    .map(|p| texture(p, true))
+                    .unwrap_or(0);
+                let normal_texture = mat
+                    .normal_texture
+                    .as_ref()
+                    .map(|p| texture(p, false))
+                    .unwrap_or(NO_TEXTURE);
+                s.materials.push(MaterialGpu {
+                    base_color: mat.base_color,
+                    metallic: mat.metallic.clamp(0.0, 1.0),
+                    roughness: mat.roughness.clamp(0.0, 1.0),
+                    base_color_texture: tex,
+                    normal_texture,
+                });
+                s.names.push(mat.name.clone());
+            }
+            let q = &m.quantization;
+            s.meshes.push(MeshMaterialGpu {
+                uv_min: q.uv_min,
+                uv_max: q.uv_max,
+                flags: if m.has_uvs { MESH_HAS_UVS } else { 0 }
+                    | if m.has_normals { MESH_HAS_NORMALS } else { 0 },
+                material_offset: offset,
+                _pad: [0; 2],
+            });
+            let last = mats.len() as u32 - 1;
+            s.vertex_materials.extend((0..m.vertices.len()).map(|v| {
+                offset + (m.vertex_materials.get(v).copied().unwrap_or(0) as u32).min(last)
+            }));
+        }
+        if s.materials.len() > MAX_MATERIALS {
+            return Err(format!(
+                "{} materials in the scene (at most {MAX_MATERIALS})",
+                s.materials.len()
+            ));
+        }
+        Ok(s)
+    }
+
+    /// Number of materials.
+    pub fn count(&self) -> u32 {
+        self.materials.len() as u32
+    }
+
+    /// Decodes every texture (in parallel), index for index with `texture_paths`; a file that
+    /// cannot be read becomes white, with a warning naming it and the material that uses it.
+    pub fn load_textures(&self) -> (Vec<TextureData>, Vec<String>) {
+        use rayon::prelude::*;
+        let loaded: Vec<Result<TextureData, String>> = self
+            .texture_paths
+            .par_iter()
+            .zip(&self.texture_srgb)
+            .map(|(p, &srgb)| match p {
+                None => Ok(TextureData::white()),
+                Some(p) => load_texture(p, srgb),
+            })
+            .collect();
+        let mut warnings = Vec::new();
+        let textures = loaded
+            .into_iter()
+            .enumerate()
+            .map(|(i, r)| {
+                r.unwrap_or_else(|e| {
+                    if self.texture_srgb[i] {
+                        warnings.push(format!(
+                            "{}: base-colour texture unreadable, using white: {e}",
+                            self.texture_users[i]
+                        ));
+                        TextureData::white()
+                    } else {
+                        warnings.push(format!(
+                            "{}: normal texture unreadable, using a flat one: {e}",
+                            self.texture_users[i]
+                        ));
+                        TextureData::flat_normal()
+                    }
+                })
+            })
+            .collect();
+        (textures, warnings)
+    }
+}
+
+/// The materials on the GPU.
+pub struct GpuMaterials {
+    /// [`MaterialGpu`] per global material.
+    pub table: Buffer,
+    /// [`MeshMaterialGpu`] per mesh.
+    pub meshes: Buffer,
+    /// Global material id (u32) per scene vertex.
+    pub vertex_materials: Buffer,
+    /// Base-colour (sRGB) and normal (linear) textures with their mip chains.
+    pub textures: TextureSet,
+    /// Number of materials.
+    pub count: u32,
+    /// Warnings of [`SceneMaterials::new`].
+    pub warnings: Vec<String>,
+}
+
+impl GpuMaterials {
+    /// Decodes `s`'s textures and uploads everything.
+    pub fn new(ctx: &Context, s: &SceneMaterials) -> GpuResult<Self> {
+        let (textures, warnings) = s.load_textures();
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let up = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes, usage);
+        let chains: Vec<Vec<(u32, u32, Vec<u8>)>> = {
+            use rayon::prelude::*;
+            textures.par_iter().map(TextureData::mip_chain).collect()
+        };
+        let mut images = Vec::with_capacity(textures.len());
+        for (i, (t, chain)) in textures.iter().zip(&chains).enumerate() {
+            let name = match &t.path {
+                Some(p) => format!("texture {i} ({})", p.display()),
+                None => "texture 0 (white)".into(),
+            };
+            let mut levels = vec![(t.width, t.height, t.rgba.as_slice())];
+            levels.extend(chain.iter().map(|(w, h, d)| (*w, *h, d.as_slice())));
+            images.push(Image::with_rgba8_mips(
+                ctx,
+                &name,
+                &levels,
+                if t.srgb {
+                    vk::Format::R8G8B8A8_SRGB
+                } else {
+                    vk::Format::R8G8B8A8_UNORM
+                },
+            )?);
+        }
+        if s.materials.is_empty() {
+            return Err(GpuError::Other("the scene has no materials".into()));
+        }
+        Ok(Self {
+            table: up("materials", bytemuck::cast_slice(&s.materials))?,
+            meshes: up("mesh materials", bytemuck::cast_slice(&s.meshes))?,
+            vertex_materials: up(
+                "vertex materials",
+                bytemuck::cast_slice(&s.vertex_materials),
+            )?,
+            textures: TextureSet::new(ctx, "material textures", images)?,
+            count: s.count(),
+            warnings,
+        })
+    }
+}
+
+/// What `shade` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadeMode {
+    /// Directional light plus ambient.
+    Shaded = 0,
+    /// The GBuffer's albedo.
+    Albedo = 1,
+    /// The GBuffer's normal (`n * 0.5 + 0.5`).
+    Normals = 2,
+    /// A hashed colour per material id.
+    Materials = 3,
+}
+
+/// The material passes of a frame (`material_classify`, `material_depth`, `emit_gbuffer`, `shade`)
+/// with the scene's materials on the GPU and the targets for the current resolution.
+pub struct MaterialPasses {
+    ctx: Context,
+    /// The scene's materials on the GPU.
+    pub gpu: GpuMaterials,
+    classify: MaterialClassify,
+    depth: MaterialDepth,
+    emit: EmitGbuffer,
+    shade: Shade,
+    targets: Option<MaterialTargets>,
+    /// Whether `emit_gbuffer` counts its fragments per material (tests).
+    pub count_fragments: bool,
+}
+
+impl MaterialPasses {
+    /// Uploads `materials` (decoding the textures) and creates the pipelines for `path`.
+    pub fn new(ctx: &Context, materials: &SceneMaterials, path: VisPath) -> GpuResult<Self> {
+        let gpu = GpuMaterials::new(ctx, materials)?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            classify: MaterialClassify::new(ctx, path)?,
+            depth: MaterialDepth::new(ctx)?,
+            emit: EmitGbuffer::new(ctx, path, &gpu)?,
+            shade: Shade::new(ctx)?,
+            gpu,
+            targets: None,
+            count_fragments: false,
+        })
+    }
+
+    /// The targets of the last frame.
+    pub fn targets(&self) -> Option<&MaterialTargets> {
+        self.targets.as_ref()
+    }
+
+    /// Sizes the targets for `fb` and writes the view (call before recording).
+    pub fn prepare(
+        &mut self,
+        fb: &FrameBuffers,
+        camera: &Camera,
+        light_dir: Vec3,
+        mode: ShadeMode,
+    ) -> GpuResult<()> {
+        let ok = self
+            .targets
+            .as_ref()
+            .is_some_and(|t| t.width == fb.width && t.height == fb.height);
+        if !ok {
+            self.targets = Some(MaterialTargets::new(
+                &self.ctx,
+                fb.width,
+                fb.height,
+                self.gpu.count,
+            )?);
+        }
+        let t = self
+            .targets
+            .as_mut()
+            .ok_or_else(|| GpuError::Other("material targets missing".into()))?;
+        let bg = BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
+        let inv = camera.view_proj(fb.width, fb.height).inverse();
+        let view = MaterialViewGpu {
+            inv_view_proj: inv.to_cols_array_2d(),
+            light_dir: light_dir.normalize_or_zero().extend(0.0).into(),
+            background: [bg[0], bg[1], bg[2], 1.0],
+            viewport: [
+                fb.width as f32,
+                fb.height as f32,
+                1.0 / fb.width as f32,
+                1.0 / fb.height as f32,
+            ],
+            tiles_x: t.tiles_x,
+            tiles_y: t.tiles_y,
+            material_count: self.gpu.count,
+            visible_capacity: fb.visible_capacity,
+            mode: mode as u32,
+            count_fragments: self.count_fragments as u32,
+            _pad: [0; 2],
+        };
+        t.view.write(0, bytemuck::bytes_of(&view))
+    }
+
+    /// Records the four passes after the rasterizers (the visibility buffer and visible list must
+    /// be visible to compute shaders). [`MaterialPasses::prepare`] must have run for `fb`.
+    pub fn record(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+    ) -> GpuResult<()> {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        let t = self
+            .targets
+            .as_ref()
+            .filter(|t| t.width == fb.width && t.height == fb.height)
+            .ok_or_else(|| GpuError::Other("material passes not prepared for this frame".into()))?;
+        if self.count_fragments {
+            cmd.fill_buffer(&t.fragment_counts, 0);
+            cmd.barrier(
+                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                (
+                    S::FRAGMENT_SHADER,
+                    A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+                ),
+            );
+        }
+        self.classify.record(cmd, timer, scene, &self.gpu, fb, t);
+        cmd.barrier(
+            (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+            (
+                S::VERTEX_SHADER | S::FRAGMENT_SHADER,
+                A::SHADER_STORAGE_READ,
+            ),
+        );
+        self.depth.record(cmd, timer, t);
+        self.emit.record(cmd, timer, scene, &self.gpu, fb, t);
+        self.shade.record(cmd, timer, t);
+        cmd.barrier(
+            (
+                S::COMPUTE_SHADER | S::FRAGMENT_SHADER,
+                A::SHADER_STORAGE_WRITE,
+            ),
+            (S::ALL_TRANSFER | S::HOST, A::TRANSFER_READ | A::HOST_READ),
+        );
+        Ok(())
+    }
+
+    /// The output image of the last frame (RGBA8, sRGB-encoded).
+    pub fn download(&self) -> GpuResult<Vec<u8>> {
+        self.targets
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?
+            .output
+            .download()
+    }
+
+    /// Fragments `emit_gbuffer` ran per material in the last frame (zeros unless
+    /// [`MaterialPasses::count_fragments`] was on).
+    pub fn fragment_counts(&self) -> GpuResult<Vec<u32>> {
+        let t = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?;
+        let bytes = t.fragment_counts.download()?;
+        Ok(bytemuck::cast_slice::<u8, u32>(&bytes)[..self.gpu.count as usize].to_vec())
+    }
+
+    /// Per tile `[min, max]` material of the last frame (`[u32::MAX, 0]` where empty), row-major.
+    pub fn tile_ranges(&self) -> GpuResult<Vec<[u32; 2]>> {
+        let t = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?;
+        let bytes = t.tiles.download()?;
+        let n = (t.tiles_x * t.tiles_y) as usize;
+        Ok(bytemuck::cast_slice::<u8, [u32; 2]>(&bytes)[..n].to_vec())
+    }
+
+    /// Global material id per pixel of the last frame (`u32::MAX` where empty).
+    pub fn pixel_materials(&self) -> GpuResult<Vec<u32>> {
+        let t = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?;
+        let bytes = t.pixel_materials.download()?;
+        let n = (t.width * t.height) as usize;
+        Ok(bytemuck::cast_slice::<u8, u32>(&bytes)[..n].to_vec())
+    }
+}

@@ -1,0 +1,724 @@
+//! The material passes on lavapipe with validation on: per-material draws shade exactly their
+//! pixels (fragment counters against the CPU's count from the visibility buffer), tile ranges,
+//! FlightHelmet's shaded image against a CPU-shaded reference (PSNR), meshes without UVs or normals,
+//! 1,024 materials, and an unreadable texture.
+
+mod common;
+
+use common::{assert_no_validation_errors, assets, gpu, shared_assets};
+use glam::{DMat4, DVec3, Mat4, Vec2, Vec3, Vec4};
+use vgeo::builder::quantize::{decode_normal, decode_uv};
+use vgeo::builder::{BuildOptions, BuiltMesh, build};
+use vgeo::camera::Camera;
+use vgeo::frame::{VgeoFrame, VgeoRenderer};
+use vgeo::material::{MESH_HAS_UVS, SceneMaterials, TextureData, srgb_to_linear};
+use vgeo::mesh::{Material, Mesh};
+use vgeo::passes::debug_view::ViewMode;
+use vgeo::passes::material_classify::{MATERIAL_TILE, NO_MATERIAL};
+use vgeo::passes::view::FrameSettings;
+use vgeo::render::{Light, Placement};
+
+fn exact() -> FrameSettings {
+    FrameSettings {
+        error_px: 0.0,
+        ..FrameSettings::default()
+    }
+}
+
+fn white_placement() -> Vec<Placement> {
+    vec![Placement {
+        mesh: 0,
+        transform: DMat4::IDENTITY,
+        color: [1.0; 3],
+    }]
+}
+
+/// A `cols` x `rows` grid of cells over x in [-w/2, w/2], y in [-h/2, h/2] (z = 0, facing +z), each
+/// cell `sub` x `sub` quads of material `cell index % materials.len()`.
+fn grid_mesh(cols: u32, rows: u32, sub: u32, size: [f32; 2], materials: Vec<Material>) -> Mesh {
+    grid_mesh_uv(cols, rows, sub, size, materials, false)
+}
+
+/// [`grid_mesh`], with UVs (u along +x, v along -y, over the whole grid) if `uvs`.
+fn grid_mesh_uv(
+    cols: u32,
+    rows: u32,
+    sub: u32,
+    size: [f32; 2],
+    materials: Vec<Material>,
+    uvs: bool,
+) -> Mesh {
+    let mut m = Mesh {
+        name: "grid".into(),
+        materials,
+        has_normals: false,
+        has_uvs: uvs,
+        ..Default::default()
+    };
+    let n = cols * sub;
+    let k = rows * sub;
+    for cy in 0..rows {
+        for cx in 0..cols {
+            let mat = (cy * cols + cx) % m.materials.len() as u32;
+            let base = m.positions.len() as u32;
+            for j in 0..=sub {
+                for i in 0..=sub {
+                    let gx = (cx * sub + i) as f32 / n as f32;
+                    let gy = (cy * sub + j) as f32 / k as f32;
+                    m.positions
+                        .push([(gx - 0.5) * size[0], (0.5 - gy) * size[1], 0.0]);
+                    m.normals.push([0.0, 0.0, 1.0]);
+                    m.uvs.push([gx, gy]);
+                }
+            }
+            let row = sub + 1;
+            for j in 0..sub {
+                for i in 0..sub {
+                    let a = base + j * row + i;
+                    let (b, c, d) = (a + 1, a + row, a + row + 1);
+                    m.indices.extend_from_slice(&[a, c, b, b, c, d]);
+                    m.material_ids.extend_from_slice(&[mat, mat]);
+                }
+            }
+        }
+    }
+    m.validate().expect("grid mesh is valid");
+    m
+}
+
+fn front_camera(dist: f64) -> Camera {
+    Camera::look_at(
+        DVec3::new(0.0, 0.0, dist),
+        DVec3::ZERO,
+        Vec3::Y,
+        45f32.to_radians(),
+        0.05,
+    )
+}
+
+/// Per pixel, the global material of its triangle's first vertex from the visibility buffer (CPU
+/// decode), `NO_MATERIAL` where empty.
+fn cpu_pixel_materials(
+    f: &VgeoFrame,
+    built: &[BuiltMesh],
+    placements: &[Placement],
+    mats: &SceneMaterials,
+) -> Vec<u32> {
+    // First cluster and first vertex of each mesh in the scene's concatenation.
+    let mut first = vec![(0u32, 0u32)];
+    for b in built {
+        let (c, v) = *first.last().unwrap();
+        first.push((c + b.clusters.len() as u32, v + b.vertices.len() as u32));
+    }
+    f.visbuffer
+        .iter()
+        .map(|&v| {
+            if v == 0 {
+                return NO_MATERIAL;
+            }
+            let lo = v as u32;
+            let ([instance, cluster], _) =
+                f.resolve(v).expect("a drawn pixel names a visible cluster");
+            let mesh = placements[instance as usize].mesh as usize;
+            let (c0, v0) = first[mesh];
+            let tri = built[mesh].cluster_triangles((cluster - c0) as usize)[(lo & 127) as usize];
+            mats.vertex_materials[(v0 + tri[0]) as usize]
+        })
+        .collect()
+}
+
+#[test]
+fn each_material_draw_shades_only_its_pixels() {
+    const W: u32 = 320;
+    const H: u32 = 160;
+    let ctx = gpu();
+    let colours = [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 0.0, 1.0],
+        [0.0, 1.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.5, 0.25, 0.1],
+    ];
+    let materials: Vec<Material> = colours
+        .iter()
+        .enumerate()
+        .map(|(i, c)| Material {
+            name: format!("m{i}"),
+            base_color: [c[0], c[1], c[2], 1.0],
+            ..Material::default()
+        })
+        .collect();
+    let mesh = grid_mesh(4, 2, 4, [4.0, 2.0], materials);
+    let built = build(&mesh, &BuildOptions::default()).expect("grid builds");
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &white_placement())
+        .expect("renderer");
+    r.set_count_fragments(true);
+    let camera = front_camera(2.6);
+    let f = r
+        .render(&camera, W, H, &exact(), ViewMode::Albedo, &Light::default())
+        .expect("albedo frame");
+    f.check().expect("complete frame");
+    let mats = r.scene_materials().clone();
+    let cpu = cpu_pixel_materials(&f, std::slice::from_ref(&built), &white_placement(), &mats);
+    let passes = r.material_passes().expect("material passes exist");
+    assert_eq!(passes.pixel_materials().expect("pixel ids"), cpu);
+
+    // Fragments per material draw == pixels of that material.
+    let counts = passes.fragment_counts().expect("counts");
+    let mut expected = vec![0u32; 8];
+    for &m in cpu.iter().filter(|&&m| m != NO_MATERIAL) {
+        expected[m as usize] += 1;
+    }
+    eprintln!("fragments per material: {counts:?} (CPU pixels: {expected:?})");
+    assert_eq!(counts, expected);
+    assert!(
+        expected.iter().all(|&c| c > 500),
+        "every region is on screen"
+    );
+    let empty = cpu.iter().filter(|&&m| m == NO_MATERIAL).count();
+    assert!(empty > 0, "some background");
+
+    // Tile ranges are exactly the CPU's, and they prune: each material touches only some tiles.
+    let tiles = passes.tile_ranges().expect("tiles");
+    let tx = W.div_ceil(MATERIAL_TILE);
+    let ty = H.div_ceil(MATERIAL_TILE);
+    let mut cpu_tiles = vec![[NO_MATERIAL, 0u32]; (tx * ty) as usize];
+    for (i, &m) in cpu.iter().enumerate() {
+        if m == NO_MATERIAL {
+            continue;
+        }
+        let (x, y) = (i as u32 % W, i as u32 / W);
+        let t = &mut cpu_tiles[((y / MATERIAL_TILE) * tx + x / MATERIAL_TILE) as usize];
+        t[0] = t[0].min(m);
+        t[1] = t[1].max(m);
+    }
+    assert_eq!(tiles, cpu_tiles);
+    let drawn: Vec<usize> = (0..8u32)
+        .map(|m| tiles.iter().filter(|t| t[0] <= m && m <= t[1]).count())
+        .collect();
+    eprintln!("tiles drawn per material (of {}): {drawn:?}", tiles.len());
+    assert!(drawn.iter().all(|&d| d < tiles.len()));
+
+    // The albedo view shows each pixel's own material colour.
+    for (i, &m) in cpu.iter().enumerate() {
+        let px = &f.frame.color[4 * i..4 * i + 3];
+        let want: Vec<u8> = if m == NO_MATERIAL {
+            continue;
+        } else {
+            colours[m as usize]
+                .iter()
+                .map(|c| (c.powf(1.0 / 2.2) * 255.0).round() as u8)
+                .collect()
+        };
+        for k in 0..3 {
+            assert!(
+                (px[k] as i32 - want[k] as i32).abs() <= 1,
+                "pixel {i}: {px:?} vs material {m}'s {want:?}"
+            );
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn material_ids_are_offset_per_mesh() {
+    const W: u32 = 192;
+    const H: u32 = 192;
+    let mat = |i: u32| Material {
+        name: format!("m{i}"),
+        base_color: [0.2 + 0.2 * i as f32, 0.5, 1.0 - 0.2 * i as f32, 1.0],
+        ..Material::default()
+    };
+    let a = grid_mesh(2, 1, 2, [2.0, 0.8], (0..2).map(mat).collect());
+    let b = grid_mesh(3, 1, 2, [2.0, 0.8], (2..5).map(mat).collect());
+    let built: Vec<BuiltMesh> = [&a, &b]
+        .iter()
+        .map(|m| build(m, &BuildOptions::default()).expect("grid builds"))
+        .collect();
+    let at = |mesh: u32, y: f64, x: f64| Placement {
+        mesh,
+        transform: DMat4::from_translation(DVec3::new(x, y, 0.0)),
+        color: [1.0; 3],
+    };
+    // Mesh 1 first among the instances, and mesh 0 twice: ids follow meshes, not instances.
+    let placements = vec![at(1, -0.5, 0.0), at(0, 0.5, -0.6), at(0, 0.5, 0.6)];
+    let ctx = gpu();
+    let mut r = VgeoRenderer::new(&ctx, &built, &placements).expect("renderer");
+    assert_eq!(r.scene_materials().count(), 5);
+    r.set_count_fragments(true);
+    let f = r
+        .render(
+            &front_camera(3.0),
+            W,
+            H,
+            &exact(),
+            ViewMode::Materials,
+            &Light::default(),
+        )
+        .expect("frame");
+    f.check().expect("complete frame");
+    let mats = r.scene_materials().clone();
+    let cpu = cpu_pixel_materials(&f, &built, &placements, &mats);
+    let passes = r.material_passes().expect("material passes");
+    assert_eq!(passes.pixel_materials().expect("ids"), cpu);
+    let mut expected = vec![0u32; 5];
+    for &m in cpu.iter().filter(|&&m| m != NO_MATERIAL) {
+        expected[m as usize] += 1;
+    }
+    let counts = passes.fragment_counts().expect("counts");
+    eprintln!("two meshes: fragments per material {counts:?}");
+    assert_eq!(counts, expected);
+    assert!(
+        expected.iter().all(|&c| c > 100),
+        "all five materials on screen"
+    );
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn normal_maps_follow_the_gltf_tangent_convention() {
+    const W: u32 = 192;
+    const H: u32 = 96;
+    let dir = std::env::temp_dir().join(format!("vgeo-normal-maps-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let map = |name: &str, rgb: [u8; 3]| {
+        let path = dir.join(name);
+        let img = image::RgbaImage::from_pixel(4, 4, image::Rgba([rgb[0], rgb[1], rgb[2], 255]));
+        img.save(&path).expect("write normal map");
+        path
+    };
+    let towards_u = map("u.png", [255, 128, 128]);
+    let up = map("up.png", [128, 255, 128]);
+    let materials: Vec<Material> = [Some(towards_u), Some(up), None]
+        .into_iter()
+        .enumerate()
+        .map(|(i, normal_texture)| Material {
+            name: format!("m{i}"),
+            normal_texture,
+            ..Material::default()
+        })
+        .collect();
+    let mesh = grid_mesh_uv(3, 1, 2, [3.0, 1.0], materials, true);
+    let built = build(&mesh, &BuildOptions::default()).expect("grid builds");
+    let ctx = gpu();
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &white_placement())
+        .expect("renderer");
+    let f = r
+        .render(
+            &front_camera(2.0),
+            W,
+            H,
+            &exact(),
+            ViewMode::Normals,
+            &Light::default(),
+        )
+        .expect("frame");
+    f.check().expect("complete frame");
+    let mats = r.scene_materials().clone();
+    let cpu = cpu_pixel_materials(&f, std::slice::from_ref(&built), &white_placement(), &mats);
+    // World normals: +x (u grows to the right), +y (glTF: green is up, v grows downwards), +z,
+    // everywhere (a perturbed normal leaning away from the view ray is not flipped).
+    let want = [[255u8, 128, 128], [128, 255, 128], [128, 128, 255]];
+    let mut seen = [0usize; 3];
+    for (i, &m) in cpu.iter().enumerate() {
+        if m == NO_MATERIAL {
+            continue;
+        }
+        let px = &f.frame.color[4 * i..4 * i + 3];
+        for k in 0..3 {
+            assert!(
+                (px[k] as i32 - want[m as usize][k] as i32).abs() <= 3,
+                "pixel {i} of material {m}: normal colour {px:?}, expected {:?}",
+                want[m as usize]
+            );
+        }
+        seen[m as usize] += 1;
+    }
+    eprintln!("normal-mapped pixels per material: {seen:?}");
+    assert!(seen.iter().all(|&n| n > 100));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_no_validation_errors(&ctx);
+}
+
+/// A texture's levels (level 0 first) as the GPU has them.
+struct Mips {
+    levels: Vec<(u32, u32, Vec<u8>)>,
+}
+
+impl Mips {
+    fn new(t: &TextureData) -> Self {
+        let mut levels = vec![(t.width, t.height, t.rgba.clone())];
+        levels.extend(t.mip_chain());
+        Self { levels }
+    }
+
+    /// Bilinear, repeat, one level, sRGB decoded per texel (what an `_SRGB` format's sampler does).
+    fn bilinear(&self, level: usize, uv: Vec2) -> Vec4 {
+        let (tw, th, rgba) = &self.levels[level];
+        let (w, h) = (*tw as i64, *th as i64);
+        let x = uv.x * *tw as f32 - 0.5;
+        let y = uv.y * *th as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let texel = |i: i64, j: i64| {
+            let i = i.rem_euclid(w) as usize;
+            let j = j.rem_euclid(h) as usize;
+            let p = &rgba[4 * (j * *tw as usize + i)..][..4];
+            Vec4::new(
+                srgb_to_linear(p[0]),
+                srgb_to_linear(p[1]),
+                srgb_to_linear(p[2]),
+                p[3] as f32 / 255.0,
+            )
+        };
+        let (i, j) = (x0 as i64, y0 as i64);
+        let top = texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx;
+        let bottom = texel(i, j + 1) * (1.0 - fx) + texel(i + 1, j + 1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+
+    /// Trilinear `textureGrad`: level of detail log2 of the longer scaled derivative.
+    fn sample_grad(&self, uv: Vec2, ddx: Vec2, ddy: Vec2) -> Vec4 {
+        let size = Vec2::new(self.levels[0].0 as f32, self.levels[0].1 as f32);
+        let rho = (ddx * size).length().max((ddy * size).length());
+        let max_level = (self.levels.len() - 1) as f32;
+        let lod = rho.log2().clamp(0.0, max_level);
+        if !lod.is_finite() || lod <= 0.0 {
+            return self.bilinear(0, uv);
+        }
+        let l0 = lod.floor();
+        let f = lod - l0;
+        let a = self.bilinear(l0 as usize, uv);
+        if f == 0.0 {
+            return a;
+        }
+        a * (1.0 - f) + self.bilinear(l0 as usize + 1, uv) * f
+    }
+}
+
+fn ray_barycentrics(dir: Vec3, p: &[Vec3; 3]) -> Option<Vec2> {
+    let e1 = p[1] - p[0];
+    let e2 = p[2] - p[0];
+    let pv = dir.cross(e2);
+    let det = e1.dot(pv);
+    if det.abs() <= 1e-30 {
+        return None;
+    }
+    let tv = -p[0];
+    Some(Vec2::new(tv.dot(pv), dir.dot(tv.cross(e1))) / det)
+}
+
+fn q8(x: f32) -> f32 {
+    (x.clamp(0.0, 1.0) * 255.0).round() / 255.0
+}
+
+/// CPU shading of one pixel as emit_gbuffer + shade do it (identity transform, one mesh).
+#[allow(clippy::too_many_arguments)]
+fn cpu_shade(
+    built: &BuiltMesh,
+    mats: &SceneMaterials,
+    textures: &[Mips],
+    level0_only: bool,
+    camera: &Camera,
+    inv: &Mat4,
+    light: Vec3,
+    tint: Vec3,
+    tri: [u32; 3],
+    x: u32,
+    y: u32,
+    w: u32,
+    h: u32,
+) -> [u8; 3] {
+    let ray = |px: Vec2| {
+        let ndc = px / Vec2::new(w as f32, h as f32) * 2.0 - 1.0;
+        let a = *inv * Vec4::new(ndc.x, ndc.y, 1.0, 1.0);
+        a.truncate() / a.w
+    };
+    let cam = camera.position;
+    let p = tri.map(|v| {
+        let o = built.position(v);
+        (DVec3::new(o[0] as f64, o[1] as f64, o[2] as f64) - cam).as_vec3()
+    });
+    let n = tri.map(|v| Vec3::from(decode_normal(built.vertices[v as usize].normal)));
+    let uv = tri.map(|v| {
+        Vec2::from(decode_uv(
+            &built.quantization,
+            built.vertices[v as usize].uv,
+        ))
+    });
+    let mat = mats.materials[mats.vertex_materials[tri[0] as usize] as usize];
+    let dir = ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+    let face = (p[1] - p[0]).cross(p[2] - p[0]);
+    let mut albedo = Vec4::from(mat.base_color) * tint.extend(1.0);
+    let mut normal = face;
+    if let Some(b) = ray_barycentrics(dir, &p) {
+        let bx = b.x.clamp(0.0, 1.0);
+        let by = b.y.clamp(0.0, 1.0).min(1.0 - bx);
+        normal = n[0] * (1.0 - bx - by) + n[1] * bx + n[2] * by;
+        if mats.meshes[0].flags & MESH_HAS_UVS != 0 {
+            let t = uv[0] * (1.0 - b.x - b.y) + uv[1] * b.x + uv[2] * b.y;
+            let pc = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            let bx = ray_barycentrics(ray(pc + Vec2::X), &p).unwrap_or(b);
+            let by = ray_barycentrics(ray(pc + Vec2::Y), &p).unwrap_or(b);
+            let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+            let ddx = d1 * (bx.x - b.x) + d2 * (bx.y - b.y);
+            let ddy = d1 * (by.x - b.x) + d2 * (by.y - b.y);
+            let tex = &textures[mat.base_color_texture as usize];
+            albedo *= if level0_only {
+                tex.bilinear(0, t)
+            } else {
+                tex.sample_grad(t, ddx, ddy)
+            };
+        }
+    }
+    if normal.length_squared() <= 0.0 {
+        normal = face;
+    }
+    let mut normal = normal.normalize();
+    if normal.dot(dir) > 0.0 {
+        normal = -normal;
+    }
+    let albedo = albedo
+        .truncate()
+        .map(|c| q8(c.clamp(0.0, 1.0).powf(1.0 / 2.2)).powf(2.2));
+    let metallic = q8(mat.metallic);
+    let roughness = q8(mat.roughness);
+    let v = -dir.normalize();
+    let hv = (light + v).normalize();
+    let r4 = roughness.powi(4);
+    let s = 2.0 / r4.max(1e-4) - 2.0;
+    let blinn = normal.dot(hv).max(0.0).powf(s) * (s + 8.0) / (8.0 * std::f32::consts::PI) * 0.25;
+    let f0 = Vec3::splat(0.04).lerp(albedo, metallic);
+    let ndl = normal.dot(light);
+    let lit = albedo * (1.0 - metallic) * (0.2 + 0.8 * ndl.abs())
+        + f0 * (0.2 + 0.8 * ndl.max(0.0) * blinn);
+    lit.to_array()
+        .map(|c| (c.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0).round() as u8)
+}
+
+#[test]
+fn flight_helmet_shaded_matches_cpu_reference() {
+    const W: u32 = 256;
+    const H: u32 = 256;
+    let path = shared_assets().join("gltf/FlightHelmet/FlightHelmet.gltf");
+    let (mesh, report) = vgeo::mesh::load_mesh(&path).expect("FlightHelmet loads");
+    assert!(
+        report.warnings.iter().any(|w| w.contains("not found")),
+        "the asset lacks some textures and the importer says so"
+    );
+    let built = build(&mesh, &BuildOptions::default()).expect("FlightHelmet builds");
+    let ctx = gpu();
+    let tint = [1.0, 0.95, 0.9];
+    let placements = vec![Placement {
+        mesh: 0,
+        transform: DMat4::IDENTITY,
+        color: tint,
+    }];
+    let mut r =
+        VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).expect("renderer");
+    let (lo, hi) = mesh.bounds().expect("bounds");
+    let camera = Camera::frame_bounds(
+        DVec3::from(lo.map(f64::from)),
+        DVec3::from(hi.map(f64::from)),
+        W as f32 / H as f32,
+    );
+    let light = Light::default();
+    let f = r
+        .render(&camera, W, H, &exact(), ViewMode::Shaded, &light)
+        .expect("shaded frame");
+    f.check().expect("complete frame");
+    let mats = r.scene_materials().clone();
+    assert!(mats.texture_paths.len() >= 4, "base-colour textures found");
+    let (textures, warnings) = mats.load_textures();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let textures: Vec<Mips> = textures.iter().map(Mips::new).collect();
+    let inv = camera.view_proj(W, H).inverse();
+    let (mut se, mut covered, mut worst) = (0.0f64, 0usize, 0i32);
+    // Against a reference without mip mapping: the GPU image must be farther from it.
+    let mut se_level0 = 0.0f64;
+    for (i, &v) in f.visbuffer.iter().enumerate() {
+        let got = &f.frame.color[4 * i..4 * i + 3];
+        if v == 0 {
+            continue;
+        }
+        let lo = v as u32;
+        let (entry, _) = f.resolve(v).expect("a drawn pixel names a visible cluster");
+        let tri = built.cluster_triangles(entry[1] as usize)[(lo & 127) as usize];
+        let shade = |level0_only| {
+            cpu_shade(
+                &built,
+                &mats,
+                &textures,
+                level0_only,
+                &camera,
+                &inv,
+                light.direction.normalize(),
+                Vec3::from(tint),
+                tri,
+                i as u32 % W,
+                i as u32 / W,
+                W,
+                H,
+            )
+        };
+        let want = shade(false);
+        let want0 = shade(true);
+        for k in 0..3 {
+            let d0 = got[k] as f64 - want0[k] as f64;
+            se_level0 += d0 * d0;
+            let d = got[k] as i32 - want[k] as i32;
+            se += (d * d) as f64;
+            worst = worst.max(d.abs());
+        }
+        covered += 1;
+    }
+    assert!(covered > (W * H / 8) as usize, "the helmet covers the view");
+    let mse = se / (3 * covered) as f64;
+    let psnr = 10.0 * (255.0f64 * 255.0 / mse.max(1e-12)).log10();
+    let psnr0 = 10.0 * (255.0f64 * 255.0 * (3 * covered) as f64 / se_level0.max(1e-12)).log10();
+    eprintln!(
+        "FlightHelmet shaded vs CPU reference: PSNR {psnr:.2} dB over {covered} covered pixels (max channel diff {worst}); vs a reference without mip mapping: {psnr0:.2} dB"
+    );
+    assert!(psnr0 < psnr - 3.0, "the GPU samples the mip chain");
+    if let Ok(dir) = std::env::var("VGEO_TEST_DUMP") {
+        f.frame
+            .save_png(&std::path::Path::new(&dir).join("material_flight_helmet.png"))
+            .expect("dump");
+    }
+    assert!(psnr >= 40.0, "PSNR {psnr:.2} dB < 40 dB");
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn thousand_materials_without_uvs_or_normals_and_a_bad_texture() {
+    const W: u32 = 256;
+    const H: u32 = 256;
+    let dir = std::env::temp_dir().join(format!("vgeo-material-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let bad = dir.join("not_an_image.png");
+    std::fs::write(&bad, b"this is not a PNG").expect("write bad texture");
+    let materials: Vec<Material> = (0..1024u32)
+        .map(|i| Material {
+            name: format!("m{i}"),
+            base_color: [
+                (i % 8) as f32 / 7.0,
+                ((i / 8) % 8) as f32 / 7.0,
+                (i / 64) as f32 / 15.0,
+                1.0,
+            ],
+            metallic: (i % 3) as f32 * 0.5,
+            roughness: 0.2 + (i % 5) as f32 * 0.2,
+            base_color_texture: (i == 5).then(|| bad.clone()),
+            normal_texture: None,
+        })
+        .collect();
+    let mesh = grid_mesh(32, 32, 1, [2.0, 2.0], materials);
+    assert!(!mesh.has_uvs && !mesh.has_normals);
+    let built = build(&mesh, &BuildOptions::default()).expect("grid builds");
+    let ctx = gpu();
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &white_placement())
+        .expect("renderer");
+    r.set_count_fragments(true);
+    let warnings = r.prepare_materials().expect("materials upload");
+    eprintln!("warnings: {warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("not_an_image.png") && w.contains("m5")),
+        "the unreadable texture is reported with its material"
+    );
+    let camera = front_camera(2.3);
+    for mode in ViewMode::MATERIAL {
+        let f = r
+            .render(&camera, W, H, &exact(), mode, &Light::default())
+            .expect("frame with 1,024 materials");
+        f.check().expect("complete frame");
+        let passes = r.material_passes().expect("material passes");
+        let counts = passes.fragment_counts().expect("counts");
+        let covered = f.visbuffer.iter().filter(|&&v| v != 0).count();
+        let total: u64 = counts.iter().map(|&c| c as u64).sum();
+        assert_eq!(
+            total, covered as u64,
+            "{mode:?}: every covered pixel shaded once"
+        );
+        let with_pixels = counts.iter().filter(|&&c| c > 0).count();
+        let distinct: std::collections::BTreeSet<&[u8]> = f.frame.color.chunks(4).collect();
+        eprintln!(
+            "{mode:?}: {with_pixels} materials drawn, {covered} covered pixels, {} colours",
+            distinct.len()
+        );
+        assert!(
+            with_pixels >= 1000,
+            "{mode:?}: {with_pixels} materials on screen"
+        );
+        if mode != ViewMode::Normals {
+            assert!(distinct.len() > 200, "{mode:?}: {} colours", distinct.len());
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn cli_renders_the_material_views() {
+    let dir = std::env::temp_dir().join(format!("vgeo-material-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let mut images = Vec::new();
+    for view in ["shaded", "albedo", "normals", "materials"] {
+        let out = dir.join(format!("{view}.png"));
+        let result = std::process::Command::new(env!("CARGO_BIN_EXE_vgeo"))
+            .env("VGEO_VALIDATION", "1")
+            .arg("render")
+            .arg(assets().join("spot.obj"))
+            .args([
+                "--mode", "vgeo", "--view", view, "--width", "96", "--height", "64",
+            ])
+            .args(["--error-px", "1", "--stats", "-o"])
+            .arg(&out)
+            .output()
+            .expect("vgeo runs");
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        let stdout = String::from_utf8_lossy(&result.stdout);
+        assert!(result.status.success(), "--view {view} failed: {stderr}");
+        assert!(
+            !stderr.contains("validation error"),
+            "--view {view}: {stderr}"
+        );
+        for pass in [
+            "material_classify",
+            "material_depth",
+            "emit_gbuffer",
+            "shade",
+        ] {
+            assert!(
+                stdout.contains(pass),
+                "--view {view}: no timing of {pass}: {stdout}"
+            );
+        }
+        let img = image::open(&out).expect("PNG written").to_rgba8();
+        assert_eq!(img.dimensions(), (96, 64));
+        images.push(img.into_raw());
+    }
+    for i in 0..images.len() {
+        for j in i + 1..images.len() {
+            assert_ne!(images[i], images[j], "views {i} and {j} look the same");
+        }
+    }
+    let result = std::process::Command::new(env!("CARGO_BIN_EXE_vgeo"))
+        .arg("render")
+        .arg(assets().join("spot.obj"))
+        .args(["--mode", "vgeo", "--view", "bogus", "-o"])
+        .arg(dir.join("bogus.png"))
+        .output()
+        .expect("vgeo runs");
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success());
+    assert!(
+        stderr.contains("shaded") && stderr.contains("materials"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
