@@ -27,6 +27,42 @@ impl MemoryKind {
     }
 }
 
+/// Memory for a resource from the context's allocator.
+fn allocate(
+    ctx: &Context,
+    name: &str,
+    requirements: vk::MemoryRequirements,
+    location: MemoryLocation,
+    linear: bool,
+) -> GpuResult<Allocation> {
+    ctx.inner
+        .allocator
+        .lock()
+        .map_err(|_| GpuError::Other("allocator lock poisoned".into()))?
+        .as_mut()
+        .ok_or_else(|| GpuError::Other("allocator gone".into()))?
+        .allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location,
+            linear,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        })
+        .map_err(|e| GpuError::Alloc {
+            name: name.into(),
+            msg: e.to_string(),
+        })
+}
+
+/// Returns memory to the allocator (on drop; errors cannot be reported there).
+fn free(ctx: &Context, allocation: Allocation) {
+    if let Ok(mut alloc) = ctx.inner.allocator.lock()
+        && let Some(alloc) = alloc.as_mut()
+    {
+        let _ = alloc.free(allocation);
+    }
+}
+
 /// A buffer and its memory; freed on drop.
 pub struct Buffer {
     ctx: Context,
@@ -55,29 +91,12 @@ impl Buffer {
         let raw = unsafe { dev.create_buffer(&info, None) }.call("vkCreateBuffer")?;
         // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { dev.get_buffer_memory_requirements(raw) };
-        let allocation = ctx
-            .inner
-            .allocator
-            .lock()
-            .map_err(|_| GpuError::Other("allocator lock poisoned".into()))?
-            .as_mut()
-            .ok_or_else(|| GpuError::Other("allocator gone".into()))?
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: kind.location(),
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            });
-        let allocation = match allocation {
+        let allocation = match allocate(ctx, name, requirements, kind.location(), true) {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: the buffer has no memory bound and is not in use.
                 unsafe { dev.destroy_buffer(raw, None) };
-                return Err(GpuError::Alloc {
-                    name: name.into(),
-                    msg: e.to_string(),
-                });
+                return Err(e);
             }
         };
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
@@ -190,10 +209,8 @@ impl Drop for Buffer {
         // SAFETY: callers wait for GPU work that uses the buffer before dropping it (every submission
         // here is waited on); the allocation is returned to the allocator it came from.
         unsafe { dev.destroy_buffer(self.raw, None) };
-        if let (Some(a), Ok(mut alloc)) = (self.allocation.take(), self.ctx.inner.allocator.lock())
-            && let Some(alloc) = alloc.as_mut()
-        {
-            let _ = alloc.free(a);
+        if let Some(a) = self.allocation.take() {
+            free(&self.ctx, a);
         }
     }
 }
@@ -259,29 +276,12 @@ impl Image {
         let raw = unsafe { dev.create_image(&info, None) }.call("vkCreateImage")?;
         // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { dev.get_image_memory_requirements(raw) };
-        let allocation = ctx
-            .inner
-            .allocator
-            .lock()
-            .map_err(|_| GpuError::Other("allocator lock poisoned".into()))?
-            .as_mut()
-            .ok_or_else(|| GpuError::Other("allocator gone".into()))?
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: MemoryLocation::GpuOnly,
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            });
-        let allocation = match allocation {
+        let allocation = match allocate(ctx, name, requirements, MemoryLocation::GpuOnly, false) {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: the image has no memory bound and is not in use.
                 unsafe { dev.destroy_image(raw, None) };
-                return Err(GpuError::Alloc {
-                    name: name.into(),
-                    msg: e.to_string(),
-                });
+                return Err(e);
             }
         };
         // SAFETY: the allocation satisfies the image's requirements.
@@ -335,10 +335,8 @@ impl Drop for Image {
             dev.destroy_image_view(self.view, None);
             dev.destroy_image(self.raw, None);
         }
-        if let (Some(a), Ok(mut alloc)) = (self.allocation.take(), self.ctx.inner.allocator.lock())
-            && let Some(alloc) = alloc.as_mut()
-        {
-            let _ = alloc.free(a);
+        if let Some(a) = self.allocation.take() {
+            free(&self.ctx, a);
         }
     }
 }

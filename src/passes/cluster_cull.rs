@@ -3,9 +3,9 @@
 //! clusters to the visible list and to the SW or HW rasterizer's list. See the shader's header for
 //! the queue protocol and termination.
 
-use crate::gpu::{Buffer, Caps, Cmd, ComputePipeline, Context, GpuResult, ShaderStage, Timer};
+use crate::gpu::{Buffer, Caps, Cmd, ComputePipeline, Context, GpuResult, Timer};
 use crate::passes::FrameBuffers;
-use crate::passes::cull::{Phase, descriptors};
+use crate::passes::cull::{self, Phase};
 use crate::scene_gpu::GpuScene;
 
 /// The `cluster_cull` pipeline and its persistent workgroup count.
@@ -42,15 +42,7 @@ pub fn default_workgroups(caps: &Caps) -> u32 {
 impl ClusterCull {
     /// Creates the pipeline with `workgroups` persistent workgroups.
     pub fn new(ctx: &Context, workgroups: u32) -> GpuResult<Self> {
-        let pipeline = ComputePipeline::new(
-            ctx,
-            ShaderStage {
-                name: "cluster_cull",
-                spirv: crate::shaders::CLUSTER_CULL_COMP,
-            },
-            &crate::passes::cull::layout(),
-            4,
-        )?;
+        let pipeline = cull::pipeline(ctx, "cluster_cull", crate::shaders::CLUSTER_CULL_COMP)?;
         Ok(Self {
             pipeline,
             workgroups: workgroups.max(1),
@@ -73,9 +65,7 @@ impl ClusterCull {
         phase: Phase,
     ) {
         timer.begin(cmd, &format!("cluster_cull{}", phase.label()));
-        cmd.bind_compute(&self.pipeline);
-        cmd.push_compute_descriptors(&self.pipeline, &descriptors(scene, fb, hzb, phase));
-        cmd.compute_push_constants(&self.pipeline, &phase.push_constant());
+        cull::bind(cmd, &self.pipeline, scene, fb, hzb, phase);
         cmd.dispatch(self.workgroups, 1, 1);
         timer.end(cmd);
     }

@@ -1,7 +1,7 @@
 //! The descriptor set shared by `instance_cull` and `cluster_cull`, per phase of the two-pass
 //! occlusion culling.
 
-use crate::gpu::{Buffer, Desc, vk};
+use crate::gpu::{Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, vk};
 use crate::passes::FrameBuffers;
 use crate::scene_gpu::GpuScene;
 
@@ -74,4 +74,23 @@ pub fn descriptors<'a>(
         Desc::Storage(&fb.post_nodes),
         Desc::Storage(&fb.post_clusters),
     ]
+}
+
+/// A cull pass's pipeline: the shared layout and the phase push constant.
+pub fn pipeline(ctx: &Context, name: &str, spirv: &[u8]) -> GpuResult<ComputePipeline> {
+    ComputePipeline::new(ctx, ShaderStage { name, spirv }, &layout(), 4)
+}
+
+/// Binds a cull pass's pipeline with one phase's descriptors and push constant.
+pub fn bind(
+    cmd: &mut Cmd,
+    pipeline: &ComputePipeline,
+    scene: &GpuScene,
+    fb: &FrameBuffers,
+    hzb: &Buffer,
+    phase: Phase,
+) {
+    cmd.bind_compute(pipeline);
+    cmd.push_compute_descriptors(pipeline, &descriptors(scene, fb, hzb, phase));
+    cmd.compute_push_constants(pipeline, &phase.push_constant());
 }
