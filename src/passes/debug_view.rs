@@ -10,7 +10,7 @@ use crate::gpu::{
     ShaderStage, Timer, vk,
 };
 use crate::passes::cull::Phase;
-use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::passes::{FrameBuffers, VisPath};
 use crate::render::BACKGROUND;
 use crate::scene_gpu::GpuScene;
 use crate::shared::TILE_WORKGROUP_SIZE;
@@ -278,13 +278,7 @@ impl DebugView {
         );
         // Step 2: colour the pixels.
         cmd.to_general(&self.image);
-        let vis = match &fb.visbuffer {
-            VisBuffer::Buffer(b) => Desc::Storage(b),
-            VisBuffer::Image(i) => {
-                cmd.to_general(i);
-                Desc::StorageImage(i)
-            }
-        };
+        let vis = fb.visbuffer_desc(cmd);
         let bg = BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
         let push = DebugViewPush {
             background: [bg[0], bg[1], bg[2], 1.0],

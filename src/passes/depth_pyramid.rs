@@ -8,7 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use crate::gpu::{
     Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, MemoryKind, ShaderStage, Timer, vk,
 };
-use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::passes::{FrameBuffers, VisPath};
 use crate::shared::TILE_WORKGROUP_SIZE;
 
 #[repr(C)]
@@ -96,13 +96,7 @@ impl DepthPyramid {
     pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, fb: &FrameBuffers) {
         timer.begin(cmd, "depth_pyramid");
         cmd.bind_compute(&self.pipeline);
-        let vis = match &fb.visbuffer {
-            VisBuffer::Buffer(b) => Desc::Storage(b),
-            VisBuffer::Image(i) => {
-                cmd.to_general(i);
-                Desc::StorageImage(i)
-            }
-        };
+        let vis = fb.visbuffer_desc(cmd);
         cmd.push_compute_descriptors(&self.pipeline, &[vis, Desc::Storage(&self.hzb)]);
         let (mut sw, mut sh, mut so) = (self.width, self.height, 0u32);
         for (k, &(w, h, offset)) in self.levels.iter().enumerate() {

@@ -13,7 +13,7 @@ use crate::material::GpuMaterials;
 use crate::passes::material_classify::{
     ALBEDO_FORMAT, MATERIAL_DEPTH_FORMAT, MaterialTargets, NORMAL_FORMAT, PARAMS_FORMAT,
 };
-use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::passes::{FrameBuffers, VisPath};
 use crate::scene_gpu::GpuScene;
 
 /// The pass's name: debug label, timer scope and pipeline name.
@@ -74,13 +74,7 @@ impl EmitGbuffer {
         t: &MaterialTargets,
     ) {
         timer.begin(cmd, NAME);
-        let vis = match &fb.visbuffer {
-            VisBuffer::Buffer(b) => Desc::Storage(b),
-            VisBuffer::Image(i) => {
-                cmd.to_general(i);
-                Desc::StorageImage(i)
-            }
-        };
+        let vis = fb.visbuffer_desc(cmd);
         let clear = Some([0.0; 4]);
         cmd.begin_rendering(
             &[

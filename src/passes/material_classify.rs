@@ -10,7 +10,7 @@ use crate::gpu::{
     vk,
 };
 use crate::material::GpuMaterials;
-use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::passes::{FrameBuffers, VisPath};
 use crate::scene_gpu::GpuScene;
 
 /// The pass's name: debug label, timer scope and pipeline name.
@@ -197,13 +197,7 @@ impl MaterialClassify {
         t: &MaterialTargets,
     ) {
         timer.begin(cmd, NAME);
-        let vis = match &fb.visbuffer {
-            VisBuffer::Buffer(b) => Desc::Storage(b),
-            VisBuffer::Image(i) => {
-                cmd.to_general(i);
-                Desc::StorageImage(i)
-            }
-        };
+        let vis = fb.visbuffer_desc(cmd);
         cmd.bind_compute(&self.pipeline);
         cmd.push_compute_descriptors(
             &self.pipeline,

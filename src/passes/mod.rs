@@ -27,7 +27,7 @@ pub mod visbuffer;
 /// `shaders_glsl/common/cull_bindings.glsl`).
 pub mod cull;
 
-use crate::gpu::{Buffer, Context, GpuResult, Image, MemoryKind, vk};
+use crate::gpu::{Buffer, Cmd, Context, Desc, GpuResult, Image, MemoryKind, vk};
 use crate::shared::{CullCounters, OcclusionGpu, ViewGpu};
 
 /// Where the 64-bit visibility buffer lives.
@@ -228,6 +228,17 @@ impl FrameBuffers {
         match phase {
             cull::Phase::Main => (&self.counters, &self.sw_list, &self.hw_list),
             cull::Phase::Post => (&self.counters_post, &self.sw_list_post, &self.hw_list_post),
+        }
+    }
+
+    /// The visibility buffer as a descriptor (the image path moves the image to `GENERAL`).
+    pub fn visbuffer_desc(&self, cmd: &mut Cmd) -> Desc<'_> {
+        match &self.visbuffer {
+            VisBuffer::Buffer(b) => Desc::Storage(b),
+            VisBuffer::Image(i) => {
+                cmd.to_general(i);
+                Desc::StorageImage(i)
+            }
         }
     }
 

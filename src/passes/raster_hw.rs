@@ -14,7 +14,7 @@ use crate::gpu::{
     Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage, Timer, vk,
 };
 use crate::passes::cull::Phase;
-use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::passes::{FrameBuffers, VisPath};
 use crate::scene_gpu::GpuScene;
 use crate::shared::CullCounters;
 
@@ -81,13 +81,7 @@ impl RasterHw {
     ) {
         let (counters, _, hw_list) = fb.phase_lists(phase);
         timer.begin(cmd, &format!("{NAME}{}", phase.label()));
-        let vis = match &fb.visbuffer {
-            VisBuffer::Buffer(b) => Desc::Storage(b),
-            VisBuffer::Image(i) => {
-                cmd.to_general(i);
-                Desc::StorageImage(i)
-            }
-        };
+        let vis = fb.visbuffer_desc(cmd);
         debug_assert_eq!(
             fb.vis_path(),
             self.path,

@@ -13,7 +13,7 @@
 
 use crate::gpu::{Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, Timer, vk};
 use crate::passes::cull::Phase;
-use crate::passes::{FrameBuffers, VisBuffer, VisPath};
+use crate::passes::{FrameBuffers, VisPath};
 use crate::scene_gpu::GpuScene;
 use crate::shared::CullCounters;
 
@@ -63,13 +63,7 @@ impl RasterSw {
     ) {
         let (counters, sw_list, _) = fb.phase_lists(phase);
         timer.begin(cmd, &format!("{NAME}{}", phase.label()));
-        let vis = match &fb.visbuffer {
-            VisBuffer::Buffer(b) => Desc::Storage(b),
-            VisBuffer::Image(i) => {
-                cmd.to_general(i);
-                Desc::StorageImage(i)
-            }
-        };
+        let vis = fb.visbuffer_desc(cmd);
         debug_assert_eq!(
             fb.vis_path(),
             self.path,
