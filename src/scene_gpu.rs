@@ -4,7 +4,7 @@
 use glam::{DMat4, DVec3, Mat3};
 
 use crate::builder::BuiltMesh;
-use crate::gpu::{Buffer, Context, GpuError, GpuResult, vk};
+use crate::gpu::{Buffer, Context, Desc, GpuError, GpuResult, vk};
 use crate::render::Placement;
 use crate::shared::{InstanceVgeo, MeshGpu};
 
@@ -166,6 +166,19 @@ impl GpuScene {
             mesh_table: table,
             instance_count: placements.len() as u32,
         })
+    }
+
+    /// The descriptors every pass that decodes clusters binds, in this order: instances, meshes,
+    /// clusters, vertices, vertex references, triangles (see `shaders_glsl/common/raster.glsl`).
+    pub fn geometry_descs(&self) -> [Desc<'_>; 6] {
+        [
+            Desc::Storage(&self.instances),
+            Desc::Storage(&self.meshes),
+            Desc::Storage(&self.clusters),
+            Desc::Storage(&self.vertices),
+            Desc::Storage(&self.vertex_refs),
+            Desc::Storage(&self.triangles),
+        ]
     }
 
     /// GPU bytes of geometry (clusters, groups, BVH, vertices, references, triangles).

@@ -8,6 +8,7 @@ use ash::vk;
 use super::{Buffer, ComputePipeline, Context, GraphicsPipeline, Image, TextureSet};
 
 /// A descriptor pushed with `vkCmdPushDescriptorSetKHR` (binding i = entry i).
+#[derive(Clone, Copy)]
 pub enum Desc<'a> {
     Storage(&'a Buffer),
     Uniform(&'a Buffer),

@@ -10,7 +10,7 @@ use crate::gpu::{
     ShaderStage, Timer, vk,
 };
 use crate::passes::cull::Phase;
-use crate::passes::{FrameBuffers, VisPath};
+use crate::passes::{FrameBuffers, VisPath, with_geometry};
 use crate::render::BACKGROUND;
 use crate::scene_gpu::GpuScene;
 use crate::shared::TILE_WORKGROUP_SIZE;
@@ -149,10 +149,11 @@ impl DebugView {
     pub fn new(ctx: &Context, fb: &FrameBuffers) -> GpuResult<Self> {
         use vk::DescriptorType as D;
         let path = fb.vis_path();
-        let (spirv, vis) = match path {
-            VisPath::Buffer => (crate::shaders::DEBUG_VIEW_COMP, D::STORAGE_BUFFER),
-            VisPath::Image => (crate::shaders::DEBUG_VIEW_COMP_IMAGE, D::STORAGE_IMAGE),
+        let spirv = match path {
+            VisPath::Buffer => crate::shaders::DEBUG_VIEW_COMP,
+            VisPath::Image => crate::shaders::DEBUG_VIEW_COMP_IMAGE,
         };
+        let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 8]);
         bindings.push(D::STORAGE_IMAGE);
@@ -290,19 +291,15 @@ impl DebugView {
         cmd.bind_compute(&self.view);
         cmd.push_compute_descriptors(
             &self.view,
-            &[
-                Desc::Uniform(&fb.view),
-                Desc::Storage(&fb.visible),
-                Desc::Storage(&self.hw_flags),
-                Desc::Storage(&scene.instances),
-                Desc::Storage(&scene.meshes),
-                Desc::Storage(&scene.clusters),
-                Desc::Storage(&scene.vertices),
-                Desc::Storage(&scene.vertex_refs),
-                Desc::Storage(&scene.triangles),
-                Desc::StorageImage(&self.image),
-                vis,
-            ],
+            &with_geometry(
+                &[
+                    Desc::Uniform(&fb.view),
+                    Desc::Storage(&fb.visible),
+                    Desc::Storage(&self.hw_flags),
+                ],
+                scene,
+                &[Desc::StorageImage(&self.image), vis],
+            ),
         );
         cmd.compute_push_constants(&self.view, bytemuck::bytes_of(&push));
         cmd.dispatch(

@@ -53,16 +53,11 @@ pub struct DepthPyramid {
 impl DepthPyramid {
     /// Creates the pipeline (for the frame buffers' visibility-buffer path) and the HZB buffer.
     pub fn new(ctx: &Context, fb: &FrameBuffers) -> GpuResult<Self> {
-        let (spirv, vis_desc) = match fb.vis_path() {
-            VisPath::Buffer => (
-                crate::shaders::DEPTH_PYRAMID_COMP,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            VisPath::Image => (
-                crate::shaders::DEPTH_PYRAMID_COMP_IMAGE,
-                vk::DescriptorType::STORAGE_IMAGE,
-            ),
+        let spirv = match fb.vis_path() {
+            VisPath::Buffer => crate::shaders::DEPTH_PYRAMID_COMP,
+            VisPath::Image => crate::shaders::DEPTH_PYRAMID_COMP_IMAGE,
         };
+        let vis_desc = fb.vis_path().descriptor_type();
         let pipeline = ComputePipeline::new(
             ctx,
             ShaderStage {

@@ -13,7 +13,7 @@ use crate::material::GpuMaterials;
 use crate::passes::material_classify::{
     ALBEDO_FORMAT, MATERIAL_DEPTH_FORMAT, MaterialTargets, NORMAL_FORMAT, PARAMS_FORMAT,
 };
-use crate::passes::{FrameBuffers, VisPath};
+use crate::passes::{FrameBuffers, VisPath, with_geometry};
 use crate::scene_gpu::GpuScene;
 
 /// The pass's name: debug label, timer scope and pipeline name.
@@ -28,10 +28,11 @@ impl EmitGbuffer {
     /// Creates the pipeline for `path`, with `materials`' texture array as set 1.
     pub fn new(ctx: &Context, path: VisPath, materials: &GpuMaterials) -> GpuResult<Self> {
         use vk::DescriptorType as D;
-        let (frag, vis) = match path {
-            VisPath::Buffer => (crate::shaders::EMIT_GBUFFER_FRAG, D::STORAGE_BUFFER),
-            VisPath::Image => (crate::shaders::EMIT_GBUFFER_FRAG_IMAGE, D::STORAGE_IMAGE),
+        let frag = match path {
+            VisPath::Buffer => crate::shaders::EMIT_GBUFFER_FRAG,
+            VisPath::Image => crate::shaders::EMIT_GBUFFER_FRAG_IMAGE,
         };
+        let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER, D::STORAGE_BUFFER, D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 9]);
         bindings.push(vis);
@@ -99,22 +100,21 @@ impl EmitGbuffer {
         cmd.bind_graphics(&self.pipeline);
         cmd.push_graphics_descriptors(
             &self.pipeline,
-            &[
-                Desc::Uniform(&t.view),
-                Desc::Storage(&t.tiles),
-                Desc::Uniform(&fb.view),
-                Desc::Storage(&fb.visible),
-                Desc::Storage(&scene.instances),
-                Desc::Storage(&scene.meshes),
-                Desc::Storage(&scene.clusters),
-                Desc::Storage(&scene.vertices),
-                Desc::Storage(&scene.vertex_refs),
-                Desc::Storage(&scene.triangles),
-                Desc::Storage(&materials.table),
-                Desc::Storage(&materials.meshes),
-                vis,
-                Desc::Storage(&t.fragment_counts),
-            ],
+            &with_geometry(
+                &[
+                    Desc::Uniform(&t.view),
+                    Desc::Storage(&t.tiles),
+                    Desc::Uniform(&fb.view),
+                    Desc::Storage(&fb.visible),
+                ],
+                scene,
+                &[
+                    Desc::Storage(&materials.table),
+                    Desc::Storage(&materials.meshes),
+                    vis,
+                    Desc::Storage(&t.fragment_counts),
+                ],
+            ),
         );
         cmd.bind_graphics_textures(&self.pipeline, &materials.textures);
         let vertices = 6 * t.tiles_x * t.tiles_y;

@@ -169,13 +169,11 @@ impl MaterialClassify {
     /// Creates the pipeline for `path`.
     pub fn new(ctx: &Context, path: VisPath) -> GpuResult<Self> {
         use vk::DescriptorType as D;
-        let (spirv, vis) = match path {
-            VisPath::Buffer => (crate::shaders::MATERIAL_CLASSIFY_COMP, D::STORAGE_BUFFER),
-            VisPath::Image => (
-                crate::shaders::MATERIAL_CLASSIFY_COMP_IMAGE,
-                D::STORAGE_IMAGE,
-            ),
+        let spirv = match path {
+            VisPath::Buffer => crate::shaders::MATERIAL_CLASSIFY_COMP,
+            VisPath::Image => crate::shaders::MATERIAL_CLASSIFY_COMP_IMAGE,
         };
+        let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 8]);
         bindings.push(vis);

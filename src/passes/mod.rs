@@ -28,7 +28,23 @@ pub mod visbuffer;
 pub mod cull;
 
 use crate::gpu::{Buffer, Cmd, Context, Desc, GpuResult, Image, MemoryKind, vk};
+use crate::scene_gpu::GpuScene;
 use crate::shared::{CullCounters, OcclusionGpu, ViewGpu};
+
+/// `before`, then the scene's cluster-geometry descriptors ([`GpuScene::geometry_descs`]), then
+/// `after`: the binding order of every pass that decodes clusters.
+pub fn with_geometry<'a>(
+    before: &[Desc<'a>],
+    scene: &'a GpuScene,
+    after: &[Desc<'a>],
+) -> Vec<Desc<'a>> {
+    before
+        .iter()
+        .copied()
+        .chain(scene.geometry_descs())
+        .chain(after.iter().copied())
+        .collect()
+}
 
 /// Where the 64-bit visibility buffer lives.
 pub enum VisBuffer {
@@ -46,6 +62,14 @@ pub enum VisPath {
 }
 
 impl VisPath {
+    /// The descriptor type a pass binds the visibility buffer with on this path.
+    pub fn descriptor_type(self) -> vk::DescriptorType {
+        match self {
+            VisPath::Buffer => vk::DescriptorType::STORAGE_BUFFER,
+            VisPath::Image => vk::DescriptorType::STORAGE_IMAGE,
+        }
+    }
+
     /// The path for this device: the image path where 64-bit image atomics exist, else the buffer
     /// path; `VGEO_VISBUFFER=buffer|image` forces one (image without support is an error).
     pub fn choose(ctx: &Context) -> Result<Self, String> {

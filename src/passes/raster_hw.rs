@@ -14,7 +14,7 @@ use crate::gpu::{
     Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage, Timer, vk,
 };
 use crate::passes::cull::Phase;
-use crate::passes::{FrameBuffers, VisPath};
+use crate::passes::{FrameBuffers, VisPath, with_geometry};
 use crate::scene_gpu::GpuScene;
 use crate::shared::CullCounters;
 
@@ -31,10 +31,11 @@ impl RasterHw {
     /// Creates the pipeline for `path` (the image variant needs 64-bit image atomics).
     pub fn new(ctx: &Context, path: VisPath) -> GpuResult<Self> {
         use vk::DescriptorType as D;
-        let (frag, vis) = match path {
-            VisPath::Buffer => (crate::shaders::RASTER_HW_FRAG, D::STORAGE_BUFFER),
-            VisPath::Image => (crate::shaders::RASTER_HW_FRAG_IMAGE, D::STORAGE_IMAGE),
+        let frag = match path {
+            VisPath::Buffer => crate::shaders::RASTER_HW_FRAG,
+            VisPath::Image => crate::shaders::RASTER_HW_FRAG_IMAGE,
         };
+        let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 8]);
         bindings.push(vis);
@@ -91,18 +92,15 @@ impl RasterHw {
         cmd.bind_graphics(&self.pipeline);
         cmd.push_graphics_descriptors(
             &self.pipeline,
-            &[
-                Desc::Uniform(&fb.view),
-                Desc::Storage(&fb.visible),
-                Desc::Storage(hw_list),
-                Desc::Storage(&scene.instances),
-                Desc::Storage(&scene.meshes),
-                Desc::Storage(&scene.clusters),
-                Desc::Storage(&scene.vertices),
-                Desc::Storage(&scene.vertex_refs),
-                Desc::Storage(&scene.triangles),
-                vis,
-            ],
+            &with_geometry(
+                &[
+                    Desc::Uniform(&fb.view),
+                    Desc::Storage(&fb.visible),
+                    Desc::Storage(hw_list),
+                ],
+                scene,
+                &[vis],
+            ),
         );
         cmd.draw_indirect(counters, std::mem::offset_of!(CullCounters, hw_draw) as u64);
         cmd.end_rendering();

@@ -13,7 +13,7 @@
 
 use crate::gpu::{Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, Timer, vk};
 use crate::passes::cull::Phase;
-use crate::passes::{FrameBuffers, VisPath};
+use crate::passes::{FrameBuffers, VisPath, with_geometry};
 use crate::scene_gpu::GpuScene;
 use crate::shared::CullCounters;
 
@@ -34,10 +34,7 @@ impl RasterSw {
             VisPath::Buffer => crate::shaders::RASTER_SW_COMP,
             VisPath::Image => crate::shaders::RASTER_SW_COMP_IMAGE,
         };
-        let vis = match path {
-            VisPath::Buffer => D::STORAGE_BUFFER,
-            VisPath::Image => D::STORAGE_IMAGE,
-        };
+        let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 9]);
         bindings.push(vis);
@@ -72,19 +69,16 @@ impl RasterSw {
         cmd.bind_compute(&self.pipeline);
         cmd.push_compute_descriptors(
             &self.pipeline,
-            &[
-                Desc::Uniform(&fb.view),
-                Desc::Storage(counters),
-                Desc::Storage(&fb.visible),
-                Desc::Storage(sw_list),
-                Desc::Storage(&scene.instances),
-                Desc::Storage(&scene.meshes),
-                Desc::Storage(&scene.clusters),
-                Desc::Storage(&scene.vertices),
-                Desc::Storage(&scene.vertex_refs),
-                Desc::Storage(&scene.triangles),
-                vis,
-            ],
+            &with_geometry(
+                &[
+                    Desc::Uniform(&fb.view),
+                    Desc::Storage(counters),
+                    Desc::Storage(&fb.visible),
+                    Desc::Storage(sw_list),
+                ],
+                scene,
+                &[vis],
+            ),
         );
         cmd.dispatch_indirect(
             counters,
