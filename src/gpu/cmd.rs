@@ -258,22 +258,7 @@ impl Cmd {
             info = info.depth_attachment(d);
         }
         // SAFETY: the attachments are valid images in the layouts set above.
-        unsafe {
-            self.ctx
-                .inner
-                .dynamic_rendering
-                .cmd_begin_rendering(self.cb, &info);
-            let vp = vk::Viewport {
-                x: 0.0,
-                y: 0.0,
-                width: w as f32,
-                height: h as f32,
-                min_depth: 0.0,
-                max_depth: 1.0,
-            };
-            self.dev().cmd_set_viewport(self.cb, 0, &[vp]);
-            self.dev().cmd_set_scissor(self.cb, 0, &[area]);
-        }
+        unsafe { self.start_rendering(&info, area) };
     }
 
     /// Begins dynamic rendering with no attachments over `width` x `height` (for passes whose
@@ -287,19 +272,28 @@ impl Cmd {
             .render_area(area)
             .layer_count(1);
         // SAFETY: rendering without attachments is valid with dynamic rendering.
+        unsafe { self.start_rendering(&info, area) };
+    }
+
+    /// `vkCmdBeginRendering` plus a viewport and scissor covering `area`.
+    ///
+    /// # Safety
+    /// `info` must describe valid attachments in the layouts it names, and `area` its render area.
+    unsafe fn start_rendering(&mut self, info: &vk::RenderingInfo<'_>, area: vk::Rect2D) {
+        let vp = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: area.extent.width as f32,
+            height: area.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: the caller guarantees `info`; viewport and scissor are plain dynamic state.
         unsafe {
             self.ctx
                 .inner
                 .dynamic_rendering
-                .cmd_begin_rendering(self.cb, &info);
-            let vp = vk::Viewport {
-                x: 0.0,
-                y: 0.0,
-                width: width as f32,
-                height: height as f32,
-                min_depth: 0.0,
-                max_depth: 1.0,
-            };
+                .cmd_begin_rendering(self.cb, info);
             self.dev().cmd_set_viewport(self.cb, 0, &[vp]);
             self.dev().cmd_set_scissor(self.cb, 0, &[area]);
         }

@@ -159,14 +159,7 @@ fn parse(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<Mesh, Im
         }
         polygon::triangulate(&mesh.positions, &corners, &mut tris);
     }
-    if skipped > 0 {
-        warnings.push(format!(
-            "{}: skipped {skipped} faces with fewer than 3 vertices",
-            path.display()
-        ));
-    }
-    mesh.indices = tris.iter().flatten().copied().collect();
-    mesh.material_ids = vec![0; tris.len()];
+    polygon::set_triangles(&mut mesh, &tris, skipped, path, warnings);
     Ok(mesh)
 }
 

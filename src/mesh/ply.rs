@@ -412,14 +412,7 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
         }
         polygon::triangulate(&mesh.positions, &corners, &mut tris);
     }
-    if skipped > 0 {
-        warnings.push(format!(
-            "{}: skipped {skipped} faces with fewer than 3 vertices",
-            path.display()
-        ));
-    }
-    mesh.indices = tris.iter().flatten().copied().collect();
-    mesh.material_ids = vec![0; tris.len()];
+    polygon::set_triangles(&mut mesh, &tris, skipped, path, warnings);
     if !mesh.has_normals {
         mesh.normals.iter_mut().for_each(|n| *n = [0.0; 3]);
     }

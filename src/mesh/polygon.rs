@@ -43,6 +43,25 @@ pub fn triangulate(positions: &[[f32; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>
     ear_clip(&p2, poly, out);
 }
 
+/// Stores triangulated faces as the mesh's triangles (material 0) and warns about the `skipped`
+/// faces that had fewer than 3 vertices (OFF and PLY polygon lists).
+pub fn set_triangles(
+    mesh: &mut super::Mesh,
+    tris: &[[u32; 3]],
+    skipped: usize,
+    path: &std::path::Path,
+    warnings: &mut Vec<String>,
+) {
+    if skipped > 0 {
+        warnings.push(format!(
+            "{}: skipped {skipped} faces with fewer than 3 vertices",
+            path.display()
+        ));
+    }
+    mesh.indices = tris.iter().flatten().copied().collect();
+    mesh.material_ids = vec![0; tris.len()];
+}
+
 /// Twice the signed area of polygon `p` (2D shoelace): positive when counter-clockwise.
 pub fn signed_area2(p: &[[f64; 2]]) -> f64 {
     let n = p.len();
