@@ -73,7 +73,8 @@ pub struct LoadedScene {
     pub scene: crate::scene::Scene,
     /// `meshes[i]` is `scene.meshes[i]`, imported (all parts merged).
     pub meshes: Vec<crate::mesh::Mesh>,
-    /// Cluster DAGs: loaded `.vgeo` files, or filled in by [`LoadedScene::built_meshes`].
+    /// Cluster DAGs of the meshes loaded from `.vgeo` files (`None`: built by
+    /// [`LoadedScene::built_meshes`], which moves them all out).
     pub built: Vec<Option<crate::builder::BuiltMesh>>,
     pub placements: Vec<Placement>,
     pub light: Light,
@@ -150,21 +151,25 @@ impl LoadedScene {
         })
     }
 
-    /// The cluster DAG of every mesh: loaded from `.vgeo` files, built (in parallel, default
-    /// options) for the others. `progress` receives one line per mesh built.
+    /// The cluster DAG of every mesh, moved out of the scene: loaded `.vgeo` files as they are, the
+    /// others built now (in parallel, default options; `progress` receives one line per mesh
+    /// built). Afterwards `built` is empty; nothing is copied.
     pub fn built_meshes(
         &mut self,
         progress: &(dyn Fn(&str) + Sync),
     ) -> anyhow::Result<Vec<crate::builder::BuiltMesh>> {
         use rayon::prelude::*;
         let opts = crate::builder::BuildOptions::default();
-        let results: Vec<anyhow::Result<crate::builder::BuiltMesh>> = self
-            .meshes
-            .par_iter()
-            .zip(self.built.par_iter())
+        if self.built.len() != self.meshes.len() {
+            anyhow::bail!("the scene's cluster DAGs were already taken");
+        }
+        let built = std::mem::take(&mut self.built);
+        built
+            .into_par_iter()
+            .zip(self.meshes.par_iter())
             .zip(self.scene.meshes.par_iter())
-            .map(|((mesh, b), sm)| match b {
-                Some(b) => Ok(b.clone()),
+            .map(|((b, mesh), sm)| match b {
+                Some(b) => Ok(b),
                 None => {
                     let t = std::time::Instant::now();
                     let b = crate::builder::build(mesh, &opts)
@@ -180,12 +185,7 @@ impl LoadedScene {
                     Ok(b)
                 }
             })
-            .collect();
-        let built: Vec<_> = results.into_iter().collect::<anyhow::Result<_>>()?;
-        for (slot, b) in self.built.iter_mut().zip(&built) {
-            *slot = Some(b.clone());
-        }
-        Ok(built)
+            .collect()
     }
 
     /// The scene's camera for an image of `width` x `height`.
