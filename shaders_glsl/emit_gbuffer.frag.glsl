@@ -1,10 +1,10 @@
 #version 460
 // Pass `emit_gbuffer`: runs only where the material depth equals this draw's material (depth test
 // EQUAL). Rebuilds the pixel's triangle from the visibility buffer: barycentrics from the camera
-// ray through the pixel centre, UV derivatives from the rays through the next pixels (textureGrad),
-// the normal map (if any) applied in a tangent frame built from the same derivatives,
-// and writes the GBuffer: albedo (sRGB-encoded RGBA8, alpha 1 = covered), normal (world, facing
-// the camera, RGBA16F), params (metallic, roughness, material id low and high byte).
+// ray through the pixel centre, UV and position derivatives from the rays through the next pixels,
+// and writes the GBuffer through the shared material model (common/gbuffer.glsl): albedo
+// (sRGB-encoded RGBA8, alpha 1 = covered), normal (world, facing the camera, RGBA16F), params
+// (metallic, roughness, material id low and high byte).
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_nonuniform_qualifier : require
@@ -41,6 +41,7 @@ layout(location = 2) out vec4 out_params;
 
 #include "raster.glsl"
 #include "shading.glsl"
+#include "gbuffer.glsl"
 
 vec2 decode_uv(MeshMaterialGpu mm, uint code) {
     vec2 t = vec2(code & 0xffffu, code >> 16) / 65535.0;
@@ -64,7 +65,6 @@ void main() {
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
     MeshMaterialGpu mm = mesh_materials[inst.mesh];
-    MaterialGpu mat = materials[material];
     Cluster c = clusters[entry.y];
     uvec3 t = cluster_triangle(mesh, c, tri);
     vec3 p[3];
@@ -78,28 +78,28 @@ void main() {
     }
     vec2 pc = vec2(px) + 0.5;
     vec3 dir = pixel_ray(mview.inv_view_proj, pc, mview.viewport);
-    vec2 b;
     vec3 e1 = p[1] - p[0];
     vec3 e2 = p[2] - p[0];
-    vec3 face = cross(e1, e2);
     mat3 lin = mat3(inst.linear[0].xyz, inst.linear[1].xyz, inst.linear[2].xyz);
     mat3 normal_matrix = transpose(inverse(lin));
-    vec3 normal;
-    bool facing_away = false;
-    vec4 albedo = mat.base_color * vec4(inst.color.rgb, 1.0);
+    Surface s;
+    s.face = normal_matrix * cross(e1, e2);
+    s.dir = dir;
+    s.tint = inst.color.rgb;
+    s.normal = vec3(0.0);
+    s.has_uvs = false;
+    s.uv = vec2(0.0);
+    s.ddx = vec2(0.0);
+    s.ddy = vec2(0.0);
+    s.dpx = vec3(0.0);
+    s.dpy = vec3(0.0);
+    vec2 b;
     if (ray_barycentrics(dir, p[0], p[1], p[2], b)) {
         vec2 bc = clamp(b, 0.0, 1.0);
         bc.y = min(bc.y, 1.0 - bc.x);
-        normal = normal_matrix * (n[0] * (1.0 - bc.x - bc.y) + n[1] * bc.x + n[2] * bc.y);
-        if (!(dot(normal, normal) > 0.0)) {
-            normal = normal_matrix * face;
-        }
-        normal = normalize(normal);
-        // Two-sided: a surface seen from behind gets the negated normal (decided before the
-        // normal map, whose perturbed normal may legitimately lean away from the viewer).
-        facing_away = dot(normal, dir) > 0.0;
+        s.normal = normal_matrix * (n[0] * (1.0 - bc.x - bc.y) + n[1] * bc.x + n[2] * bc.y);
         if ((mm.flags & MESH_HAS_UVS) != 0u) {
-            vec2 tex_uv = uv[0] * (1.0 - b.x - b.y) + uv[1] * b.x + uv[2] * b.y;
+            // Derivatives from the rays through the next pixels (exact for the triangle's plane).
             vec2 bx;
             vec2 by;
             ray_barycentrics(pixel_ray(mview.inv_view_proj, pc + vec2(1.0, 0.0), mview.viewport),
@@ -108,42 +108,13 @@ void main() {
                              p[0], p[1], p[2], by);
             vec2 duv1 = uv[1] - uv[0];
             vec2 duv2 = uv[2] - uv[0];
-            vec2 ddx = duv1 * (bx.x - b.x) + duv2 * (bx.y - b.y);
-            vec2 ddy = duv1 * (by.x - b.x) + duv2 * (by.y - b.y);
-            albedo *= textureGrad(textures[mat.base_color_texture], tex_uv, ddx, ddy);
-            if (mat.normal_texture != NO_TEXTURE) {
-                // Tangent from the position and UV derivatives (no stored tangents), as the
-                // Khronos glTF sample viewer does: t along increasing u, b = n x t.
-                vec3 dpx = e1 * (bx.x - b.x) + e2 * (bx.y - b.y);
-                vec3 dpy = e1 * (by.x - b.x) + e2 * (by.y - b.y);
-                float det = ddx.x * ddy.y - ddy.x * ddx.y;
-                vec3 t_raw = (ddy.y * dpx - ddx.y * dpy) / det;
-                vec3 t_ortho = t_raw - normal * dot(normal, t_raw);
-                if (abs(det) > 0.0 && dot(t_ortho, t_ortho) > 0.0 && !any(isinf(t_ortho))) {
-                    vec3 tangent = normalize(t_ortho);
-                    vec3 bitangent = cross(normal, tangent);
-                    vec3 tn = textureGrad(textures[mat.normal_texture], tex_uv, ddx, ddy).xyz * 2.0
-                            - 1.0;
-                    vec3 perturbed = tangent * tn.x + bitangent * tn.y + normal * tn.z;
-                    if (dot(perturbed, perturbed) > 0.0) {
-                        normal = normalize(perturbed);
-                    }
-                }
-            }
+            s.has_uvs = true;
+            s.uv = uv[0] * (1.0 - b.x - b.y) + uv[1] * b.x + uv[2] * b.y;
+            s.ddx = duv1 * (bx.x - b.x) + duv2 * (bx.y - b.y);
+            s.ddy = duv1 * (by.x - b.x) + duv2 * (by.y - b.y);
+            s.dpx = e1 * (bx.x - b.x) + e2 * (bx.y - b.y);
+            s.dpy = e1 * (by.x - b.x) + e2 * (by.y - b.y);
         }
-    } else {
-        normal = normalize(normal_matrix * face);
-        facing_away = dot(normal, dir) > 0.0;
     }
-    if (!(dot(normal, normal) > 0.0)) {
-        normal = -dir;
-        facing_away = false;
-    }
-    if (facing_away) {
-        normal = -normal;
-    }
-    out_albedo = vec4(encode_srgb(albedo.rgb), 1.0);
-    out_normal = vec4(normal, 1.0);
-    out_params = vec4(mat.metallic, mat.roughness, float(material & 0xffu) / 255.0,
-                      float((material >> 8) & 0xffu) / 255.0);
+    material_gbuffer(materials[material], material, s, out_albedo, out_normal, out_params);
 }

@@ -80,6 +80,9 @@ struct MetaMaterial {
     roughness: f32,
     base_color_texture: Option<String>,
     normal_texture: Option<String>,
+    /// Absent in files written before it existed.
+    #[serde(default)]
+    metallic_roughness_texture: Option<String>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -123,6 +126,10 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
                     .map(|p| p.to_string_lossy().into_owned()),
                 normal_texture: x
                     .normal_texture
+                    .as_ref()
+                    .map(|p| p.to_string_lossy().into_owned()),
+                metallic_roughness_texture: x
+                    .metallic_roughness_texture
                     .as_ref()
                     .map(|p| p.to_string_lossy().into_owned()),
             })
@@ -327,6 +334,7 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
                 roughness: x.roughness,
                 base_color_texture: x.base_color_texture.map(PathBuf::from),
                 normal_texture: x.normal_texture.map(PathBuf::from),
+                metallic_roughness_texture: x.metallic_roughness_texture.map(PathBuf::from),
             })
             .collect(),
         vertices,

@@ -8,7 +8,7 @@
 use crate::builder::BuiltMesh;
 use crate::camera::Camera;
 use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Timer, vk};
-use crate::material::{MaterialPasses, SceneMaterials, ShadeMode};
+use crate::material::{MaterialPasses, SceneMaterials};
 use crate::passes::cluster_cull::{ClusterCull, default_workgroups};
 use crate::passes::cull::Phase;
 use crate::passes::debug_view::{DebugView, ViewMode};
@@ -333,14 +333,7 @@ impl VgeoRenderer {
         light: &Light,
     ) -> GpuResult<VgeoFrame> {
         self.write_view(camera, width, height, settings)?;
-        let shade_mode = match mode {
-            ViewMode::Shaded => Some(ShadeMode::Shaded),
-            ViewMode::Albedo => Some(ShadeMode::Albedo),
-            ViewMode::Normals => Some(ShadeMode::Normals),
-            ViewMode::Materials => Some(ShadeMode::Materials),
-            _ => None,
-        };
-        if let Some(sm) = shade_mode {
+        if let Some(sm) = mode.shade_mode() {
             self.prepare_materials()?;
             let fb = self
                 .fb

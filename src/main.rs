@@ -62,8 +62,10 @@ struct RenderArgs {
     /// Pixel error threshold of `--mode lod` and `--mode vgeo` (0 = full detail).
     #[arg(long, default_value_t = 1.0)]
     error_px: f32,
-    /// What `--mode vgeo` shows: lit, depth, triangles, clusters, instances, lod, hwsw (debug
-    /// views), or shaded, albedo, normals, materials (the material passes).
+    /// What to show. Every mode: lit (the image: materials, textures, normal maps, one light plus
+    /// ambient), albedo, normals, materials (a colour per material). `--mode vgeo` also: lambert
+    /// (vertex normals, no materials), depth, triangles, clusters, instances, lod (DAG level),
+    /// hwsw (which rasterizer drew it).
     #[arg(long, default_value = "lit")]
     view: String,
     /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).
@@ -225,16 +227,30 @@ fn render(a: &RenderArgs) -> Result<()> {
         ));
         return finish(a, &ctx, &loaded, vf.frame, load_s, &stats_lines);
     }
+    let shade = view.shade_mode().with_context(|| {
+        format!(
+            "--view {} needs --mode vgeo (brute and lod show: lit, albedo, normals, materials)",
+            view.name()
+        )
+    })?;
     let (l, c) = (&loaded, &camera);
     let frame = match a.mode.as_str() {
         "lod" => {
             let opts = vgeo::baseline::lod::LodOptions::default();
             let lod = vgeo::baseline::lod::Lod::new(&ctx, &l.meshes, &opts)?;
-            lod.render(&l.placements, c, &l.light, a.width, a.height, a.error_px)?
+            lod.warnings()
+                .iter()
+                .for_each(|w| eprintln!("warning: {w}"));
+            let size = (a.width, a.height);
+            lod.render_view(&l.placements, c, &l.light, size, a.error_px, shade)?
         }
         _ => {
             let brute = vgeo::baseline::brute::Brute::new(&ctx, &l.meshes)?;
-            brute.render(&l.placements, c, &l.light, a.width, a.height)?
+            brute
+                .warnings()
+                .iter()
+                .for_each(|w| eprintln!("warning: {w}"));
+            brute.render_view(&l.placements, c, &l.light, a.width, a.height, shade)?
         }
     };
     finish(a, &ctx, &loaded, frame, load_s, &stats_lines)

@@ -15,13 +15,12 @@ use glam::Vec3;
 use crate::builder::BuiltMesh;
 use crate::camera::Camera;
 use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Image, TextureSet, Timer, vk};
-use crate::mesh::Material;
+use crate::mesh::{Material, Mesh};
 use crate::passes::emit_gbuffer::EmitGbuffer;
 use crate::passes::material_classify::{MaterialClassify, MaterialTargets, MaterialViewGpu};
 use crate::passes::material_depth::MaterialDepth;
 use crate::passes::shade::Shade;
 use crate::passes::{FrameBuffers, VisPath};
-use crate::render::BACKGROUND;
 use crate::scene_gpu::GpuScene;
 
 /// One material as the shaders read it (mirrors `MaterialGpu` in shaders_glsl/common/material.glsl).
@@ -37,8 +36,12 @@ pub struct MaterialGpu {
     pub base_color_texture: u32,
     /// Index of the tangent-space normal map ([`NO_TEXTURE`] = none).
     pub normal_texture: u32,
+    /// Index of the glTF metallic-roughness texture (linear: blue scales metallic, green
+    /// roughness; [`NO_TEXTURE`] = none).
+    pub metallic_roughness_texture: u32,
+    pub _pad: [u32; 3],
 }
-const _: () = assert!(size_of::<MaterialGpu>() == 32);
+const _: () = assert!(size_of::<MaterialGpu>() == 48);
 
 /// Per mesh: UV range of its vertex codes and flags (mirrors `MeshMaterialGpu` in GLSL).
 #[repr(C)]
@@ -59,6 +62,10 @@ const _: () = assert!(size_of::<MeshMaterialGpu>() == 32);
 pub const MESH_HAS_UVS: u32 = 1;
 /// [`MeshMaterialGpu::flags`]: the source had normals.
 pub const MESH_HAS_NORMALS: u32 = 2;
+
+fn mesh_flags(has_uvs: bool, has_normals: bool) -> u32 {
+    (if has_uvs { MESH_HAS_UVS } else { 0 }) | (if has_normals { MESH_HAS_NORMALS } else { 0 })
+}
 
 /// [`MaterialGpu::normal_texture`] of a material without a normal map.
 pub const NO_TEXTURE: u32 = u32::MAX;
@@ -173,6 +180,45 @@ impl TextureData {
     }
 }
 
+/// What a texture of the material table holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum TextureKind {
+    /// Base colour, sampled through an sRGB format; white when unreadable.
+    BaseColor,
+    /// Tangent-space normal map (linear); flat when unreadable.
+    Normal,
+    /// glTF metallic-roughness (linear, blue metallic, green roughness); white (the factors
+    /// alone) when unreadable.
+    MetallicRoughness,
+}
+
+impl TextureKind {
+    fn srgb(self) -> bool {
+        self == TextureKind::BaseColor
+    }
+
+    fn describe(self) -> &'static str {
+        match self {
+            TextureKind::BaseColor => "base-colour texture unreadable, using white",
+            TextureKind::Normal => "normal texture unreadable, using a flat one",
+            TextureKind::MetallicRoughness => {
+                "metallic-roughness texture unreadable, using the factors alone"
+            }
+        }
+    }
+
+    fn fallback(self) -> TextureData {
+        match self {
+            TextureKind::Normal => TextureData::flat_normal(),
+            TextureKind::BaseColor => TextureData::white(),
+            TextureKind::MetallicRoughness => TextureData {
+                srgb: false,
+                ..TextureData::white()
+            },
+        }
+    }
+}
+
 /// The scene's materials on the CPU (what [`GpuMaterials`] uploads; also what CPU references read).
 /// Textures are named here and decoded by [`SceneMaterials::load_textures`].
 #[derive(Clone, Debug, Default)]
@@ -188,8 +234,8 @@ pub struct SceneMaterials {
     /// Texture files by index (index 0, the white texture, has none); each file once per use
     /// (colour or normal map).
     pub texture_paths: Vec<Option<PathBuf>>,
-    /// Per texture: colour (sRGB) rather than a normal map (linear).
-    pub texture_srgb: Vec<bool>,
+    /// Per texture: what it holds (decides its format and what replaces it when unreadable).
+    pub texture_kinds: Vec<TextureKind>,
     /// `mesh: material` that named each texture first (for warnings).
     pub texture_users: Vec<String>,
 }
@@ -212,73 +258,114 @@ fn load_texture(path: &Path, srgb: bool) -> Result<TextureData, String> {
 
 impl SceneMaterials {
     /// Gathers the materials of `built` (meshes without materials get [`Material::default`]) and
-    /// names their base-colour textures (each file once).
+    /// names their textures (each file once).
     pub fn new(built: &[BuiltMesh]) -> Result<Self, String> {
-        let mut s = Self {
-            texture_paths: vec![None],
-            texture_srgb: vec![true],
-            texture_users: vec![String::new()],
-            ..Default::default()
-        };
-        let mut by_path: BTreeMap<(PathBuf, bool), u32> = BTreeMap::new();
-        let default = [Material::default()];
+        let mut s = Self::empty();
+        let mut by_path = BTreeMap::new();
         for m in built {
-            let mats: &[Material] = if m.materials.is_empty() {
-                &default
-            } else {
-                &m.materials
-            };
-            let offset = s.materials.len() as u32;
-            for mat in mats {
-                let mut texture = |p: &PathBuf, srgb: bool| {
-                    *by_path.entry((p.clone(), srgb)).or_insert_with(|| {
-                        s.texture_paths.push(Some(p.clone()));
-                        s.texture_srgb.push(srgb);
-                        s.texture_users
-                            .push(format!("{}: material `{}`", m.name, mat.name));
-                        s.texture_paths.len() as u32 - 1
-                    })
-                };
-                let tex = mat
-                    .base_color_texture
-                    .as_ref()
-                    .map(|p| texture(p, true))
-                    .unwrap_or(0);
-                let normal_texture = mat
-                    .normal_texture
-                    .as_ref()
-                    .map(|p| texture(p, false))
-                    .unwrap_or(NO_TEXTURE);
-                s.materials.push(MaterialGpu {
-                    base_color: mat.base_color,
-                    metallic: mat.metallic.clamp(0.0, 1.0),
-                    roughness: mat.roughness.clamp(0.0, 1.0),
-                    base_color_texture: tex,
-                    normal_texture,
-                });
-                s.names.push(mat.name.clone());
-            }
+            let (offset, count) = s.push_table(&mut by_path, &m.name, &m.materials);
             let q = &m.quantization;
             s.meshes.push(MeshMaterialGpu {
                 uv_min: q.uv_min,
                 uv_max: q.uv_max,
-                flags: if m.has_uvs { MESH_HAS_UVS } else { 0 }
-                    | if m.has_normals { MESH_HAS_NORMALS } else { 0 },
+                flags: mesh_flags(m.has_uvs, m.has_normals),
                 material_offset: offset,
                 _pad: [0; 2],
             });
-            let last = mats.len() as u32 - 1;
+            let last = count - 1;
             s.vertex_materials.extend((0..m.vertices.len()).map(|v| {
                 offset + (m.vertex_materials.get(v).copied().unwrap_or(0) as u32).min(last)
             }));
         }
-        if s.materials.len() > MAX_MATERIALS {
+        s.check_count()?;
+        Ok(s)
+    }
+
+    /// The same material table for source meshes (what the classic `brute` and `lod` paths draw):
+    /// global ids, textures and per-mesh flags equal [`SceneMaterials::new`]'s for the DAGs built
+    /// from `meshes`. UV ranges are `[0, 1]` (the classic paths keep float UVs) and
+    /// `vertex_materials` stays empty (they carry the material in their vertices).
+    pub fn from_meshes<'a>(meshes: impl IntoIterator<Item = &'a Mesh>) -> Result<Self, String> {
+        let mut s = Self::empty();
+        let mut by_path = BTreeMap::new();
+        for m in meshes {
+            let (offset, _) = s.push_table(&mut by_path, &m.name, &m.materials);
+            s.meshes.push(MeshMaterialGpu {
+                uv_min: [0.0; 2],
+                uv_max: [1.0; 2],
+                flags: mesh_flags(m.has_uvs, m.has_normals),
+                material_offset: offset,
+                _pad: [0; 2],
+            });
+        }
+        s.check_count()?;
+        Ok(s)
+    }
+
+    fn empty() -> Self {
+        Self {
+            texture_paths: vec![None],
+            texture_kinds: vec![TextureKind::BaseColor],
+            texture_users: vec![String::new()],
+            ..Default::default()
+        }
+    }
+
+    fn check_count(&self) -> Result<(), String> {
+        if self.materials.len() > MAX_MATERIALS {
             return Err(format!(
                 "{} materials in the scene (at most {MAX_MATERIALS})",
-                s.materials.len()
+                self.materials.len()
             ));
         }
-        Ok(s)
+        Ok(())
+    }
+
+    /// Appends one mesh's materials ([`Material::default`] when it has none) to the table, naming
+    /// each texture file once per use (`by_path`); returns (first global id, count).
+    fn push_table(
+        &mut self,
+        by_path: &mut BTreeMap<(PathBuf, TextureKind), u32>,
+        mesh_name: &str,
+        materials: &[Material],
+    ) -> (u32, u32) {
+        let default = [Material::default()];
+        let mats: &[Material] = if materials.is_empty() {
+            &default
+        } else {
+            materials
+        };
+        let offset = self.materials.len() as u32;
+        for mat in mats {
+            let mut texture = |p: &Option<PathBuf>, kind: TextureKind, none: u32| {
+                let Some(p) = p else { return none };
+                *by_path.entry((p.clone(), kind)).or_insert_with(|| {
+                    self.texture_paths.push(Some(p.clone()));
+                    self.texture_kinds.push(kind);
+                    self.texture_users
+                        .push(format!("{mesh_name}: material `{}`", mat.name));
+                    self.texture_paths.len() as u32 - 1
+                })
+            };
+            let base_color_texture = texture(&mat.base_color_texture, TextureKind::BaseColor, 0);
+            let normal_texture = texture(&mat.normal_texture, TextureKind::Normal, NO_TEXTURE);
+            let metallic_roughness_texture = texture(
+                &mat.metallic_roughness_texture,
+                TextureKind::MetallicRoughness,
+                NO_TEXTURE,
+            );
+            self.materials.push(MaterialGpu {
+                base_color: mat.base_color,
+                metallic: mat.metallic.clamp(0.0, 1.0),
+                roughness: mat.roughness.clamp(0.0, 1.0),
+                base_color_texture,
+                normal_texture,
+                metallic_roughness_texture,
+                _pad: [0; 3],
+            });
+            self.names.push(mat.name.clone());
+        }
+        (offset, mats.len() as u32)
     }
 
     /// Number of materials.
@@ -293,10 +380,10 @@ impl SceneMaterials {
         let loaded: Vec<Result<TextureData, String>> = self
             .texture_paths
             .par_iter()
-            .zip(&self.texture_srgb)
-            .map(|(p, &srgb)| match p {
+            .zip(&self.texture_kinds)
+            .map(|(p, &kind)| match p {
                 None => Ok(TextureData::white()),
-                Some(p) => load_texture(p, srgb),
+                Some(p) => load_texture(p, kind.srgb()),
             })
             .collect();
         let mut warnings = Vec::new();
@@ -305,19 +392,13 @@ impl SceneMaterials {
             .enumerate()
             .map(|(i, r)| {
                 r.unwrap_or_else(|e| {
-                    if self.texture_srgb[i] {
-                        warnings.push(format!(
-                            "{}: base-colour texture unreadable, using white: {e}",
-                            self.texture_users[i]
-                        ));
-                        TextureData::white()
-                    } else {
-                        warnings.push(format!(
-                            "{}: normal texture unreadable, using a flat one: {e}",
-                            self.texture_users[i]
-                        ));
-                        TextureData::flat_normal()
-                    }
+                    let kind = self.texture_kinds[i];
+                    warnings.push(format!(
+                        "{}: {}: {e}",
+                        self.texture_users[i],
+                        kind.describe()
+                    ));
+                    kind.fallback()
                 })
             })
             .collect();
@@ -391,7 +472,7 @@ impl GpuMaterials {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShadeMode {
     /// Directional light plus ambient.
-    Shaded = 0,
+    Lit = 0,
     /// The GBuffer's albedo.
     Albedo = 1,
     /// The GBuffer's normal (`n * 0.5 + 0.5`).
@@ -460,27 +541,15 @@ impl MaterialPasses {
             .targets
             .as_mut()
             .ok_or_else(|| GpuError::Other("material targets missing".into()))?;
-        let bg = BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
-        let inv = camera.view_proj(fb.width, fb.height).inverse();
         let view = MaterialViewGpu {
-            inv_view_proj: inv.to_cols_array_2d(),
-            light_dir: light_dir.normalize_or_zero().extend(0.0).into(),
-            background: [bg[0], bg[1], bg[2], 1.0],
-            viewport: [
-                fb.width as f32,
-                fb.height as f32,
-                1.0 / fb.width as f32,
-                1.0 / fb.height as f32,
-            ],
             tiles_x: t.tiles_x,
             tiles_y: t.tiles_y,
             material_count: self.gpu.count,
             visible_capacity: fb.visible_capacity,
-            mode: mode as u32,
             count_fragments: self.count_fragments as u32,
-            _pad: [0; 2],
+            ..t.gbuffer.view_for(camera, light_dir, mode)
         };
-        t.view.write(0, bytemuck::bytes_of(&view))
+        t.gbuffer.view.write(0, bytemuck::bytes_of(&view))
     }
 
     /// Records the four passes after the rasterizers (the visibility buffer and visible list must
@@ -518,7 +587,7 @@ impl MaterialPasses {
         );
         self.depth.record(cmd, timer, t);
         self.emit.record(cmd, timer, scene, &self.gpu, fb, t);
-        self.shade.record(cmd, timer, t);
+        self.shade.record(cmd, timer, &t.gbuffer);
         cmd.barrier(
             (
                 S::COMPUTE_SHADER | S::FRAGMENT_SHADER,
@@ -534,6 +603,7 @@ impl MaterialPasses {
         self.targets
             .as_ref()
             .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?
+            .gbuffer
             .output
             .download()
     }

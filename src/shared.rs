@@ -71,15 +71,17 @@ pub struct InstanceGpu {
 }
 const _: () = assert!(size_of::<InstanceGpu>() == 128);
 
-/// Vertex of the classic path: position and normal (uv kept for the material pass later).
+/// Vertex of the classic paths (`brute`, `lod`): position, normal, UV and global material id
+/// (vertices are split so each has one material).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct VertexGpu {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     pub uv: [f32; 2],
+    pub material: u32,
 }
-const _: () = assert!(size_of::<VertexGpu>() == 32);
+const _: () = assert!(size_of::<VertexGpu>() == 36);
 
 /// Per mesh of the vgeo path: where its data starts in the scene's shared buffers.
 #[repr(C)]

@@ -51,7 +51,7 @@ fn filling_camera(m: &Mesh, dist_scale: f64) -> Camera {
 
 fn render(r: &mut VgeoRenderer, camera: &Camera, settings: &FrameSettings) -> VgeoFrame {
     let f = r
-        .render(camera, W, H, settings, ViewMode::Lit, &Light::default())
+        .render(camera, W, H, settings, ViewMode::Lambert, &Light::default())
         .expect("frame renders");
     f.check().expect("no overflow, no watchdog");
     f
@@ -501,7 +501,14 @@ fn capacity_overflows_are_reported_not_silent() {
     };
     r.set_capacities(1 << 16, 10);
     let f = r
-        .render(&camera, W, H, &settings, ViewMode::Lit, &Light::default())
+        .render(
+            &camera,
+            W,
+            H,
+            &settings,
+            ViewMode::Lambert,
+            &Light::default(),
+        )
         .expect("renders");
     let err = f
         .check()
@@ -510,7 +517,14 @@ fn capacity_overflows_are_reported_not_silent() {
     assert!(f.main.visible.len() <= 10);
     r.set_capacities(2, 1 << 16);
     let f = r
-        .render(&camera, W, H, &settings, ViewMode::Lit, &Light::default())
+        .render(
+            &camera,
+            W,
+            H,
+            &settings,
+            ViewMode::Lambert,
+            &Light::default(),
+        )
         .expect("renders");
     let err = f
         .check()

@@ -7,6 +7,8 @@ mod common;
 
 use common::{assert_no_validation_errors, assets, gpu, shared_assets};
 use glam::{DMat4, DVec3, Mat4, Vec2, Vec3, Vec4};
+use vgeo::baseline::brute::Brute;
+use vgeo::baseline::lod::{Lod, LodOptions};
 use vgeo::builder::quantize::{decode_normal, decode_uv};
 use vgeo::builder::{BuildOptions, BuiltMesh, build};
 use vgeo::camera::Camera;
@@ -527,7 +529,7 @@ fn flight_helmet_shaded_matches_cpu_reference() {
     );
     let light = Light::default();
     let f = r
-        .render(&camera, W, H, &exact(), ViewMode::Shaded, &light)
+        .render(&camera, W, H, &exact(), ViewMode::Lit, &light)
         .expect("shaded frame");
     f.check().expect("complete frame");
     let mats = r.scene_materials().clone();
@@ -612,7 +614,7 @@ fn thousand_materials_without_uvs_or_normals_and_a_bad_texture() {
             metallic: (i % 3) as f32 * 0.5,
             roughness: 0.2 + (i % 5) as f32 * 0.2,
             base_color_texture: (i == 5).then(|| bad.clone()),
-            normal_texture: None,
+            ..Material::default()
         })
         .collect();
     let mesh = grid_mesh(32, 32, 1, [2.0, 2.0], materials);
@@ -667,7 +669,7 @@ fn cli_renders_the_material_views() {
     let dir = std::env::temp_dir().join(format!("vgeo-material-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let mut images = Vec::new();
-    for view in ["shaded", "albedo", "normals", "materials"] {
+    for view in ["lit", "albedo", "normals", "materials"] {
         let out = dir.join(format!("{view}.png"));
         let result = std::process::Command::new(env!("CARGO_BIN_EXE_vgeo"))
             .env("VGEO_VALIDATION", "1")
@@ -717,8 +719,299 @@ fn cli_renders_the_material_views() {
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert!(!result.status.success());
     assert!(
-        stderr.contains("shaded") && stderr.contains("materials"),
+        stderr.contains("lit") && stderr.contains("lambert") && stderr.contains("materials"),
         "{stderr}"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// PSNR (dB) of two RGBA8 images over the RGB channels of every pixel.
+fn psnr(a: &[u8], b: &[u8]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let (mut se, mut n) = (0.0f64, 0usize);
+    for (pa, pb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        for k in 0..3 {
+            let d = pa[k] as f64 - pb[k] as f64;
+            se += d * d;
+            n += 1;
+        }
+    }
+    10.0 * (255.0f64 * 255.0 / (se / n as f64).max(1e-12)).log10()
+}
+
+/// Renders `meshes` placed by `placements` from `camera` with vgeo at threshold 0, brute and lod
+/// at threshold 0 (lit, the material model), returns (vgeo, brute, lod) colour and vgeo's frame.
+fn lit_in_every_mode(
+    meshes: &[Mesh],
+    placements: &[Placement],
+    camera: &Camera,
+    w: u32,
+    h: u32,
+) -> (VgeoFrame, Vec<u8>, Vec<u8>) {
+    let built: Vec<BuiltMesh> = meshes
+        .iter()
+        .map(|m| build(m, &BuildOptions::default()).expect("builds"))
+        .collect();
+    let ctx = gpu();
+    let light = Light::default();
+    let mut r = VgeoRenderer::new(&ctx, &built, placements).expect("renderer");
+    let f = r
+        .render(camera, w, h, &exact(), ViewMode::Lit, &light)
+        .expect("vgeo frame");
+    f.check().expect("complete frame");
+    let brute = Brute::new(&ctx, meshes).expect("brute");
+    let b = brute
+        .render(placements, camera, &light, w, h)
+        .expect("brute frame");
+    let lod = Lod::new(&ctx, meshes, &LodOptions::default()).expect("lod");
+    let l = lod
+        .render(placements, camera, &light, w, h, 0.0)
+        .expect("lod frame");
+    assert_no_validation_errors(&ctx);
+    (f, b.color, l.color)
+}
+
+fn dump(name: &str, w: u32, h: u32, rgba: &[u8]) {
+    if let Ok(dir) = std::env::var("VGEO_TEST_DUMP") {
+        image::RgbaImage::from_raw(w, h, rgba.to_vec())
+            .expect("size")
+            .save(std::path::Path::new(&dir).join(name))
+            .expect("dump");
+    }
+}
+
+#[test]
+fn flight_helmet_lit_vgeo_matches_brute_and_lod() {
+    const W: u32 = 256;
+    const H: u32 = 256;
+    let path = shared_assets().join("gltf/FlightHelmet/FlightHelmet.gltf");
+    let (mesh, _) = vgeo::mesh::load_mesh(&path).expect("FlightHelmet loads");
+    assert!(mesh.materials.len() >= 5, "FlightHelmet has its materials");
+    let (lo, hi) = mesh.bounds().expect("bounds");
+    let camera = Camera::frame_bounds(
+        DVec3::from(lo.map(f64::from)),
+        DVec3::from(hi.map(f64::from)),
+        W as f32 / H as f32,
+    );
+    let placements = vec![Placement {
+        mesh: 0,
+        transform: DMat4::IDENTITY,
+        color: [1.0, 0.95, 0.9],
+    }];
+    let (f, brute, lod) =
+        lit_in_every_mode(std::slice::from_ref(&mesh), &placements, &camera, W, H);
+    dump("lit_helmet_vgeo.png", W, H, &f.frame.color);
+    dump("lit_helmet_brute.png", W, H, &brute);
+    let covered = f.visbuffer.iter().filter(|&&v| v != 0).count();
+    assert!(covered > (W * H / 8) as usize, "the helmet covers the view");
+    let p = psnr(&f.frame.color, &brute);
+    eprintln!("FlightHelmet lit, threshold 0: vgeo vs brute PSNR {p:.2} dB ({covered} covered)");
+    assert!(p >= 40.0, "vgeo vs brute PSNR {p:.2} dB < 40 dB");
+    // lod at threshold 0 draws level 0: the same triangles through the same pipeline.
+    assert_eq!(lod, brute, "lod at threshold 0 is brute's image");
+}
+
+/// A wavy `n` x `n` grid with shared vertices over x, y in [-1, 1] (z = 0.1 sin), UVs (u repeating
+/// once per region column, v over the grid), analytic normals, and a material per region of a 4 x 2 partition (`materials.len()`
+/// must be 8): neighbouring regions share their border vertices.
+fn wavy_grid(n: u32, materials: Vec<Material>) -> Mesh {
+    assert_eq!(materials.len(), 8);
+    let mut m = Mesh {
+        name: "wavy".into(),
+        materials,
+        has_normals: true,
+        has_uvs: true,
+        ..Default::default()
+    };
+    for j in 0..=n {
+        for i in 0..=n {
+            let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+            let (x, y) = (u * 2.0 - 1.0, 1.0 - v * 2.0);
+            let z = 0.1 * (3.0 * x).sin() * (2.0 * y).cos();
+            let dzdx = 0.3 * (3.0 * x).cos() * (2.0 * y).cos();
+            let dzdy = -0.2 * (3.0 * x).sin() * (2.0 * y).sin();
+            m.positions.push([x, y, z]);
+            m.normals
+                .push(Vec3::new(-dzdx, -dzdy, 1.0).normalize().to_array());
+            m.uvs.push([u * 4.0, v]);
+        }
+    }
+    let row = n + 1;
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * row + i;
+            let (b, c, d) = (a + 1, a + row, a + row + 1);
+            m.indices.extend_from_slice(&[a, c, b, b, c, d]);
+            let mat = (j * 2 / n) * 4 + i * 4 / n;
+            m.material_ids.extend_from_slice(&[mat, mat]);
+        }
+    }
+    m.validate().expect("wavy grid is valid");
+    m
+}
+
+#[test]
+fn multi_material_scene_lit_vgeo_matches_brute() {
+    const W: u32 = 256;
+    const H: u32 = 192;
+    let dir = std::env::temp_dir().join(format!("vgeo-lit-modes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let helmet = shared_assets().join("gltf/FlightHelmet");
+    let write = |name: &str, img: image::RgbaImage| {
+        let path = dir.join(name);
+        img.save(&path).expect("write texture");
+        path
+    };
+    // Metallic-roughness: left half dielectric and rough, right half metal and smooth.
+    let mr = write(
+        "mr.png",
+        image::RgbaImage::from_fn(16, 16, |x, _| {
+            if x < 8 {
+                image::Rgba([0, 255, 0, 255])
+            } else {
+                image::Rgba([0, 90, 255, 255])
+            }
+        }),
+    );
+    let normal = write(
+        "n.png",
+        image::RgbaImage::from_fn(16, 16, |x, y| {
+            image::Rgba([128 + (x * 6) as u8, 128 + (y * 4) as u8, 230, 255])
+        }),
+    );
+    let materials: Vec<Material> = (0..8)
+        .map(|i| Material {
+            name: format!("m{i}"),
+            base_color: [0.3 + 0.1 * i as f32, 0.9 - 0.1 * i as f32, 0.5, 1.0],
+            metallic: [0.0, 0.0, 1.0, 0.5, 0.0, 1.0, 0.2, 0.0][i],
+            roughness: 0.3 + 0.09 * i as f32,
+            base_color_texture: match i {
+                0..=3 => Some(helmet.join(format!(
+                    "FlightHelmet_baseColor{}.png",
+                    ["", "2", "3", "4"][i]
+                ))),
+                _ => None,
+            },
+            normal_texture: (i == 1 || i == 6).then(|| normal.clone()),
+            metallic_roughness_texture: (i == 5).then(|| mr.clone()),
+        })
+        .collect();
+    let grid = wavy_grid(48, materials);
+    let (spot, _) = vgeo::mesh::load_mesh(&assets().join("spot.obj")).expect("spot loads");
+    let placements = vec![
+        Placement {
+            mesh: 0,
+            transform: DMat4::from_rotation_x(-0.5),
+            color: [1.0; 3],
+        },
+        Placement {
+            mesh: 1,
+            transform: DMat4::from_translation(DVec3::new(0.4, 0.2, 0.6))
+                * DMat4::from_scale(DVec3::splat(0.5)),
+            color: [0.9, 0.8, 1.0],
+        },
+    ];
+    let camera = Camera::look_at(
+        DVec3::new(0.2, 0.9, 2.6),
+        DVec3::new(0.0, 0.0, 0.2),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.05,
+    );
+    let meshes = [grid, spot];
+    let (f, brute, lod) = lit_in_every_mode(&meshes, &placements, &camera, W, H);
+    dump("lit_multi_vgeo.png", W, H, &f.frame.color);
+    dump("lit_multi_brute.png", W, H, &brute);
+    // Every material of the grid and the cow are in view.
+    let built: Vec<BuiltMesh> = meshes
+        .iter()
+        .map(|m| build(m, &BuildOptions::default()).expect("builds"))
+        .collect();
+    let mats = SceneMaterials::new(&built).expect("materials");
+    let per_pixel = cpu_pixel_materials(&f, &built, &placements, &mats);
+    let mut seen = vec![0usize; mats.materials.len()];
+    for &m in per_pixel.iter().filter(|&&m| m != NO_MATERIAL) {
+        seen[m as usize] += 1;
+    }
+    eprintln!("pixels per material: {seen:?}");
+    assert!(seen.iter().all(|&n| n > 100), "every material in view");
+    let p = psnr(&f.frame.color, &brute);
+    eprintln!("multi-material scene lit, threshold 0: vgeo vs brute PSNR {p:.2} dB");
+    assert!(p >= 40.0, "vgeo vs brute PSNR {p:.2} dB < 40 dB");
+    assert_eq!(lod, brute, "lod at threshold 0 is brute's image");
+    // The metallic-roughness texture is read: on material 5's pixels, the metal half (no diffuse
+    // term) is darker than the dielectric half in both paths.
+    for (name, img) in [("vgeo", &f.frame.color), ("brute", &brute)] {
+        let (mut sums, mut counts) = ([0.0f64; 2], [0usize; 2]);
+        for (i, &m) in per_pixel.iter().enumerate() {
+            if m != 5 {
+                continue;
+            }
+            let x = i as u32 % W;
+            // Material 5's region spans one repeat of the texture in u: its left and right
+            // halves on screen are the texture's halves.
+            let half = usize::from(x as f32 >= region_center_x(&per_pixel, W, 5));
+            sums[half] += img[4 * i..4 * i + 3].iter().map(|&c| c as f64).sum::<f64>();
+            counts[half] += 1;
+        }
+        let (left, right) = (sums[0] / counts[0] as f64, sums[1] / counts[1] as f64);
+        eprintln!("{name}: material 5 mean left {left:.1}, right {right:.1}");
+        assert!(left > right * 1.3, "{name}: the metal half is darker");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Mean screen x of the pixels of material `m`.
+fn region_center_x(per_pixel: &[u32], w: u32, m: u32) -> f32 {
+    let xs: Vec<f32> = per_pixel
+        .iter()
+        .enumerate()
+        .filter(|&(_, &p)| p == m)
+        .map(|(i, _)| (i as u32 % w) as f32)
+        .collect();
+    xs.iter().sum::<f32>() / xs.len().max(1) as f32
+}
+
+#[test]
+fn classic_mesh_splits_shared_vertices_by_material() {
+    let materials: Vec<Material> = (0..8)
+        .map(|i| Material {
+            name: format!("m{i}"),
+            ..Material::default()
+        })
+        .collect();
+    let mesh = wavy_grid(8, materials);
+    let split = vgeo::baseline::brute::ClassicMesh::new(&mesh);
+    let s = &split.mesh;
+    assert_eq!(s.indices.len(), mesh.indices.len());
+    assert!(
+        s.positions.len() > mesh.positions.len(),
+        "border vertices are duplicated"
+    );
+    // Borders of a 4 x 2 partition of an 8 x 8 grid: 3 vertical lines of 9 vertices and 1
+    // horizontal one, crossing at 3 vertices. A border vertex is in 2 regions (1 extra copy), a
+    // crossing in 4 (3 extra copies).
+    assert_eq!(
+        s.positions.len() - mesh.positions.len(),
+        (3 * 9 - 3) + (9 - 3) + 3 * 3
+    );
+    for (t, (a, b)) in mesh
+        .indices
+        .chunks_exact(3)
+        .zip(s.indices.chunks_exact(3))
+        .enumerate()
+    {
+        for k in 0..3 {
+            assert_eq!(s.positions[b[k] as usize], mesh.positions[a[k] as usize]);
+            assert_eq!(s.uvs[b[k] as usize], mesh.uvs[a[k] as usize]);
+            assert_eq!(split.vertex_materials[b[k] as usize], mesh.material_ids[t]);
+        }
+    }
+    let single = Mesh {
+        materials: vec![Material::default()],
+        material_ids: vec![0; mesh.material_ids.len()],
+        ..mesh.clone()
+    };
+    let same = vgeo::baseline::brute::ClassicMesh::new(&single);
+    assert!(matches!(same.mesh, std::borrow::Cow::Borrowed(_)));
 }

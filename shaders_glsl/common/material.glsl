@@ -8,6 +8,10 @@ struct MaterialGpu {
     float roughness;
     uint base_color_texture;  // index into textures[] (0 = white)
     uint normal_texture;      // tangent-space normal map, NO_TEXTURE = none
+    uint metallic_roughness_texture;  // glTF: blue metallic, green roughness; NO_TEXTURE = none
+    uint _pad0;
+    uint _pad1;
+    uint _pad2;
 };
 
 struct MeshMaterialGpu {

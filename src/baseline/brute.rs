@@ -1,6 +1,13 @@
 //! Pass `brute`: the classic path and the baseline of every benchmark. Every instance at full detail
 //! with `vkCmdDrawIndexed` (one instanced draw per mesh), a reverse-Z depth buffer (infinite far
-//! plane, compare GREATER) and Lambert shading from vertex normals.
+//! plane, compare GREATER), writing the GBuffer through the material model every path shares
+//! (shaders_glsl/common/gbuffer.glsl), then `shade`, so its images compare with vgeo's.
+//!
+//! Also home of what `brute` and `lod` share: [`ClassicMesh`] (vertices split per material),
+//! [`GpuMesh`] and the [`Classic`] renderer core.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
 
 use glam::DMat3;
 
@@ -9,34 +16,110 @@ use crate::gpu::{
     Buffer, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, Image, MemoryKind,
     RenderTarget, ShaderStage, Timer, vk,
 };
+use crate::material::{GpuMaterials, SceneMaterials, ShadeMode};
 use crate::mesh::Mesh;
-use crate::render::{BACKGROUND, Frame, Light, Placement};
+use crate::passes::shade::{ALBEDO_FORMAT, GbufferTargets, NORMAL_FORMAT, PARAMS_FORMAT, Shade};
+use crate::render::{Frame, Light, Placement};
 use crate::shared::{FrameUniforms, InstanceGpu, VertexGpu};
 
-const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// A mesh as the classic paths draw it: vertices split so that each belongs to one material (a
+/// vertex shared by triangles of two materials is duplicated), with each vertex's local material.
+pub struct ClassicMesh<'a> {
+    /// The mesh (borrowed when it has at most one material: nothing to split).
+    pub mesh: Cow<'a, Mesh>,
+    /// Local material per vertex (empty: all 0).
+    pub vertex_materials: Vec<u32>,
+}
+
+impl<'a> ClassicMesh<'a> {
+    /// Splits `mesh`'s vertices by material (triangles' material ids past the table clamp to its
+    /// last entry, as the builder does). Deterministic; triangle order and winding kept.
+    pub fn new(mesh: &'a Mesh) -> Self {
+        if mesh.materials.len() <= 1 || mesh.material_ids.is_empty() {
+            return Self {
+                mesh: Cow::Borrowed(mesh),
+                vertex_materials: Vec::new(),
+            };
+        }
+        let last = mesh.materials.len() as u32 - 1;
+        let n = mesh.positions.len();
+        let mut out = Mesh {
+            name: mesh.name.clone(),
+            positions: Vec::with_capacity(n),
+            normals: Vec::with_capacity(n),
+            uvs: Vec::with_capacity(n),
+            indices: Vec::with_capacity(mesh.indices.len()),
+            material_ids: mesh.material_ids.clone(),
+            materials: mesh.materials.clone(),
+            has_normals: mesh.has_normals,
+            has_uvs: mesh.has_uvs,
+        };
+        let mut vertex_materials = Vec::with_capacity(n);
+        // First copy of each source vertex (with its material), further copies by (vertex, material).
+        let mut first: Vec<Option<(u32, u32)>> = vec![None; n];
+        let mut extra: HashMap<(u32, u32), u32> = HashMap::new();
+        for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+            let m = mesh.material_ids.get(t).copied().unwrap_or(0).min(last);
+            for &v in tri {
+                let slot = match first[v as usize] {
+                    Some((fm, idx)) if fm == m => idx,
+                    Some(_) => *extra.entry((v, m)).or_insert_with(|| {
+                        push_vertex(mesh, v, &mut out, &mut vertex_materials, m)
+                    }),
+                    None => {
+                        let idx = push_vertex(mesh, v, &mut out, &mut vertex_materials, m);
+                        first[v as usize] = Some((m, idx));
+                        idx
+                    }
+                };
+                out.indices.push(slot);
+            }
+        }
+        Self {
+            mesh: Cow::Owned(out),
+            vertex_materials,
+        }
+    }
+}
+
+fn push_vertex(src: &Mesh, v: u32, out: &mut Mesh, materials: &mut Vec<u32>, m: u32) -> u32 {
+    let v = v as usize;
+    out.positions.push(src.positions[v]);
+    out.normals.push(src.normals[v]);
+    out.uvs.push(src.uvs[v]);
+    materials.push(m);
+    out.positions.len() as u32 - 1
+}
 
 /// A mesh's vertex and index buffers on the GPU.
 pub struct GpuMesh {
     vertices: Buffer,
     indices: Buffer,
     index_count: u32,
+    /// `MESH_HAS_UVS | MESH_HAS_NORMALS` (the GBuffer shader's push constant).
+    flags: u32,
 }
 
 impl GpuMesh {
-    /// Uploads `mesh` (positions, normals, uvs, u32 indices).
-    pub fn upload(ctx: &Context, mesh: &Mesh) -> GpuResult<Self> {
-        Self::upload_with_indices(ctx, mesh, &mesh.indices)
-    }
-
-    /// Uploads `mesh`'s vertices with `indices` (which index `mesh`'s vertices) as the index
-    /// buffer: the discrete-LOD path puts all LODs of a mesh in one index buffer this way.
-    pub fn upload_with_indices(ctx: &Context, mesh: &Mesh, indices: &[u32]) -> GpuResult<Self> {
+    /// Uploads `m`'s vertices (global material = `material_offset` + local) with `indices` (which
+    /// index `m`'s vertices) as the index buffer: the discrete-LOD path puts all LODs of a mesh in
+    /// one index buffer this way. `flags` are the mesh's material flags.
+    pub fn upload(
+        ctx: &Context,
+        m: &ClassicMesh<'_>,
+        indices: &[u32],
+        material_offset: u32,
+        flags: u32,
+    ) -> GpuResult<Self> {
+        let mesh = &m.mesh;
         let verts: Vec<VertexGpu> = (0..mesh.positions.len())
             .map(|i| VertexGpu {
                 position: mesh.positions[i],
                 normal: mesh.normals[i],
                 uv: mesh.uvs[i],
+                material: material_offset + m.vertex_materials.get(i).copied().unwrap_or(0),
             })
             .collect();
         let name = if mesh.name.is_empty() {
@@ -58,6 +141,7 @@ impl GpuMesh {
                 vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
             )?,
             index_count: indices.len() as u32,
+            flags,
         })
     }
 
@@ -70,13 +154,6 @@ impl GpuMesh {
     pub fn bytes(&self) -> u64 {
         self.vertices.size() + self.indices.size()
     }
-}
-
-/// The brute-force renderer: a pipeline plus the scene's meshes on the GPU.
-pub struct Brute {
-    ctx: Context,
-    pipeline: GraphicsPipeline,
-    meshes: Vec<GpuMesh>,
 }
 
 /// One instanced indexed draw of a classic pass.
@@ -92,14 +169,21 @@ pub(crate) struct Draw {
     pub instance_count: u32,
 }
 
-/// The classic pipeline (vertex positions and normals, Lambert shading, reverse-Z depth) shared by
-/// the `brute` and `lod` passes so their images compare; `pass` names the pipeline.
-pub(crate) fn classic_pipeline(ctx: &Context, pass: &str) -> GpuResult<GraphicsPipeline> {
+/// The classic pipeline (vertex position, normal, UV, material; writes the GBuffer through the
+/// shared material model; reverse-Z depth) shared by the `brute` and `lod` passes so their images
+/// compare; `pass` names the pipeline, `materials`' textures are set 1.
+fn classic_pipeline(
+    ctx: &Context,
+    pass: &str,
+    materials: &GpuMaterials,
+) -> GpuResult<GraphicsPipeline> {
     let attrs = [
         (0, vk::Format::R32G32B32_SFLOAT, 0),
         (1, vk::Format::R32G32B32_SFLOAT, 12),
+        (2, vk::Format::R32G32_SFLOAT, 24),
+        (3, vk::Format::R32_UINT, 32),
     ];
-    GraphicsPipeline::new(
+    GraphicsPipeline::with_textures(
         ctx,
         &GraphicsPipelineDesc {
             name: pass,
@@ -114,15 +198,17 @@ pub(crate) fn classic_pipeline(ctx: &Context, pass: &str) -> GpuResult<GraphicsP
             bindings: &[
                 vk::DescriptorType::UNIFORM_BUFFER,
                 vk::DescriptorType::STORAGE_BUFFER,
+                vk::DescriptorType::STORAGE_BUFFER,
             ],
-            push_constant_size: 0,
+            push_constant_size: 4,
             vertex_layout: Some((size_of::<VertexGpu>() as u32, &attrs)),
-            color_formats: &[COLOR_FORMAT],
+            color_formats: &[ALBEDO_FORMAT, NORMAL_FORMAT, PARAMS_FORMAT],
             depth_format: Some(DEPTH_FORMAT),
             depth_compare: vk::CompareOp::GREATER,
             depth_write: true,
             cull: vk::CullModeFlags::NONE,
         },
+        &materials.textures,
     )
 }
 
@@ -177,137 +263,203 @@ fn instances_by_mesh(
     (out, ranges)
 }
 
-/// Records and runs one classic frame: clears, draws `draws` (instances from `instances`) with
-/// `pipeline`, reads colour and depth back. `pass` names the resources and the timer scope.
-/// `Frame::triangles` counts the triangles of every draw times its instances.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn render_draws(
-    ctx: &Context,
-    pass: &str,
-    pipeline: &GraphicsPipeline,
-    meshes: &[GpuMesh],
-    instances: &[InstanceGpu],
-    draws: &[Draw],
-    camera: &Camera,
-    light: &Light,
-    width: u32,
-    height: u32,
-) -> GpuResult<Frame> {
-    let uniforms = FrameUniforms {
-        view_proj: camera.view_proj(width, height).to_cols_array_2d(),
-        light_dir: light.direction.normalize_or_zero().extend(0.0).into(),
-        viewport: [
-            width as f32,
-            height as f32,
-            1.0 / width as f32,
-            1.0 / height as f32,
-        ],
-    };
-    let mut ubo = Buffer::new(
-        ctx,
-        &format!("{pass} frame uniforms"),
-        size_of::<FrameUniforms>() as u64,
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-        MemoryKind::Upload,
-    )?;
-    ubo.write(0, bytemuck::bytes_of(&uniforms))?;
-    let inst_buf = Buffer::with_data(
-        ctx,
-        &format!("{pass} instances"),
-        bytemuck::cast_slice(instances),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-    )?;
-    let color = Image::new(
-        ctx,
-        &format!("{pass} color"),
-        width,
-        height,
-        COLOR_FORMAT,
-        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-    )?;
-    let depth = Image::new(
-        ctx,
-        &format!("{pass} depth"),
-        width,
-        height,
-        DEPTH_FORMAT,
-        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-    )?;
-    let mut timer = Timer::new(ctx, 4)?;
-    let bg = BACKGROUND.map(|c| c.powf(1.0 / 2.2));
-    let mut triangles = 0u64;
-    ctx.submit_and_wait(&format!("{pass} frame"), |cmd| {
-        timer.reset(cmd);
-        timer.begin(cmd, pass);
-        cmd.begin_rendering(
-            &[RenderTarget {
-                image: &color,
-                clear: Some([bg[0], bg[1], bg[2], 1.0]),
-            }],
-            Some(RenderTarget {
-                image: &depth,
-                clear: Some([0.0; 4]),
-            }),
-        );
-        cmd.bind_graphics(pipeline);
-        cmd.push_graphics_descriptors(pipeline, &[Desc::Uniform(&ubo), Desc::Storage(&inst_buf)]);
-        let mut bound: Option<u32> = None;
-        for d in draws {
-            if d.instance_count == 0 || d.index_count == 0 {
-                continue;
-            }
-            let Some(mesh) = meshes.get(d.mesh as usize) else {
-                continue;
-            };
-            if bound != Some(d.mesh) {
-                cmd.bind_mesh_buffers(&mesh.vertices, &mesh.indices);
-                bound = Some(d.mesh);
-            }
-            cmd.draw_indexed(
-                d.index_count,
-                d.instance_count,
-                d.first_index,
-                d.first_instance,
-            );
-            triangles += (d.index_count / 3) as u64 * d.instance_count as u64;
-        }
-        cmd.end_rendering();
-        timer.end(cmd);
-    })?;
-    let gpu_ms = timer.results()?;
-    let color_bytes = color.download()?;
-    let depth_bytes = depth.download()?;
-    Ok(Frame {
-        width,
-        height,
-        color: color_bytes,
-        depth: bytemuck::cast_slice(&depth_bytes).to_vec(),
-        gpu_ms,
-        triangles,
-    })
+/// What `brute` and `lod` share: the scene's materials and meshes on the GPU, the GBuffer pipeline
+/// and `shade`.
+pub(crate) struct Classic {
+    ctx: Context,
+    pass: &'static str,
+    pipeline: GraphicsPipeline,
+    shade: Shade,
+    materials: GpuMaterials,
+    pub(crate) meshes: Vec<GpuMesh>,
 }
 
-impl Brute {
-    /// Creates the pipeline and uploads `meshes`.
-    pub fn new(ctx: &Context, meshes: &[Mesh]) -> GpuResult<Self> {
-        let pipeline = classic_pipeline(ctx, "brute")?;
-        let meshes = meshes
+impl Classic {
+    /// Uploads `meshes` (split per material) with `indices[i]` as mesh i's index buffer (`None`:
+    /// its own triangles) and the scene's materials; `pass` names everything.
+    pub(crate) fn new(
+        ctx: &Context,
+        pass: &'static str,
+        meshes: &[ClassicMesh<'_>],
+        indices: &[Option<&[u32]>],
+    ) -> GpuResult<Self> {
+        let table = SceneMaterials::from_meshes(meshes.iter().map(|m| m.mesh.as_ref()))
+            .map_err(crate::gpu::GpuError::Other)?;
+        let materials = GpuMaterials::new(ctx, &table)?;
+        let gpu = meshes
             .iter()
-            .map(|m| GpuMesh::upload(ctx, m))
+            .zip(&table.meshes)
+            .zip(indices)
+            .map(|((m, mm), ix)| {
+                let ix = ix.unwrap_or(&m.mesh.indices);
+                GpuMesh::upload(ctx, m, ix, mm.material_offset, mm.flags)
+            })
             .collect::<GpuResult<Vec<_>>>()?;
         Ok(Self {
             ctx: ctx.clone(),
-            pipeline,
-            meshes,
+            pass,
+            pipeline: classic_pipeline(ctx, pass, &materials)?,
+            shade: Shade::new(ctx)?,
+            materials,
+            meshes: gpu,
+        })
+    }
+
+    /// Warnings about the materials (unreadable textures), each naming its file and material.
+    pub(crate) fn warnings(&self) -> &[String] {
+        &self.materials.warnings
+    }
+
+    /// GPU bytes of geometry.
+    pub(crate) fn geometry_bytes(&self) -> u64 {
+        self.meshes.iter().map(GpuMesh::bytes).sum()
+    }
+
+    /// Records and runs one frame: the GBuffer draws of `draws` (instances from `instances`), then
+    /// `shade` as `mode`; reads colour and depth back. `Frame::triangles` counts the triangles of
+    /// every draw times its instances.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn render_draws(
+        &self,
+        instances: &[InstanceGpu],
+        draws: &[Draw],
+        camera: &Camera,
+        light: &Light,
+        width: u32,
+        height: u32,
+        mode: ShadeMode,
+    ) -> GpuResult<Frame> {
+        let (ctx, pass) = (&self.ctx, self.pass);
+        let uniforms = FrameUniforms {
+            view_proj: camera.view_proj(width, height).to_cols_array_2d(),
+            light_dir: light.direction.normalize_or_zero().extend(0.0).into(),
+            viewport: [
+                width as f32,
+                height as f32,
+                1.0 / width as f32,
+                1.0 / height as f32,
+            ],
+        };
+        let mut ubo = Buffer::new(
+            ctx,
+            &format!("{pass} frame uniforms"),
+            size_of::<FrameUniforms>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryKind::Upload,
+        )?;
+        ubo.write(0, bytemuck::bytes_of(&uniforms))?;
+        // An empty frame still binds a valid (one-record) instance buffer.
+        let zero = [bytemuck::Zeroable::zeroed()];
+        let inst_data: &[InstanceGpu] = if instances.is_empty() {
+            &zero
+        } else {
+            instances
+        };
+        let inst_buf = Buffer::with_data(
+            ctx,
+            &format!("{pass} instances"),
+            bytemuck::cast_slice(inst_data),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let mut targets = GbufferTargets::new(ctx, &format!("{pass} gbuffer"), width, height)?;
+        let view = targets.view_for(camera, light.direction, mode);
+        targets.view.write(0, bytemuck::bytes_of(&view))?;
+        let depth = Image::new(
+            ctx,
+            &format!("{pass} depth"),
+            width,
+            height,
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+        )?;
+        let mut timer = Timer::new(ctx, 4)?;
+        let mut triangles = 0u64;
+        ctx.submit_and_wait(&format!("{pass} frame"), |cmd| {
+            timer.reset(cmd);
+            timer.begin(cmd, pass);
+            cmd.begin_rendering(
+                &targets.attachments(),
+                Some(RenderTarget {
+                    image: &depth,
+                    clear: Some([0.0; 4]),
+                }),
+            );
+            cmd.bind_graphics(&self.pipeline);
+            cmd.push_graphics_descriptors(
+                &self.pipeline,
+                &[
+                    Desc::Uniform(&ubo),
+                    Desc::Storage(&inst_buf),
+                    Desc::Storage(&self.materials.table),
+                ],
+            );
+            cmd.bind_graphics_textures(&self.pipeline, &self.materials.textures);
+            let mut bound: Option<u32> = None;
+            for d in draws {
+                if d.instance_count == 0 || d.index_count == 0 {
+                    continue;
+                }
+                let Some(mesh) = self.meshes.get(d.mesh as usize) else {
+                    continue;
+                };
+                if bound != Some(d.mesh) {
+                    cmd.bind_mesh_buffers(&mesh.vertices, &mesh.indices);
+                    cmd.graphics_push_constants(&self.pipeline, bytemuck::bytes_of(&mesh.flags));
+                    bound = Some(d.mesh);
+                }
+                cmd.draw_indexed(
+                    d.index_count,
+                    d.instance_count,
+                    d.first_index,
+                    d.first_instance,
+                );
+                triangles += (d.index_count / 3) as u64 * d.instance_count as u64;
+            }
+            cmd.end_rendering();
+            timer.end(cmd);
+            self.shade.record(cmd, &mut timer, &targets);
+        })?;
+        let gpu_ms = timer.results()?;
+        let color_bytes = targets.output.download()?;
+        let depth_bytes = depth.download()?;
+        Ok(Frame {
+            width,
+            height,
+            color: color_bytes,
+            depth: bytemuck::cast_slice(&depth_bytes).to_vec(),
+            gpu_ms,
+            triangles,
+        })
+    }
+}
+
+/// The brute-force renderer: every mesh at full detail, one instanced draw per mesh.
+pub struct Brute {
+    classic: Classic,
+}
+
+impl Brute {
+    /// Uploads `meshes` (vertices split per material) and their materials (decoding textures) and
+    /// creates the pipelines.
+    pub fn new(ctx: &Context, meshes: &[Mesh]) -> GpuResult<Self> {
+        let split: Vec<ClassicMesh> = meshes.iter().map(ClassicMesh::new).collect();
+        let indices = vec![None; split.len()];
+        Ok(Self {
+            classic: Classic::new(ctx, "brute", &split, &indices)?,
         })
     }
 
     /// GPU bytes of geometry.
     pub fn geometry_bytes(&self) -> u64 {
-        self.meshes.iter().map(GpuMesh::bytes).sum()
+        self.classic.geometry_bytes()
     }
 
-    /// Renders `placements` seen from `camera` into a `width` x `height` frame and reads it back.
+    /// Warnings about the materials (unreadable textures), each naming its file and material.
+    pub fn warnings(&self) -> &[String] {
+        self.classic.warnings()
+    }
+
+    /// Renders `placements` seen from `camera` into a `width` x `height` lit frame and reads it back.
     pub fn render(
         &self,
         placements: &[Placement],
@@ -316,10 +468,23 @@ impl Brute {
         width: u32,
         height: u32,
     ) -> GpuResult<Frame> {
-        check_placements(placements, self.meshes.len())?;
-        let (instances, ranges) = instances_by_mesh(camera, placements, self.meshes.len());
-        let draws: Vec<Draw> = self
-            .meshes
+        self.render_view(placements, camera, light, width, height, ShadeMode::Lit)
+    }
+
+    /// [`Brute::render`] with `shade` drawing `mode` (lit, albedo, normals or materials).
+    pub fn render_view(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        width: u32,
+        height: u32,
+        mode: ShadeMode,
+    ) -> GpuResult<Frame> {
+        let meshes = &self.classic.meshes;
+        check_placements(placements, meshes.len())?;
+        let (instances, ranges) = instances_by_mesh(camera, placements, meshes.len());
+        let draws: Vec<Draw> = meshes
             .iter()
             .zip(&ranges)
             .enumerate()
@@ -331,17 +496,7 @@ impl Brute {
                 instance_count: count,
             })
             .collect();
-        render_draws(
-            &self.ctx,
-            "brute",
-            &self.pipeline,
-            &self.meshes,
-            &instances,
-            &draws,
-            camera,
-            light,
-            width,
-            height,
-        )
+        self.classic
+            .render_draws(&instances, &draws, camera, light, width, height, mode)
     }
 }

@@ -12,10 +12,11 @@
 use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
-use super::brute::{Draw, GpuMesh, check_placements, classic_pipeline, instance_gpu, render_draws};
+use super::brute::{Classic, ClassicMesh, Draw, check_placements, instance_gpu};
 use crate::builder::cut::{lod_error_px, proj_scale};
 use crate::camera::Camera;
-use crate::gpu::{Context, GpuResult, GraphicsPipeline};
+use crate::gpu::{Context, GpuResult};
+use crate::material::ShadeMode;
 use crate::mesh::Mesh;
 use crate::render::{Frame, Light, Placement};
 use crate::shared::InstanceGpu;
@@ -240,23 +241,20 @@ fn outside(planes: &[Vec4; 5], center: Vec3, radius: f32) -> bool {
 
 /// The discrete-LOD renderer: the classic pipeline plus every mesh's levels on the GPU.
 pub struct Lod {
-    ctx: Context,
-    pipeline: GraphicsPipeline,
-    meshes: Vec<GpuMesh>,
+    classic: Classic,
     infos: Vec<LodInfo>,
     opts: LodOptions,
 }
 
 impl Lod {
-    /// Simplifies every mesh into its levels (in parallel), uploads them and creates the pipeline.
+    /// Splits every mesh's vertices per material (material borders become seams the simplifier
+    /// keeps), simplifies it into its levels (in parallel), uploads them with the scene's
+    /// materials and creates the pipelines.
     pub fn new(ctx: &Context, meshes: &[Mesh], opts: &LodOptions) -> GpuResult<Self> {
-        let chains: Vec<LodChain> = meshes.par_iter().map(LodChain::build).collect();
-        let pipeline = classic_pipeline(ctx, "lod")?;
-        let gpu = meshes
-            .iter()
-            .zip(&chains)
-            .map(|(m, c)| GpuMesh::upload_with_indices(ctx, m, &c.indices))
-            .collect::<GpuResult<Vec<_>>>()?;
+        let split: Vec<ClassicMesh> = meshes.par_iter().map(ClassicMesh::new).collect();
+        let chains: Vec<LodChain> = split.par_iter().map(|m| LodChain::build(&m.mesh)).collect();
+        let indices: Vec<Option<&[u32]>> = chains.iter().map(|c| Some(&c.indices[..])).collect();
+        let classic = Classic::new(ctx, "lod", &split, &indices)?;
         let infos = chains
             .iter()
             .map(|c| LodInfo {
@@ -266,9 +264,7 @@ impl Lod {
             })
             .collect();
         Ok(Self {
-            ctx: ctx.clone(),
-            pipeline,
-            meshes: gpu,
+            classic,
             infos,
             opts: *opts,
         })
@@ -293,7 +289,12 @@ impl Lod {
 
     /// GPU bytes of geometry (all levels).
     pub fn geometry_bytes(&self) -> u64 {
-        self.meshes.iter().map(GpuMesh::bytes).sum()
+        self.classic.geometry_bytes()
+    }
+
+    /// Warnings about the materials (unreadable textures), each naming its file and material.
+    pub fn warnings(&self) -> &[String] {
+        self.classic.warnings()
     }
 
     /// The level each placement gets when rendered from `camera` into an image `height` pixels
@@ -306,7 +307,7 @@ impl Lod {
         height: u32,
         error_px: f32,
     ) -> GpuResult<Vec<u8>> {
-        check_placements(placements, self.meshes.len())?;
+        check_placements(placements, self.infos.len())?;
         let (ps, tau) = self.threshold(camera, height, error_px);
         Ok(placements
             .iter()
@@ -333,7 +334,7 @@ impl Lod {
         )
     }
 
-    /// Renders `placements` seen from `camera` into a `width` x `height` frame at threshold
+    /// Renders `placements` seen from `camera` into a `width` x `height` lit frame at threshold
     /// `error_px` and reads it back. `Frame::triangles` counts the triangles drawn (selected
     /// levels times instances not culled).
     pub fn render(
@@ -345,10 +346,30 @@ impl Lod {
         height: u32,
         error_px: f32,
     ) -> GpuResult<Frame> {
-        check_placements(placements, self.meshes.len())?;
+        self.render_view(
+            placements,
+            camera,
+            light,
+            (width, height),
+            error_px,
+            ShadeMode::Lit,
+        )
+    }
+
+    /// [`Lod::render`] with `shade` drawing `mode` (lit, albedo, normals or materials).
+    pub fn render_view(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        (width, height): (u32, u32),
+        error_px: f32,
+        mode: ShadeMode,
+    ) -> GpuResult<Frame> {
+        check_placements(placements, self.infos.len())?;
         let (ps, tau) = self.threshold(camera, height, error_px);
         // Counting sort by (mesh, level): O(instances + meshes), allocations per frame only.
-        let buckets = self.meshes.len() * LOD_COUNT;
+        let buckets = self.infos.len() * LOD_COUNT;
         let planes = frustum_planes(&camera.view_proj(width, height));
         let mut selected = Vec::with_capacity(placements.len());
         let mut counts = vec![0u32; buckets];
@@ -392,17 +413,7 @@ impl Lod {
             *slot += 1;
         }
         let instances: Vec<InstanceGpu> = instances;
-        render_draws(
-            &self.ctx,
-            "lod",
-            &self.pipeline,
-            &self.meshes,
-            &instances,
-            &draws,
-            camera,
-            light,
-            width,
-            height,
-        )
+        self.classic
+            .render_draws(&instances, &draws, camera, light, width, height, mode)
     }
 }

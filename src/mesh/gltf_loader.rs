@@ -448,6 +448,16 @@ fn load_materials(
             let normal_texture = m
                 .normal_texture()
                 .and_then(|t| texture_file(path, dir, t.texture(), "normal", &name, warnings));
+            let metallic_roughness_texture = pbr.metallic_roughness_texture().and_then(|t| {
+                texture_file(
+                    path,
+                    dir,
+                    t.texture(),
+                    "metallic-roughness",
+                    &name,
+                    warnings,
+                )
+            });
             Material {
                 name,
                 base_color: pbr.base_color_factor(),
@@ -455,6 +465,7 @@ fn load_materials(
                 roughness: pbr.roughness_factor(),
                 base_color_texture,
                 normal_texture,
+                metallic_roughness_texture,
             }
         })
         .collect()

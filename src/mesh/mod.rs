@@ -25,6 +25,9 @@ pub struct Material {
     pub base_color_texture: Option<PathBuf>,
     /// Normal-map texture file, if the source names one and it exists on disk.
     pub normal_texture: Option<PathBuf>,
+    /// glTF metallic-roughness texture file (linear; blue = metallic, green = roughness, each
+    /// multiplying its factor), if the source names one and it exists on disk.
+    pub metallic_roughness_texture: Option<PathBuf>,
 }
 
 impl Default for Material {
@@ -36,6 +39,7 @@ impl Default for Material {
             roughness: 0.6,
             base_color_texture: None,
             normal_texture: None,
+            metallic_roughness_texture: None,
         }
     }
 }

@@ -21,8 +21,9 @@ pub const NAME: &str = "debug_view";
 /// What the debug view shows per pixel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ViewMode {
-    /// Lambert shading of the interpolated vertex normal with the instance colour.
-    Lit,
+    /// Lambert shading of the interpolated vertex normal with the instance colour, no materials
+    /// (a cheap check of the geometry alone).
+    Lambert,
     /// Distance on a log scale: darker per stop (doubling) from the near plane, hue bands per
     /// quarter stop.
     Depth,
@@ -36,10 +37,10 @@ pub enum ViewMode {
     Lod,
     /// Orange for clusters drawn by `raster_hw`, blue for `raster_sw`.
     HwSw,
-    /// The material passes' output: materials (base colour, textures, metallic/roughness) lit by
-    /// the directional light plus ambient (`material_classify` -> `material_depth` ->
-    /// `emit_gbuffer` -> `shade`; not drawn by this pass).
-    Shaded,
+    /// The image: materials (base colour, textures, normal maps, metallic/roughness) lit by the
+    /// directional light plus ambient (`material_classify` -> `material_depth` -> `emit_gbuffer`
+    /// -> `shade`; not drawn by this pass). `brute` and `lod` shade the same way.
+    Lit,
     /// The GBuffer's albedo (material passes).
     Albedo,
     /// The GBuffer's world normal as colour (material passes).
@@ -51,7 +52,7 @@ pub enum ViewMode {
 impl ViewMode {
     /// Every mode.
     pub const ALL: [ViewMode; 7] = [
-        ViewMode::Lit,
+        ViewMode::Lambert,
         ViewMode::Depth,
         ViewMode::Triangles,
         ViewMode::Clusters,
@@ -62,11 +63,23 @@ impl ViewMode {
 
     /// The modes drawn by the material passes instead of this one.
     pub const MATERIAL: [ViewMode; 4] = [
-        ViewMode::Shaded,
+        ViewMode::Lit,
         ViewMode::Albedo,
         ViewMode::Normals,
         ViewMode::Materials,
     ];
+
+    /// What `shade` draws for a material-pass mode (`None` for the debug views).
+    pub fn shade_mode(self) -> Option<crate::material::ShadeMode> {
+        use crate::material::ShadeMode;
+        match self {
+            ViewMode::Lit => Some(ShadeMode::Lit),
+            ViewMode::Albedo => Some(ShadeMode::Albedo),
+            ViewMode::Normals => Some(ShadeMode::Normals),
+            ViewMode::Materials => Some(ShadeMode::Materials),
+            _ => None,
+        }
+    }
 
     /// Whether the material passes draw this mode (see [`ViewMode::MATERIAL`]).
     pub fn is_material(self) -> bool {
@@ -77,26 +90,27 @@ impl ViewMode {
     /// `lod`, `hwsw`, `shaded`, `albedo`, `normals`, `materials`).
     pub fn name(self) -> &'static str {
         match self {
-            ViewMode::Lit => "lit",
+            ViewMode::Lambert => "lambert",
             ViewMode::Depth => "depth",
             ViewMode::Triangles => "triangles",
             ViewMode::Clusters => "clusters",
             ViewMode::Instances => "instances",
             ViewMode::Lod => "lod",
             ViewMode::HwSw => "hwsw",
-            ViewMode::Shaded => "shaded",
+            ViewMode::Lit => "lit",
             ViewMode::Albedo => "albedo",
             ViewMode::Normals => "normals",
             ViewMode::Materials => "materials",
         }
     }
 
-    /// Parses [`ViewMode::name`] (also accepts `hw-sw`, `level`).
+    /// Parses [`ViewMode::name`] (also accepts `hw-sw`, `level`, and `shaded` for `lit`).
     pub fn parse(s: &str) -> Option<Self> {
         let s = s.to_ascii_lowercase();
         match s.as_str() {
             "hw-sw" | "hw_sw" => Some(ViewMode::HwSw),
             "level" => Some(ViewMode::Lod),
+            "shaded" => Some(ViewMode::Lit),
             _ => ViewMode::ALL
                 .into_iter()
                 .chain(ViewMode::MATERIAL)
@@ -106,7 +120,7 @@ impl ViewMode {
 
     fn code(self) -> u32 {
         match self {
-            ViewMode::Lit => 0,
+            ViewMode::Lambert => 0,
             ViewMode::Depth => 1,
             ViewMode::Triangles => 2,
             ViewMode::Clusters => 3,
@@ -114,7 +128,7 @@ impl ViewMode {
             ViewMode::Lod => 5,
             ViewMode::HwSw => 6,
             // Drawn by the material passes; `record` refuses them.
-            ViewMode::Shaded | ViewMode::Albedo | ViewMode::Normals | ViewMode::Materials => 0,
+            ViewMode::Lit | ViewMode::Albedo | ViewMode::Normals | ViewMode::Materials => 0,
         }
     }
 }
@@ -209,7 +223,7 @@ impl DebugView {
     }
 
     /// Records the pass: colours every pixel of `fb.visbuffer` by `mode`; `light_dir` points towards
-    /// the light (world space) for [`ViewMode::Lit`]. The visibility buffer, lists and counters must
+    /// the light (world space) for [`ViewMode::Lambert`]. The visibility buffer, lists and counters must
     /// be visible to compute shaders (the frame records that barrier).
     pub fn record(
         &self,

@@ -10,9 +10,8 @@ use crate::gpu::{
     ShaderStage, Timer, vk,
 };
 use crate::material::GpuMaterials;
-use crate::passes::material_classify::{
-    ALBEDO_FORMAT, MATERIAL_DEPTH_FORMAT, MaterialTargets, NORMAL_FORMAT, PARAMS_FORMAT,
-};
+use crate::passes::material_classify::{MATERIAL_DEPTH_FORMAT, MaterialTargets};
+use crate::passes::shade::{ALBEDO_FORMAT, NORMAL_FORMAT, PARAMS_FORMAT};
 use crate::passes::{FrameBuffers, VisPath, with_geometry};
 use crate::scene_gpu::GpuScene;
 
@@ -76,22 +75,8 @@ impl EmitGbuffer {
     ) {
         timer.begin(cmd, NAME);
         let vis = fb.visbuffer_desc(cmd);
-        let clear = Some([0.0; 4]);
         cmd.begin_rendering(
-            &[
-                RenderTarget {
-                    image: &t.albedo,
-                    clear,
-                },
-                RenderTarget {
-                    image: &t.normal,
-                    clear,
-                },
-                RenderTarget {
-                    image: &t.params,
-                    clear,
-                },
-            ],
+            &t.gbuffer.attachments(),
             Some(RenderTarget {
                 image: &t.material_depth,
                 clear: None,
@@ -102,7 +87,7 @@ impl EmitGbuffer {
             &self.pipeline,
             &with_geometry(
                 &[
-                    Desc::Uniform(&t.view),
+                    Desc::Uniform(&t.gbuffer.view),
                     Desc::Storage(&t.tiles),
                     Desc::Uniform(&fb.view),
                     Desc::Storage(&fb.visible),

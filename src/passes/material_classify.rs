@@ -10,6 +10,7 @@ use crate::gpu::{
     vk,
 };
 use crate::material::GpuMaterials;
+use crate::passes::shade::GbufferTargets;
 use crate::passes::{FrameBuffers, VisPath};
 use crate::scene_gpu::GpuScene;
 
@@ -48,12 +49,6 @@ pub struct MaterialViewGpu {
 }
 const _: () = assert!(size_of::<MaterialViewGpu>() == 144);
 
-/// GBuffer albedo: sRGB-encoded colour, alpha 1 where covered.
-pub const ALBEDO_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
-/// GBuffer normal: world space, facing the camera.
-pub const NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-/// GBuffer params: metallic, roughness, material id low byte, high byte.
-pub const PARAMS_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 /// Material depth: `(id + 1) / 2^24`, 0 where empty.
 pub const MATERIAL_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
@@ -65,8 +60,6 @@ pub struct MaterialTargets {
     /// Classification tiles per row and per column.
     pub tiles_x: u32,
     pub tiles_y: u32,
-    /// [`MaterialViewGpu`] (host-visible, written each frame).
-    pub view: Buffer,
     /// `uvec2(min, max)` material per tile.
     pub tiles: Buffer,
     /// Global material id per pixel ([`NO_MATERIAL`] where empty).
@@ -75,13 +68,8 @@ pub struct MaterialTargets {
     pub fragment_counts: Buffer,
     /// Material id as depth (`D32_SFLOAT`).
     pub material_depth: Image,
-    /// GBuffer: albedo (sRGB-encoded, alpha 1 where covered), normal (world), params (metallic,
-    /// roughness, material id bytes).
-    pub albedo: Image,
-    pub normal: Image,
-    pub params: Image,
-    /// The output of `shade` (RGBA8, sRGB-encoded).
-    pub output: Image,
+    /// The GBuffer, the material view and `shade`'s output.
+    pub gbuffer: GbufferTargets,
 }
 
 impl MaterialTargets {
@@ -92,30 +80,11 @@ impl MaterialTargets {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_SRC
             | vk::BufferUsageFlags::TRANSFER_DST;
-        let gbuf = |name: &str, format| {
-            Image::new(
-                ctx,
-                name,
-                width,
-                height,
-                format,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT
-                    | vk::ImageUsageFlags::STORAGE
-                    | vk::ImageUsageFlags::TRANSFER_SRC,
-            )
-        };
         Ok(Self {
             width,
             height,
             tiles_x,
             tiles_y,
-            view: Buffer::new(
-                ctx,
-                "material view",
-                size_of::<MaterialViewGpu>() as u64,
-                vk::BufferUsageFlags::UNIFORM_BUFFER,
-                MemoryKind::Upload,
-            )?,
             tiles: Buffer::new(
                 ctx,
                 "material tiles",
@@ -145,17 +114,7 @@ impl MaterialTargets {
                 MATERIAL_DEPTH_FORMAT,
                 vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             )?,
-            albedo: gbuf("gbuffer albedo", ALBEDO_FORMAT)?,
-            normal: gbuf("gbuffer normal", NORMAL_FORMAT)?,
-            params: gbuf("gbuffer params", PARAMS_FORMAT)?,
-            output: Image::new(
-                ctx,
-                "shade output",
-                width,
-                height,
-                vk::Format::R8G8B8A8_UNORM,
-                vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
-            )?,
+            gbuffer: GbufferTargets::new(ctx, "gbuffer", width, height)?,
         })
     }
 }
@@ -200,7 +159,7 @@ impl MaterialClassify {
         cmd.push_compute_descriptors(
             &self.pipeline,
             &[
-                Desc::Uniform(&t.view),
+                Desc::Uniform(&t.gbuffer.view),
                 Desc::Storage(&fb.visible),
                 Desc::Storage(&scene.instances),
                 Desc::Storage(&scene.meshes),

@@ -60,7 +60,10 @@ impl MaterialDepth {
         cmd.bind_graphics(&self.pipeline);
         cmd.push_graphics_descriptors(
             &self.pipeline,
-            &[Desc::Uniform(&t.view), Desc::Storage(&t.pixel_materials)],
+            &[
+                Desc::Uniform(&t.gbuffer.view),
+                Desc::Storage(&t.pixel_materials),
+            ],
         );
         cmd.draw(3, 1);
         cmd.end_rendering();
