@@ -97,6 +97,7 @@ impl LoadedScene {
         let mut built = Vec::with_capacity(scene.meshes.len());
         let mut warnings = Vec::new();
         for m in &scene.meshes {
+            let before = meshes.len();
             let generated = m
                 .path
                 .to_str()
@@ -127,6 +128,9 @@ impl LoadedScene {
                 warnings.extend(report.warnings);
                 meshes.push(mesh);
                 built.push(None);
+            }
+            if let (Some(n), Some(mesh)) = (m.materials, meshes.get_mut(before)) {
+                crate::mesh::assign_patch_materials(mesh, n);
             }
         }
         let placements = scene

@@ -13,6 +13,8 @@
 //! [[mesh]]
 //! name = "spot"
 //! path = "../spot.obj"
+//! materials = 64                  # optional: replace its materials by 64 generated ones, each a
+//!                                 # patch of the surface (material-cost benchmarks)
 //!
 //! # One instance. All keys but `mesh` are optional.
 //! [[instance]]
@@ -125,6 +127,9 @@ pub struct SceneMesh {
     pub name: String,
     /// Resolved against the scene file's folder.
     pub path: PathBuf,
+    /// Replace the mesh's materials by this many generated ones
+    /// ([`crate::mesh::assign_patch_materials`]); for material-cost benchmarks.
+    pub materials: Option<u32>,
 }
 
 /// One placed copy of a mesh.
@@ -215,6 +220,7 @@ impl Scene {
             meshes: vec![SceneMesh {
                 name,
                 path: path.to_path_buf(),
+                materials: None,
             }],
             instances: vec![Instance {
                 mesh: 0,
@@ -373,6 +379,7 @@ struct PathEntry {
 struct MeshEntry {
     name: String,
     path: PathBuf,
+    materials: Option<u32>,
 }
 
 #[derive(Deserialize)]
@@ -593,6 +600,9 @@ impl Pcg32 {
     }
 }
 
+/// Most generated materials a `[[mesh]]` may ask for (`materials = N`).
+pub const MAX_PATCH_MATERIALS: u32 = 65_536;
+
 /// Stream ids, so grid and scatter with the same seed differ.
 const GRID_STREAM: u64 = 0x0067_7269_6400;
 const SCATTER_STREAM: u64 = 0x0073_6361_7474;
@@ -614,6 +624,24 @@ fn build(file: SceneFile, base: &Path) -> Result<Scene, Invalid> {
             .path
             .to_str()
             .is_some_and(|p| p.starts_with(GENERATED_PREFIX));
+        if let Some(n) = m.materials {
+            if !(1..=MAX_PATCH_MATERIALS).contains(&n) {
+                return Err((
+                    entry,
+                    format!("materials = {n}: must be 1 to {MAX_PATCH_MATERIALS}"),
+                ));
+            }
+            if m.path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("vgeo"))
+            {
+                return Err((
+                    entry,
+                    "materials = N needs the source mesh (a .vgeo file keeps its built materials)"
+                        .into(),
+                ));
+            }
+        }
         meshes.push(SceneMesh {
             name: m.name.clone(),
             path: if generated {
@@ -621,6 +649,7 @@ fn build(file: SceneFile, base: &Path) -> Result<Scene, Invalid> {
             } else {
                 base.join(&m.path)
             },
+            materials: m.materials,
         });
     }
     let find = |name: &str| -> Result<u32, String> {
@@ -860,6 +889,25 @@ mod tests {
     }
 
     const MESH: &str = "[[mesh]]\nname = \"m\"\npath = \"m.ply\"\n";
+
+    #[test]
+    fn generated_materials_are_checked() {
+        let inst = "[[instance]]\nmesh = \"m\"\n";
+        let s = parse(&format!(
+            "[[mesh]]\nname = \"m\"\npath = \"m.ply\"\nmaterials = 64\n{inst}"
+        ))
+        .unwrap();
+        assert_eq!(s.meshes[0].materials, Some(64));
+        assert!(
+            parse(&format!("{MESH}{inst}")).unwrap().meshes[0]
+                .materials
+                .is_none()
+        );
+        let e = err("[[mesh]]\nname = \"m\"\npath = \"m.ply\"\nmaterials = 0\n");
+        assert!(e.contains("materials = 0") && e.contains("\"m\""), "{e}");
+        let e = err("[[mesh]]\nname = \"m\"\npath = \"m.vgeo\"\nmaterials = 4\n");
+        assert!(e.contains(".vgeo"), "{e}");
+    }
 
     #[test]
     fn instance_transform_and_paths() {

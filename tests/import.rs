@@ -1198,3 +1198,47 @@ fn fuzzed_files_never_panic() {
     assert!(ok > 20 && err > 20, "ok {ok}, err {err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn patch_materials_cut_a_mesh_into_equal_coherent_patches() {
+    let (mut mesh, _) =
+        vgeo::mesh::load_mesh(&common::assets().join("spot.obj")).expect("spot loads");
+    let tris = mesh.triangle_count();
+    vgeo::mesh::assign_patch_materials(&mut mesh, 64);
+    mesh.validate().expect("still valid");
+    assert_eq!(mesh.materials.len(), 64);
+    let mut counts = vec![0usize; 64];
+    for &m in &mesh.material_ids {
+        counts[m as usize] += 1;
+    }
+    let per = tris.div_ceil(64);
+    assert!(counts[..63].iter().all(|&c| c == per), "{counts:?}");
+    assert!(counts[63] >= 1 && counts[63] <= per);
+    // Coherent: a patch's bounding box is far smaller than the mesh's (Morton runs).
+    let (lo, hi) = mesh.bounds().expect("bounds");
+    let diag = |a: [f32; 3], b: [f32; 3]| (0..3).map(|k| (b[k] - a[k]).powi(2)).sum::<f32>().sqrt();
+    let mut boxes = vec![([f32::MAX; 3], [f32::MIN; 3]); 64];
+    for (t, &m) in mesh.material_ids.iter().enumerate() {
+        for v in 0..3 {
+            let p = mesh.positions[mesh.indices[3 * t + v] as usize];
+            let b = &mut boxes[m as usize];
+            for k in 0..3 {
+                b.0[k] = b.0[k].min(p[k]);
+                b.1[k] = b.1[k].max(p[k]);
+            }
+        }
+    }
+    let mean: f32 = boxes.iter().map(|b| diag(b.0, b.1)).sum::<f32>() / 64.0;
+    assert!(mean < 0.5 * diag(lo, hi), "mean patch diagonal {mean}");
+    // Distinct colours, deterministic.
+    let mut again = mesh.clone();
+    vgeo::mesh::assign_patch_materials(&mut again, 64);
+    assert_eq!(again.material_ids, mesh.material_ids);
+    assert_ne!(mesh.materials[0].base_color, mesh.materials[32].base_color);
+    // More materials than triangles: one per triangle.
+    let mut tiny = mesh.clone();
+    tiny.indices.truncate(9);
+    tiny.material_ids.truncate(3);
+    vgeo::mesh::assign_patch_materials(&mut tiny, 64);
+    assert_eq!(tiny.materials.len(), 3);
+}

@@ -629,6 +629,63 @@ pub fn fill_missing_normals(mesh: &mut Mesh) -> usize {
     computed
 }
 
+/// Replaces `mesh`'s materials by `n` generated ones (`n` >= 1), each a spatially coherent patch:
+/// triangles sorted by the Morton code of their centroid (10 bits per axis over the bounds) and cut
+/// into `n` runs of equal size (the last may be shorter; with fewer triangles than `n`, only as many
+/// materials as triangles are used). Base colours are spread over hue, every fourth material is
+/// metal, roughness varies; no textures. Deterministic. For benchmarks of material cost (the
+/// `drawcalls` scene's 64 materials per mesh).
+pub fn assign_patch_materials(mesh: &mut Mesh, n: u32) {
+    let n = n.max(1);
+    let tris = mesh.indices.len() / 3;
+    let (lo, hi) = mesh.bounds().unwrap_or(([0.0; 3], [1.0; 3]));
+    let spread = |k: usize| (hi[k] - lo[k]).max(f32::MIN_POSITIVE);
+    let morton = |t: usize| {
+        let mut code = 0u32;
+        for k in 0..3 {
+            let c: f32 = (0..3)
+                .map(|v| mesh.positions[mesh.indices[3 * t + v] as usize][k])
+                .sum::<f32>()
+                / 3.0;
+            let q = (((c - lo[k]) / spread(k)).clamp(0.0, 1.0) * 1023.0) as u32;
+            for bit in 0..10 {
+                code |= ((q >> bit) & 1) << (3 * bit + k as u32);
+            }
+        }
+        code
+    };
+    let mut order: Vec<(u32, u32)> = (0..tris).map(|t| (morton(t), t as u32)).collect();
+    order.sort_unstable();
+    let per = tris.div_ceil(n as usize).max(1);
+    mesh.material_ids = vec![0; tris];
+    for (rank, &(_, t)) in order.iter().enumerate() {
+        mesh.material_ids[t as usize] = (rank / per) as u32;
+    }
+    let used = if tris == 0 {
+        1
+    } else {
+        tris.div_ceil(per) as u32
+    };
+    mesh.materials = (0..used)
+        .map(|i| {
+            let h = i as f32 / used as f32 * 6.0;
+            let f = |o: f32| (((h + o) % 6.0 - 3.0).abs() - 1.0).clamp(0.0, 1.0);
+            Material {
+                name: format!("patch{i}"),
+                base_color: [
+                    0.15 + 0.8 * f(0.0),
+                    0.15 + 0.8 * f(4.0),
+                    0.15 + 0.8 * f(2.0),
+                    1.0,
+                ],
+                metallic: if i % 4 == 3 { 1.0 } else { 0.0 },
+                roughness: 0.25 + 0.5 * ((i * 7 % 11) as f32 / 10.0),
+                ..Material::default()
+            }
+        })
+        .collect();
+}
+
 /// Drops materials no triangle uses and renumbers `material_ids` (original order kept); a mesh
 /// without materials gets the default one.
 fn compact_materials(mesh: &mut Mesh) {
