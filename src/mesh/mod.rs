@@ -639,15 +639,15 @@ pub fn assign_patch_materials(mesh: &mut Mesh, n: u32) {
     let n = n.max(1);
     let tris = mesh.indices.len() / 3;
     let (lo, hi) = mesh.bounds().unwrap_or(([0.0; 3], [1.0; 3]));
-    let spread = |k: usize| (hi[k] - lo[k]).max(f32::MIN_POSITIVE);
     let morton = |t: usize| {
         let mut code = 0u32;
-        for k in 0..3 {
+        for (k, (l, h)) in lo.iter().zip(hi).enumerate() {
             let c: f32 = (0..3)
                 .map(|v| mesh.positions[mesh.indices[3 * t + v] as usize][k])
                 .sum::<f32>()
                 / 3.0;
-            let q = (((c - lo[k]) / spread(k)).clamp(0.0, 1.0) * 1023.0) as u32;
+            let spread = (h - l).max(f32::MIN_POSITIVE);
+            let q = (((c - l) / spread).clamp(0.0, 1.0) * 1023.0) as u32;
             for bit in 0..10 {
                 code |= ((q >> bit) & 1) << (3 * bit + k as u32);
             }
