@@ -1222,9 +1222,9 @@ fn patch_materials_cut_a_mesh_into_equal_coherent_patches() {
         for v in 0..3 {
             let p = mesh.positions[mesh.indices[3 * t + v] as usize];
             let b = &mut boxes[m as usize];
-            for k in 0..3 {
-                b.0[k] = b.0[k].min(p[k]);
-                b.1[k] = b.1[k].max(p[k]);
+            for (k, c) in p.iter().enumerate() {
+                b.0[k] = b.0[k].min(*c);
+                b.1[k] = b.1[k].max(*c);
             }
         }
     }
