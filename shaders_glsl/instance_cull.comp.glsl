@@ -1,8 +1,9 @@
 #version 460
 // Pass `instance_cull`.
 // Main phase: a thread per instance; frustum test of the mesh's bounding sphere, then the previous
-// frame's HZB: visible instances push their BVH root into cluster_cull's queue, occluded ones wait
-// in `post_instances` for the post phase.
+// frame's HZB: visible instances whose whole cut is the DAG's root cluster emit it directly
+// (instance-level LOD, cull.glsl), the others push their BVH root into cluster_cull's queue;
+// occluded ones wait in `post_instances` for the post phase.
 // Post phase: grid-stride over what the main phase deferred: instances (tested against this frame's
 // HZB, pushed if visible), BVH-node items (pushed back: cluster_cull tests them again) and clusters
 // (tested against this frame's HZB, emitted if visible).
@@ -25,7 +26,9 @@ void instance_main(uint i) {
         return;
     }
     atomicAdd(counters.instances_visible, 1u);
-    push_item((uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root));
+    if (!emit_root_if_whole_cut(i, inst, mesh)) {
+        push_item((uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root));
+    }
 }
 
 void main() {
@@ -52,7 +55,9 @@ void main() {
             continue;
         }
         atomicAdd(counters.instances_visible, 1u);
-        push_item((uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root));
+        if (!emit_root_if_whole_cut(i, inst, mesh)) {
+            push_item((uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root));
+        }
     }
     for (uint j = gid; j < n_nodes; j += threads) {
         push_item(post_nodes[j]);

@@ -123,6 +123,8 @@ impl GpuScene {
                 quant_step: q.step as f32,
                 bounds_center: center,
                 bounds_radius: radius,
+                root_cluster: m.root,
+                _pad: [0; 3],
             });
             clusters.extend_from_slice(&m.clusters);
             groups.extend_from_slice(&m.groups);

@@ -104,8 +104,12 @@ pub struct MeshGpu {
     /// Object-space bounding sphere of the whole mesh.
     pub bounds_center: [f32; 3],
     pub bounds_radius: f32,
+    /// The DAG's root cluster, relative to `cluster_offset` (instance-level LOD: when it alone is
+    /// fine, `instance_cull` emits it without walking the BVH).
+    pub root_cluster: u32,
+    pub _pad: [u32; 3],
 }
-const _: () = assert!(size_of::<MeshGpu>() == 64);
+const _: () = assert!(size_of::<MeshGpu>() == 80);
 
 /// One instance of the vgeo path. The translation is split into high and low f32 parts so that
 /// camera-relative positions are exact for scenes far from the origin.

@@ -143,4 +143,40 @@ void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) 
     atomicAdd(counters.triangles, (clusters[cluster_index].counts >> 8) & 0xffu);
 }
 
+// Instance-level LOD. When the mesh's root cluster alone is fine for this view, the cut is exactly
+// {root}: every other cluster's parent error projects to at most the root's own (errors and LOD
+// spheres grow towards the root), so none of them is drawn and the BVH walk is skipped. The root
+// then gets the tests cluster_cull gives a drawn cluster (frustum, HZB: deferred in the main phase,
+// rejected in the post phase) and is emitted. False when the root is too coarse (walk the BVH).
+bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
+    uint ci = mesh.cluster_offset + mesh.root_cluster;
+    Cluster cl = clusters[ci];
+    float scale = inst.max_scale;
+    vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
+    if (lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) > view.error_px) {
+        return false;
+    }
+    atomicAdd(counters.clusters_tested, 1u);
+    vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
+    float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * scale;
+    if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, cc, cr)) {
+        return true;
+    }
+    if (hzb_occluded(inst, cl.bounds_min, cl.bounds_max)) {
+        if (pc.phase == 0u) {
+            uint j = atomicAdd(counters.post_cluster_count, 1u);
+            if (j < view.visible_capacity) {
+                post_clusters[j] = uvec2(instance, ci);
+            } else {
+                atomicAdd(counters.visible_overflow, 1u);
+            }
+        } else {
+            atomicAdd(counters.occluded_clusters, 1u);
+        }
+        return true;
+    }
+    emit_cluster(instance, ci, cc, cr);
+    return true;
+}
+
 #endif

@@ -30,6 +30,10 @@ struct MeshGpu {
     float quant_step;
     vec3 bounds_center;
     float bounds_radius;
+    uint root_cluster;
+    uint _pad0;
+    uint _pad1;
+    uint _pad2;
 };
 
 struct InstanceVgeo {
