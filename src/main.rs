@@ -62,8 +62,9 @@ struct RenderArgs {
     /// Pixel error threshold of `--mode lod` and `--mode vgeo` (0 = full detail).
     #[arg(long, default_value_t = 1.0)]
     error_px: f32,
-    /// What `--mode vgeo` shows: lit, depth, triangles, clusters, instances, lod, hwsw (debug
-    /// views), or shaded, albedo, normals, materials (the material passes).
+    /// What `--mode vgeo` shows: lit, depth, triangles, clusters, instances, lod, hwsw, groups
+    /// (DAG group), overdraw (rasterizer writes per pixel), fallback (the DAG roots: the coarsest
+    /// cut) (debug views), or shaded, albedo, normals, materials (the material passes).
     #[arg(long, default_value = "lit")]
     view: String,
     /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).
