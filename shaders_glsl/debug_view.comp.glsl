@@ -2,8 +2,8 @@
 // Pass `debug_view`: the visibility buffer as colours (RGBA8 storage image), one thread per pixel.
 // Modes (push constant, DebugViewPush::mode; src/passes/debug_view.rs ViewMode): 0 lit, 1 depth,
 // 2 triangles, 3 clusters, 4 instances, 5 LOD level, 6 HW/SW, 7 groups, 8 overdraw (the counter at
-// binding 11, filled by the rasterizers), 9 fallback (Lambert, cluster tint, cluster borders and a faint wireframe; the frame
-// forces the cut to the DAG roots). Empty pixels get the background.
+// binding 11, filled by the rasterizers), 9 fallback (Lambert, cluster tint, cluster borders and a
+// faint wireframe; the frame forces the cut to the DAG roots). Empty pixels get the background.
 // The `mark` variant is the pass's first step: it flags every visible entry that is in the HW list
 // (flags[] cleared to 0 before), which the HW/SW mode reads.
 //! variant image VISBUFFER_IMAGE
@@ -87,7 +87,8 @@ vec3 hsv_to_rgb(float h, float s, float v) {
 // whose hues happen to be close still differ.
 vec3 group_color(uint instance, uint group) {
     uint h = hash_u32(group * 0x9e3779b9u ^ hash_u32(instance + 0x632be5abu));
-    float hue = fract(float(group % 1048576u) * 0.61803399 + float(hash_u32(instance) & 0xffffu) / 65536.0);
+    float offset = float(hash_u32(instance) & 0xffffu) / 65536.0;
+    float hue = fract(float(group % 1048576u) * 0.61803399 + offset);
     float sat = 0.45 + 0.25 * float(h % 3u);
     float val = 0.55 + 0.2 * float((h / 3u) % 3u);
     return hsv_to_rgb(hue, sat, val);
@@ -202,7 +203,8 @@ void main() {
             // The fallback (root) clusters: Lambert, a light tint per cluster, dark lines where the
             // right or lower neighbour shows another cluster, faint ones where it shows another
             // triangle of the same cluster (the proxy's wireframe).
-            color = lit_color(entry, tri, px) * mix(vec3(1.0), hash_color(entry.y * 0x9e3779b9u + entry.x), 0.35);
+            vec3 tint = hash_color(entry.y * 0x9e3779b9u + entry.x);
+            color = lit_color(entry, tri, px) * mix(vec3(1.0), tint, 0.35);
             float edge = 1.0;
             for (int k = 0; k < 2; k++) {
                 ivec2 q = px + (k == 0 ? ivec2(1, 0) : ivec2(0, 1));

@@ -5,7 +5,7 @@
 // the top-left rule exactly as src/reference/raster.rs, depth from the snapped positions, atomicMax
 // into the visibility buffer. Small triangles walk their bounding box with int32 edge functions,
 // larger ones walk scanlines (the covered span of each row solved from the edge functions, int64).
-// With VIEW_FLAG_COUNT_OVERDRAW each covered pixel also increments the overdraw counter (binding 11).
+// With VIEW_FLAG_COUNT_OVERDRAW each covered pixel also adds 1 to the overdraw counter (binding 11)
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define VISBUFFER_BINDING 10
