@@ -55,7 +55,8 @@ pub struct LodStripOptions {
     pub hw_threshold_px: f32,
     /// Extra `VIEW_FLAG_*` (force SW / HW).
     pub flags: u32,
-    /// The debug view of the panels (default [`ViewMode::Clusters`]; a material view is refused).
+    /// The view of the panels (default [`ViewMode::Clusters`]; [`ViewMode::Fallback`], which
+    /// replaces the cut, is refused).
     pub view: ViewMode,
 }
 
@@ -94,12 +95,12 @@ impl LodStripOptions {
                 self.error_px
             ));
         }
-        if matches!(self.view, ViewMode::Fallback | ViewMode::Overdraw) || self.view.is_material() {
-            return bad(format!(
-                "view `{}`: a strip shows the cut with a debug view that does not change it \
-                 (clusters, lod, groups, triangles, ...)",
-                self.view.name()
-            ));
+        if self.view == ViewMode::Fallback {
+            return bad(
+                "view `fallback` replaces the cut by the DAG roots: a strip needs a view that \
+                 shows the cut (clusters, lod, groups, triangles, ...)"
+                    .into(),
+            );
         }
         Ok(())
     }

@@ -89,13 +89,15 @@ struct RenderArgs {
     /// `--strip-view`. Each panel is magnified to the same apparent size (field of view narrowed by
     /// 2^i) while its LOD cut is the unmagnified view's at that distance (the threshold `--error-px`
     /// is scaled by 2^i with it), so the panels show how the cut coarsens with distance. Prints
-    /// each panel's distance, clusters and triangles drawn (occlusion culling off).
+    /// each panel's distance, clusters and triangles drawn (occlusion culling off; `--mode`,
+    /// `--view` and `--frames` do not apply).
     #[arg(long)]
     lod_strip: bool,
     /// Panels of `--lod-strip` (1 to 16).
     #[arg(long, default_value_t = 5)]
     panels: u32,
-    /// Debug view of `--lod-strip`'s panels: clusters, lod, groups, triangles, hwsw, ...
+    /// View of `--lod-strip`'s panels: clusters, lod, groups, triangles, hwsw, ... (any `--view`
+    /// but fallback, which replaces the cut).
     #[arg(long, default_value = "clusters")]
     strip_view: String,
 }

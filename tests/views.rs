@@ -580,4 +580,14 @@ fn cli_renders_the_new_views_and_a_lod_strip() {
         "{stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
+    let out = vgeo()
+        .args(["render", "--lod-strip", "--strip-view", "fallback"])
+        .arg(&spot)
+        .output()
+        .expect("vgeo runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("fallback"),
+        "{stderr}"
+    );
 }
