@@ -1,7 +1,9 @@
 #version 460
 // Pass `debug_view`: the visibility buffer as colours (RGBA8 storage image), one thread per pixel.
 // Modes (push constant, DebugViewPush::mode; src/passes/debug_view.rs ViewMode): 0 lit, 1 depth,
-// 2 triangles, 3 clusters, 4 instances, 5 LOD level, 6 HW/SW. Empty pixels get the background.
+// 2 triangles, 3 clusters, 4 instances, 5 LOD level, 6 HW/SW, 7 groups, 8 overdraw (the counter at
+// binding 11, filled by the rasterizers), 9 fallback (Lambert, cluster tint, cluster borders and a
+// faint wireframe; the frame forces the cut to the DAG roots). Empty pixels get the background.
 // The `mark` variant is the pass's first step: it flags every visible entry that is in the HW list
 // (flags[] cleared to 0 before), which the HW/SW mode reads.
 //! variant image VISBUFFER_IMAGE
@@ -46,6 +48,8 @@ layout(set = 0, binding = 6, scalar) readonly buffer Vertices { PackedVertex ver
 layout(set = 0, binding = 7, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
 layout(set = 0, binding = 8, scalar) readonly buffer Triangles { uint triangle_words[]; };
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2D out_image;
+// binding 10: the visibility buffer (visbuffer.glsl)
+layout(set = 0, binding = 11, scalar) readonly buffer Overdraw { uint overdraw_counts[]; };
 
 layout(push_constant, scalar) uniform Push {
     vec4 background;  // sRGB-encoded
@@ -58,13 +62,45 @@ layout(push_constant, scalar) uniform Push {
 
 #include "raster.glsl"
 
-vec3 hash_color(uint x) {
+uint hash_u32(uint x) {
     x ^= x >> 16;
     x *= 0x7feb352du;
     x ^= x >> 15;
     x *= 0x846ca68bu;
     x ^= x >> 16;
+    return x;
+}
+
+vec3 hash_color(uint x) {
+    x = hash_u32(x);
     return vec3(uvec3(x, x >> 8, x >> 16) & 0xffu) / 255.0 * 0.8 + 0.2;
+}
+
+vec3 hsv_to_rgb(float h, float s, float v) {
+    vec3 k = clamp(abs(fract(h + vec3(0.0, 2.0 / 3.0, 1.0 / 3.0)) * 6.0 - 3.0) - 1.0, 0.0, 1.0);
+    return v * mix(vec3(1.0), k, s);
+}
+
+// Groups: the hue walks the golden-ratio sequence over the group index (groups with nearby indices,
+// which the builder tends to give to neighbours, land far apart on the hue circle), offset per
+// instance; saturation and brightness take one of three levels each from a hash, so two groups
+// whose hues happen to be close still differ.
+vec3 group_color(uint instance, uint group) {
+    uint h = hash_u32(group * 0x9e3779b9u ^ hash_u32(instance + 0x632be5abu));
+    float offset = float(hash_u32(instance) & 0xffffu) / 65536.0;
+    float hue = fract(float(group % 1048576u) * 0.61803399 + offset);
+    float sat = 0.45 + 0.25 * float(h % 3u);
+    float val = 0.55 + 0.2 * float((h / 3u) % 3u);
+    return hsv_to_rgb(hue, sat, val);
+}
+
+// Overdraw heat ramp on log2(count): 1 dark blue, 2 light blue, 4 green, 8 red, >= 16 white.
+vec3 heat_color(uint n) {
+    const vec3 stops[5] = vec3[5](vec3(0.05, 0.08, 0.45), vec3(0.10, 0.55, 0.95),
+                                  vec3(0.20, 0.85, 0.25), vec3(0.95, 0.25, 0.08), vec3(1.0));
+    float t = clamp(log2(float(max(n, 1u))), 0.0, 4.0);
+    uint i = min(uint(t), 3u);
+    return mix(stops[i], stops[i + 1u], t - float(i));
 }
 
 vec3 level_color(uint level) {
@@ -122,6 +158,12 @@ void main() {
     }
     uint64_t value = vis_read(px, width);
     vec3 color = background.rgb;
+    if (mode == 8u) {
+        // Overdraw: the count alone (it is 0 exactly where nothing was rasterized).
+        uint n = overdraw_counts[uint(px.y) * width + uint(px.x)];
+        imageStore(out_image, px, vec4(n == 0u ? background.rgb : heat_color(n), 1.0));
+        return;
+    }
     if (value != 0ul) {
         float depth = uintBitsToFloat(uint(value >> 32));
         uint lo = uint(value);
@@ -153,6 +195,30 @@ void main() {
         case 5u:
             color = level_color(clusters[entry.y].level);
             break;
+        case 7u:
+            color = group_color(entry.x, clusters[entry.y].group);
+            break;
+        case 9u:
+        {
+            // The fallback (root) clusters: Lambert, a light tint per cluster, dark lines where the
+            // right or lower neighbour shows another cluster, faint ones where it shows another
+            // triangle of the same cluster (the proxy's wireframe).
+            vec3 tint = hash_color(entry.y * 0x9e3779b9u + entry.x);
+            color = lit_color(entry, tri, px) * mix(vec3(1.0), tint, 0.35);
+            float edge = 1.0;
+            for (int k = 0; k < 2; k++) {
+                ivec2 q = px + (k == 0 ? ivec2(1, 0) : ivec2(0, 1));
+                if (q.x < int(width) && q.y < int(height)) {
+                    uint64_t nv = vis_read(q, width);
+                    if (nv != 0ul && uint(nv) != lo) {
+                        bool same_cluster = (uint(nv) >> VISBUFFER_TRIANGLE_BITS) == visible_index;
+                        edge = min(edge, same_cluster ? 0.75 : 0.25);
+                    }
+                }
+            }
+            color *= edge;
+            break;
+        }
         default: {
             bool hw = visible_index < visible_capacity && hw_flags[visible_index] != 0u;
             color = hw ? vec3(0.95, 0.45, 0.10) : vec3(0.15, 0.45, 0.95);

@@ -2,7 +2,8 @@
 // Pass `raster_hw`, fragment stage: no attachments; the hardware's coverage, the depth recomputed
 // from the snapped vertices with raster_sw's exact integer edge functions and float operations (so
 // both rasterizers write bit-identical values), atomicMax into the visibility buffer. Triangles
-// with a vertex that cannot be snapped (behind the near plane) use the hardware's depth.
+// with a vertex that cannot be snapped (behind the near plane) use the hardware's depth. With
+// VIEW_FLAG_COUNT_OVERDRAW each fragment also increments the overdraw counter (binding 10).
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define VISBUFFER_BINDING 9
@@ -19,6 +20,8 @@ layout(location = 4) flat in vec3 in_z;
 
 #define RASTER_NO_SCENE
 #include "raster.glsl"
+#define OVERDRAW_BINDING 10
+#include "overdraw.glsl"
 
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
@@ -43,4 +46,5 @@ void main() {
     }
     vis_write(px, uint(view.viewport.x), vis_pack(depth, in_id >> VISBUFFER_TRIANGLE_BITS,
                                                    in_id & ((1u << VISBUFFER_TRIANGLE_BITS) - 1u)));
+    overdraw_count(px, uint(view.viewport.x));
 }

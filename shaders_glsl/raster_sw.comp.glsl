@@ -5,6 +5,7 @@
 // the top-left rule exactly as src/reference/raster.rs, depth from the snapped positions, atomicMax
 // into the visibility buffer. Small triangles walk their bounding box with int32 edge functions,
 // larger ones walk scanlines (the covered span of each row solved from the edge functions, int64).
+// With VIEW_FLAG_COUNT_OVERDRAW each covered pixel also adds 1 to the overdraw counter (binding 11)
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define VISBUFFER_BINDING 10
@@ -25,6 +26,8 @@ layout(set = 0, binding = 8, scalar) readonly buffer VertexRefs { uint vertex_re
 layout(set = 0, binding = 9, scalar) readonly buffer Triangles { uint triangle_words[]; };
 
 #include "raster.glsl"
+#define OVERDRAW_BINDING 11
+#include "overdraw.glsl"
 
 // Bounding boxes of at most this many pixels, with vertex extents under 64 pixels (int32-safe
 // edge functions), are walked pixel by pixel; others by scanline.
@@ -84,6 +87,7 @@ void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint widt
                 if ((t.x | t.y | t.z) >= 0) {
                     float d = raster_depth(float(e.x), float(e.y), float(e.z), z, inv_area);
                     vis_write(ivec2(x, y), width, vis_pack(d, visible_index, tri));
+                    overdraw_count(ivec2(x, y), width);
                 }
                 e += step_x;
             }
@@ -124,6 +128,7 @@ void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint widt
             for (int64_t t = t_lo; t <= t_hi; t++) {
                 float d = raster_depth(float(e.x), float(e.y), float(e.z), z, inv_area);
                 vis_write(ivec2(x0 + int(t), y), width, vis_pack(d, visible_index, tri));
+                overdraw_count(ivec2(x0 + int(t), y), width);
                 e += step_x;
             }
         }

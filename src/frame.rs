@@ -20,7 +20,9 @@ use crate::passes::view::{FrameSettings, view_gpu};
 use crate::passes::{FrameBuffers, VisPath, visbuffer};
 use crate::render::{Frame, Light, Placement};
 use crate::scene_gpu::GpuScene;
-use crate::shared::{CullCounters, OcclusionGpu, VIEW_FLAG_DIRECT_VISIBLE};
+use crate::shared::{
+    CullCounters, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_DIRECT_VISIBLE,
+};
 
 /// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits.
 pub const MAX_VISIBLE: u32 = 1 << crate::shared::VISBUFFER_CLUSTER_BITS;
@@ -76,6 +78,9 @@ pub struct VgeoRenderer {
     fb: Option<FrameBuffers>,
     pyramid: Option<DepthPyramid>,
     debug_view: Option<DebugView>,
+    /// Per-pixel overdraw counters (u32, the frame's size), allocated by the first frame that
+    /// counts ([`ViewMode::Overdraw`] or [`VIEW_FLAG_COUNT_OVERDRAW`]).
+    overdraw: Option<Buffer>,
     /// The scene's materials (CPU) and, once a material view was rendered, the material passes.
     scene_materials: SceneMaterials,
     materials: Option<MaterialPasses>,
@@ -131,6 +136,7 @@ impl VgeoRenderer {
             fb: None,
             pyramid: None,
             debug_view: None,
+            overdraw: None,
             scene_materials,
             materials: None,
             count_fragments: false,
@@ -212,6 +218,7 @@ impl VgeoRenderer {
             )?;
             self.pyramid = Some(DepthPyramid::new(&self.ctx, &fb)?);
             self.debug_view = Some(DebugView::new(&self.ctx, &fb)?);
+            self.overdraw = None;
             self.fb = Some(fb);
             self.history = None;
         }
@@ -323,6 +330,12 @@ impl VgeoRenderer {
 
     /// Renders one frame: both culling phases, both rasterizers, the HZB, and `mode`'s debug view,
     /// and reads back the image, the visibility buffer and the counters.
+    ///
+    /// Two views change the frame itself: [`ViewMode::Fallback`] renders with
+    /// `error_px = f32::MAX` (the cut becomes the DAG roots wherever the camera is outside their
+    /// LOD spheres), and [`ViewMode::Overdraw`] (like [`VIEW_FLAG_COUNT_OVERDRAW`] in
+    /// `settings.flags` with any view) makes the rasterizers count writes per pixel, returned in
+    /// [`VgeoFrame::overdraw`].
     pub fn render(
         &mut self,
         camera: &Camera,
@@ -332,7 +345,27 @@ impl VgeoRenderer {
         mode: ViewMode,
         light: &Light,
     ) -> GpuResult<VgeoFrame> {
+        let mut settings = *settings;
+        if mode == ViewMode::Fallback {
+            settings.error_px = f32::MAX;
+        }
+        if mode == ViewMode::Overdraw {
+            settings.flags |= VIEW_FLAG_COUNT_OVERDRAW;
+        }
+        let counting = settings.flags & VIEW_FLAG_COUNT_OVERDRAW != 0;
+        let settings = &settings;
         self.write_view(camera, width, height, settings)?;
+        if counting && self.overdraw.is_none() {
+            self.overdraw = Some(Buffer::new(
+                &self.ctx,
+                "overdraw counters",
+                4 * width as u64 * height as u64,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_DST
+                    | vk::BufferUsageFlags::TRANSFER_SRC,
+                crate::gpu::MemoryKind::Gpu,
+            )?);
+        }
         if let Some(sm) = mode.shade_mode() {
             self.prepare_materials()?;
             let fb = self
@@ -372,6 +405,7 @@ impl VgeoRenderer {
             .as_ref()
             .ok_or_else(|| GpuError::Other("debug view missing".into()))?;
         let materials = self.materials.as_ref().filter(|_| mode.is_material());
+        let overdraw = self.overdraw.as_ref().filter(|_| counting);
         let mut timer = Timer::new(&self.ctx, 24)?;
         let mut result = Ok(());
         self.ctx.submit_and_wait("vgeo frame", |cmd| {
@@ -379,6 +413,9 @@ impl VgeoRenderer {
             visbuffer::clear(cmd, fb);
             // Direct slots leave holes: empty entries read as all ones.
             cmd.fill_buffer(&fb.visible, u32::MAX);
+            if let Some(o) = overdraw {
+                cmd.fill_buffer(o, 0);
+            }
             let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
             let raster_stages =
                 vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
@@ -392,11 +429,11 @@ impl VgeoRenderer {
             for phase in [Phase::Main, Phase::Post] {
                 self.record_cull(cmd, &mut timer, fb, &pyramid.hzb, phase);
                 self.raster_sw
-                    .record(cmd, &mut timer, &self.scene, fb, phase);
+                    .record_counting(cmd, &mut timer, &self.scene, fb, phase, overdraw);
                 // Both rasterizers do atomics on the visibility buffer.
                 cmd.barrier((raster_stages, rw), (raster_stages, rw));
                 self.raster_hw
-                    .record(cmd, &mut timer, &self.scene, fb, phase);
+                    .record_counting(cmd, &mut timer, &self.scene, fb, phase, overdraw);
                 cmd.barrier(
                     (raster_stages, rw),
                     (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
@@ -407,7 +444,15 @@ impl VgeoRenderer {
             }
             result = match materials {
                 Some(m) => m.record(cmd, &mut timer, &self.scene, fb),
-                None => debug_view.record(cmd, &mut timer, &self.scene, fb, mode, light.direction),
+                None => debug_view.record_with_overdraw(
+                    cmd,
+                    &mut timer,
+                    &self.scene,
+                    fb,
+                    mode,
+                    light.direction,
+                    overdraw,
+                ),
             };
         })?;
         result?;
@@ -424,6 +469,10 @@ impl VgeoRenderer {
         let color = match materials {
             Some(m) => m.download()?,
             None => debug_view.download()?,
+        };
+        let overdraw = match overdraw {
+            Some(o) => Some(words(&o.download()?)),
+            None => None,
         };
         self.history = settings.occlusion.then_some(current);
         let triangles = main_res.counters.triangles as u64 + post_res.counters.triangles as u64;
@@ -444,7 +493,17 @@ impl VgeoRenderer {
             main: main_res,
             post: post_res,
             visible_table,
+            overdraw,
         })
+    }
+
+    /// The overdraw counters as the last counting frame left them (`None` before any frame
+    /// counted). Frames that do not count neither clear nor write them.
+    pub fn overdraw_counts(&self) -> GpuResult<Option<Vec<u32>>> {
+        match &self.overdraw {
+            Some(o) => Ok(Some(words(&o.download()?))),
+            None => Ok(None),
+        }
     }
 
     /// Runs only the culling passes and reads back their results (tests compare them with the CPU cut).
@@ -509,6 +568,9 @@ pub struct VgeoFrame {
     /// The visible list as the GPU left it (up to the largest slot in use): what a visibility-buffer
     /// value's cluster index points at. Unused slots are all ones.
     pub visible_table: Vec<[u32; 2]>,
+    /// Rasterizer writes per pixel (row-major, both phases), when the frame counted them
+    /// ([`ViewMode::Overdraw`] or [`VIEW_FLAG_COUNT_OVERDRAW`]).
+    pub overdraw: Option<Vec<u32>>,
 }
 
 impl VgeoFrame {
@@ -578,4 +640,12 @@ fn read_visible_table(fb: &FrameBuffers, max: Option<u32>) -> GpuResult<Vec<[u32
     let n = (max as usize + 1).min(fb.visible_capacity as usize);
     let bytes = fb.visible.download()?;
     Ok(bytemuck::cast_slice::<u8, [u32; 2]>(&bytes[..8 * n]).to_vec())
+}
+
+/// Little-endian u32 words of a readback (whatever the byte vector's alignment).
+fn words(bytes: &[u8]) -> Vec<u32> {
+    bytes
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect()
 }

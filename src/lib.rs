@@ -15,6 +15,7 @@ pub mod cmd_build;
 pub mod format;
 pub mod frame;
 pub mod gpu;
+pub mod lod_strip;
 pub mod material;
 pub mod mesh;
 pub mod passes;

@@ -65,7 +65,8 @@ struct RenderArgs {
     /// What to show. Every mode: lit (the image: materials, textures, normal maps, one light plus
     /// ambient), albedo, normals, materials (a colour per material). `--mode vgeo` also: lambert
     /// (vertex normals, no materials), depth, triangles, clusters, instances, lod (DAG level),
-    /// hwsw (which rasterizer drew it).
+    /// hwsw (which rasterizer drew it), groups (DAG group), overdraw (rasterizer writes per pixel),
+    /// fallback (the DAG roots: the coarsest cut).
     #[arg(long, default_value = "lit")]
     view: String,
     /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).
@@ -85,6 +86,22 @@ struct RenderArgs {
     /// Print per-pass GPU times and counters.
     #[arg(long)]
     stats: bool,
+    /// Instead of one view: a strip of `--panels` panels (each `--width` x `--height`, side by
+    /// side) of the vgeo path, panel i with the camera 2^i times farther away, coloured by
+    /// `--strip-view`. Each panel is magnified to the same apparent size (field of view narrowed by
+    /// 2^i) while its LOD cut is the unmagnified view's at that distance (the threshold `--error-px`
+    /// is scaled by 2^i with it), so the panels show how the cut coarsens with distance. Prints
+    /// each panel's distance, clusters and triangles drawn (occlusion culling off; `--mode`,
+    /// `--view` and `--frames` do not apply).
+    #[arg(long)]
+    lod_strip: bool,
+    /// Panels of `--lod-strip` (1 to 16).
+    #[arg(long, default_value_t = 5)]
+    panels: u32,
+    /// View of `--lod-strip`'s panels: clusters, lod, groups, triangles, hwsw, ... (any `--view`
+    /// but fallback, which replaces the cut).
+    #[arg(long, default_value = "clusters")]
+    strip_view: String,
 }
 
 fn main() -> ExitCode {
@@ -103,6 +120,9 @@ fn main() -> ExitCode {
             no_occlusion: false,
             frames: 1,
             stats: true,
+            lod_strip: false,
+            panels: 5,
+            strip_view: "clusters".into(),
         }),
         Some(Command::Render(a)) => render(&a),
         Some(Command::Build(a)) => vgeo::cmd_build::run_build(&a),
@@ -175,6 +195,9 @@ fn render(a: &RenderArgs) -> Result<()> {
     }
     if a.error_px.is_nan() || a.error_px < 0.0 || a.error_px.is_infinite() {
         anyhow::bail!("--error-px must be a finite number >= 0");
+    }
+    if a.lod_strip {
+        return lod_strip(a, flags);
     }
     let t0 = std::time::Instant::now();
     let mut loaded = LoadedScene::load(&a.input)?;
@@ -254,6 +277,38 @@ fn render(a: &RenderArgs) -> Result<()> {
         }
     };
     finish(a, &ctx, &loaded, frame, load_s, &stats_lines)
+}
+
+/// `render --lod-strip`: the strip PNG and one line per panel.
+fn lod_strip(a: &RenderArgs, flags: u32) -> Result<()> {
+    let view = ViewMode::parse(&a.strip_view)
+        .with_context(|| format!("unknown --strip-view `{}`", a.strip_view))?;
+    let opts = vgeo::lod_strip::LodStripOptions {
+        panels: a.panels,
+        width: a.width,
+        height: a.height,
+        error_px: a.error_px,
+        hw_threshold_px: a.hw_threshold,
+        flags,
+        view,
+    };
+    let ctx = context()?;
+    let strip = vgeo::lod_strip::render_file(&ctx, &a.input, &opts, &|l| eprintln!("{l}"))?;
+    strip.frame.save_png(&a.out)?;
+    println!("device:     {}", ctx.caps().device_name);
+    println!(
+        "lod strip:  {} panels of {}x{}, threshold {} px",
+        a.panels, a.width, a.height, a.error_px
+    );
+    for line in strip.report() {
+        println!("  {line}");
+    }
+    println!("wrote {}", a.out.display());
+    let errors = ctx.validation_errors();
+    if !errors.is_empty() {
+        anyhow::bail!("{} Vulkan validation error(s) (see above)", errors.len());
+    }
+    Ok(())
 }
 
 /// Writes the image and prints the report of a render.

@@ -40,6 +40,10 @@ pub const VIEW_FLAG_NO_FRUSTUM: u32 = 4;
 /// its mesh) instead of in atomic order, so the visibility buffer is the same bit for bit on every
 /// run. Used whenever every (instance, cluster) pair of the scene fits the visible list.
 pub const VIEW_FLAG_DIRECT_VISIBLE: u32 = 8;
+/// `ViewGpu::flags`: `raster_sw` (each pixel a triangle covers, i.e. each visibility-buffer atomic)
+/// and `raster_hw` (each fragment) add 1 to a per-pixel u32 counter (the overdraw view). Off, the
+/// rasterizers only pay the branch.
+pub const VIEW_FLAG_COUNT_OVERDRAW: u32 = 16;
 /// `BvhNode::flags`: the node is a leaf over groups `first .. first + count`.
 pub const BVH_FLAG_LEAF: u32 = 1;
 /// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).

@@ -494,6 +494,10 @@ fn every_view_mode_renders() {
     let mut rig = Rig::new(DVec3::ZERO, &[0, 1]);
     let dv = DebugView::new(&rig.ctx, &rig.fb).expect("debug_view");
     for mode in ViewMode::ALL {
+        if mode == ViewMode::Overdraw {
+            // Needs the frame's overdraw counters, which this rig does not keep (tests/views.rs).
+            continue;
+        }
         rig.render(Split::Mixed, Some((&dv, mode)));
         let img = dv.download().expect("debug image");
         assert_eq!(img.len(), (W * H * 4) as usize);
@@ -509,7 +513,7 @@ fn every_view_mode_renders() {
             distinct.len()
         );
         let min_colours = match mode {
-            ViewMode::Lod | ViewMode::HwSw | ViewMode::Instances => 3,
+            ViewMode::Lod | ViewMode::HwSw | ViewMode::Instances | ViewMode::Groups => 3,
             _ => 20,
         };
         assert!(

@@ -37,6 +37,20 @@ pub enum ViewMode {
     Lod,
     /// Orange for clusters drawn by `raster_hw`, blue for `raster_sw`.
     HwSw,
+    /// A colour per (instance, DAG group) of the pixel's cluster (the group it is a member of,
+    /// [`crate::builder::Cluster::group`]): hue from the golden-ratio sequence over the group index
+    /// (offset per instance), saturation and brightness from a hash, so neighbouring groups differ.
+    Groups,
+    /// How many times each pixel was written by the rasterizers (`raster_sw`: each covered pixel
+    /// of a triangle; `raster_hw`: each fragment), both culling phases together, as a heat ramp
+    /// interpolated on log2 of the count: 0 background, 1 dark blue, 2 light blue, 4 green,
+    /// 8 red, 16 and more white. The frame counts only for this view
+    /// ([`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW)).
+    Overdraw,
+    /// The fallback mesh: what the frame draws at the coarsest, the DAG roots (the cut of an
+    /// unbounded error threshold: the frame renders this view with `error_px = f32::MAX`), Lambert
+    /// shaded like [`ViewMode::Lambert`], tinted per cluster with dark cluster borders.
+    Fallback,
     /// The image: materials (base colour, textures, normal maps, metallic/roughness) lit by the
     /// directional light plus ambient (`material_classify` -> `material_depth` -> `emit_gbuffer`
     /// -> `shade`; not drawn by this pass). `brute` and `lod` shade the same way.
@@ -51,7 +65,7 @@ pub enum ViewMode {
 
 impl ViewMode {
     /// Every mode.
-    pub const ALL: [ViewMode; 7] = [
+    pub const ALL: [ViewMode; 10] = [
         ViewMode::Lambert,
         ViewMode::Depth,
         ViewMode::Triangles,
@@ -59,6 +73,9 @@ impl ViewMode {
         ViewMode::Instances,
         ViewMode::Lod,
         ViewMode::HwSw,
+        ViewMode::Groups,
+        ViewMode::Overdraw,
+        ViewMode::Fallback,
     ];
 
     /// The modes drawn by the material passes instead of this one.
@@ -86,8 +103,8 @@ impl ViewMode {
         ViewMode::MATERIAL.contains(&self)
     }
 
-    /// The mode's name on the command line (`lit`, `depth`, `triangles`, `clusters`, `instances`,
-    /// `lod`, `hwsw`, `shaded`, `albedo`, `normals`, `materials`).
+    /// The mode's name on the command line (`lambert`, `depth`, `triangles`, `clusters`, `instances`,
+    /// `lod`, `hwsw`, `groups`, `overdraw`, `fallback`, `lit`, `albedo`, `normals`, `materials`).
     pub fn name(self) -> &'static str {
         match self {
             ViewMode::Lambert => "lambert",
@@ -97,6 +114,9 @@ impl ViewMode {
             ViewMode::Instances => "instances",
             ViewMode::Lod => "lod",
             ViewMode::HwSw => "hwsw",
+            ViewMode::Groups => "groups",
+            ViewMode::Overdraw => "overdraw",
+            ViewMode::Fallback => "fallback",
             ViewMode::Lit => "lit",
             ViewMode::Albedo => "albedo",
             ViewMode::Normals => "normals",
@@ -127,6 +147,9 @@ impl ViewMode {
             ViewMode::Instances => 4,
             ViewMode::Lod => 5,
             ViewMode::HwSw => 6,
+            ViewMode::Groups => 7,
+            ViewMode::Overdraw => 8,
+            ViewMode::Fallback => 9,
             // Drawn by the material passes; `record` refuses them.
             ViewMode::Lit | ViewMode::Albedo | ViewMode::Normals | ViewMode::Materials => 0,
         }
@@ -153,6 +176,8 @@ pub struct DebugView {
     mark: ComputePipeline,
     view: ComputePipeline,
     hw_flags: Buffer,
+    /// Bound as the overdraw counter for the other views.
+    no_overdraw: Buffer,
     image: Image,
     visible_capacity: u32,
     path: VisPath,
@@ -172,6 +197,7 @@ impl DebugView {
         bindings.extend([D::STORAGE_BUFFER; 8]);
         bindings.push(D::STORAGE_IMAGE);
         bindings.push(vis);
+        bindings.push(D::STORAGE_BUFFER);
         let view = ComputePipeline::new(
             ctx,
             ShaderStage { name: NAME, spirv },
@@ -202,10 +228,12 @@ impl DebugView {
             vk::Format::R8G8B8A8_UNORM,
             vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
         )?;
+        let no_overdraw = crate::passes::raster_sw::overdraw_placeholder(ctx, NAME)?;
         Ok(Self {
             mark,
             view,
             hw_flags,
+            no_overdraw,
             image,
             visible_capacity: fb.visible_capacity,
             path,
@@ -223,8 +251,9 @@ impl DebugView {
     }
 
     /// Records the pass: colours every pixel of `fb.visbuffer` by `mode`; `light_dir` points towards
-    /// the light (world space) for [`ViewMode::Lambert`]. The visibility buffer, lists and counters must
-    /// be visible to compute shaders (the frame records that barrier).
+    /// the light (world space) for [`ViewMode::Lambert`] and [`ViewMode::Fallback`]. The visibility
+    /// buffer, lists and counters must be visible to compute shaders (the frame records that
+    /// barrier). [`ViewMode::Overdraw`] needs the counters: use [`DebugView::record_with_overdraw`].
     pub fn record(
         &self,
         cmd: &mut Cmd,
@@ -233,6 +262,23 @@ impl DebugView {
         fb: &FrameBuffers,
         mode: ViewMode,
         light_dir: Vec3,
+    ) -> GpuResult<()> {
+        self.record_with_overdraw(cmd, timer, scene, fb, mode, light_dir, None)
+    }
+
+    /// [`DebugView::record`] with the overdraw counter buffer (`fb.width * fb.height` u32, filled
+    /// by the rasterizers' `record_counting`), which [`ViewMode::Overdraw`] requires and the other
+    /// modes ignore.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_with_overdraw(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+        mode: ViewMode,
+        light_dir: Vec3,
+        overdraw: Option<&Buffer>,
     ) -> GpuResult<()> {
         if fb.vis_path() != self.path
             || fb.width != self.image.width
@@ -251,6 +297,17 @@ impl DebugView {
                 fb.visible_capacity
             )));
         }
+        let pixels = fb.width as u64 * fb.height as u64 * 4;
+        let overdraw = match (mode, overdraw) {
+            (ViewMode::Overdraw, Some(b)) if b.size() >= pixels => b,
+            (ViewMode::Overdraw, _) => {
+                return Err(GpuError::Other(format!(
+                    "{NAME}: view `overdraw` needs the overdraw counter buffer of {}x{} u32",
+                    fb.width, fb.height
+                )));
+            }
+            _ => &self.no_overdraw,
+        };
         if mode.is_material() {
             return Err(GpuError::Other(format!(
                 "{NAME}: view `{}` is drawn by the material passes",
@@ -312,7 +369,11 @@ impl DebugView {
                     Desc::Storage(&self.hw_flags),
                 ],
                 scene,
-                &[Desc::StorageImage(&self.image), vis],
+                &[
+                    Desc::StorageImage(&self.image),
+                    vis,
+                    Desc::Storage(overdraw),
+                ],
             ),
         );
         cmd.compute_push_constants(&self.view, bytemuck::bytes_of(&push));

@@ -8,10 +8,12 @@
 //! depth is recomputed from the snapped vertices with `raster_sw`'s exact integer edge functions and
 //! float operations, so SW and HW write bit-identical values for the pixels both cover. Triangles
 //! with a vertex behind the near plane (which only HW can draw: the hardware clips them) use
-//! `gl_FragCoord.z`.
+//! `gl_FragCoord.z`. With [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW)
+//! every fragment also increments a per-pixel counter ([`RasterHw::record_counting`]).
 
 use crate::gpu::{
-    Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage, Timer, vk,
+    Buffer, Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage,
+    Timer, vk,
 };
 use crate::passes::cull::Phase;
 use crate::passes::{FrameBuffers, VisPath, with_geometry};
@@ -25,6 +27,8 @@ pub const NAME: &str = "raster_hw";
 pub struct RasterHw {
     pipeline: GraphicsPipeline,
     path: VisPath,
+    /// Bound as the overdraw counter when the frame does not count.
+    no_overdraw: Buffer,
 }
 
 impl RasterHw {
@@ -39,6 +43,7 @@ impl RasterHw {
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 8]);
         bindings.push(vis);
+        bindings.push(D::STORAGE_BUFFER);
         let pipeline = GraphicsPipeline::new(
             ctx,
             &GraphicsPipelineDesc {
@@ -61,7 +66,12 @@ impl RasterHw {
                 cull: vk::CullModeFlags::NONE,
             },
         )?;
-        Ok(Self { pipeline, path })
+        let no_overdraw = crate::passes::raster_sw::overdraw_placeholder(ctx, NAME)?;
+        Ok(Self {
+            pipeline,
+            path,
+            no_overdraw,
+        })
     }
 
     /// The visibility-buffer path the pipeline was made for.
@@ -71,7 +81,9 @@ impl RasterHw {
 
     /// Records the pass: draws every cluster of `fb.hw_list` (count and draw arguments in
     /// `fb.counters`) into `fb.visbuffer`. Inputs must be visible to the vertex and fragment
-    /// shaders and to the indirect-command stage (the frame records those barriers).
+    /// shaders and to the indirect-command stage (the frame records those barriers). Counts no
+    /// overdraw: the view's flags must not have
+    /// [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW).
     pub fn record(
         &self,
         cmd: &mut Cmd,
@@ -79,6 +91,22 @@ impl RasterHw {
         scene: &GpuScene,
         fb: &FrameBuffers,
         phase: Phase,
+    ) {
+        self.record_counting(cmd, timer, scene, fb, phase, None);
+    }
+
+    /// [`RasterHw::record`] with the overdraw counter: `overdraw` (`fb.width * fb.height` u32,
+    /// row-major) gets 1 added per fragment when the view's flags have
+    /// [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW). `None` binds a
+    /// placeholder (counts, if the flag is set anyway, are dropped).
+    pub fn record_counting(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+        phase: Phase,
+        overdraw: Option<&Buffer>,
     ) {
         let (counters, _, hw_list) = fb.phase_lists(phase);
         timer.begin(cmd, &format!("{NAME}{}", phase.label()));
@@ -99,7 +127,7 @@ impl RasterHw {
                     Desc::Storage(hw_list),
                 ],
                 scene,
-                &[vis],
+                &[vis, Desc::Storage(overdraw.unwrap_or(&self.no_overdraw))],
             ),
         );
         cmd.draw_indirect(counters, std::mem::offset_of!(CullCounters, hw_draw) as u64);

@@ -9,9 +9,13 @@
 //! from the snapped positions and does `atomicMax` into the visibility buffer. Small triangles walk
 //! their bounding box, larger ones solve each row's covered span from the edge functions. Triangles
 //! with a vertex behind the near plane (or beyond a 2^20-pixel guard band) are skipped: the cull
-//! sends such clusters to `raster_hw`.
+//! sends such clusters to `raster_hw`. With
+//! [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW) every covered pixel also
+//! increments a per-pixel counter ([`RasterSw::record_counting`]; the overdraw view).
 
-use crate::gpu::{Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, Timer, vk};
+use crate::gpu::{
+    Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, MemoryKind, ShaderStage, Timer, vk,
+};
 use crate::passes::cull::Phase;
 use crate::passes::{FrameBuffers, VisPath, with_geometry};
 use crate::scene_gpu::GpuScene;
@@ -24,6 +28,8 @@ pub const NAME: &str = "raster_sw";
 pub struct RasterSw {
     pipeline: ComputePipeline,
     path: VisPath,
+    /// Bound as the overdraw counter when the frame does not count.
+    no_overdraw: Buffer,
 }
 
 impl RasterSw {
@@ -38,8 +44,14 @@ impl RasterSw {
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 9]);
         bindings.push(vis);
+        bindings.push(D::STORAGE_BUFFER);
         let pipeline = ComputePipeline::new(ctx, ShaderStage { name: NAME, spirv }, &bindings, 0)?;
-        Ok(Self { pipeline, path })
+        let no_overdraw = overdraw_placeholder(ctx, NAME)?;
+        Ok(Self {
+            pipeline,
+            path,
+            no_overdraw,
+        })
     }
 
     /// The visibility-buffer path the pipeline was made for.
@@ -49,7 +61,8 @@ impl RasterSw {
 
     /// Records the pass: rasterizes every cluster of `fb.sw_list` (count and dispatch arguments in
     /// `fb.counters`) into `fb.visbuffer`. Inputs must be visible to compute shaders and to the
-    /// indirect-command stage (the frame records those barriers).
+    /// indirect-command stage (the frame records those barriers). Counts no overdraw: the view's
+    /// flags must not have [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW).
     pub fn record(
         &self,
         cmd: &mut Cmd,
@@ -57,6 +70,22 @@ impl RasterSw {
         scene: &GpuScene,
         fb: &FrameBuffers,
         phase: Phase,
+    ) {
+        self.record_counting(cmd, timer, scene, fb, phase, None);
+    }
+
+    /// [`RasterSw::record`] with the overdraw counter: `overdraw` (`fb.width * fb.height` u32,
+    /// row-major) gets 1 added per covered pixel of every triangle when the view's flags have
+    /// [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW). `None` binds a
+    /// placeholder (counts, if the flag is set anyway, are dropped).
+    pub fn record_counting(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+        phase: Phase,
+        overdraw: Option<&Buffer>,
     ) {
         let (counters, sw_list, _) = fb.phase_lists(phase);
         timer.begin(cmd, &format!("{NAME}{}", phase.label()));
@@ -77,7 +106,7 @@ impl RasterSw {
                     Desc::Storage(sw_list),
                 ],
                 scene,
-                &[vis],
+                &[vis, Desc::Storage(overdraw.unwrap_or(&self.no_overdraw))],
             ),
         );
         cmd.dispatch_indirect(
@@ -86,4 +115,15 @@ impl RasterSw {
         );
         timer.end(cmd);
     }
+}
+
+/// A one-word storage buffer bound in place of the overdraw counter when a frame does not count.
+pub(crate) fn overdraw_placeholder(ctx: &Context, pass: &str) -> GpuResult<Buffer> {
+    Buffer::new(
+        ctx,
+        &format!("{pass} overdraw placeholder"),
+        4,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryKind::Gpu,
+    )
 }
