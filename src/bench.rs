@@ -76,6 +76,8 @@ impl Suite {
                 warmup: false,
                 scenes: SCENES.iter().map(|s| s.to_string()).collect(),
                 stress: true,
+                modes: MODES.iter().map(|s| s.to_string()).collect(),
+                hw_threshold_px: FrameSettings::default().hw_threshold_px,
             },
             Suite::Full => BenchSettings {
                 suite: self,
@@ -89,6 +91,8 @@ impl Suite {
                 warmup: true,
                 scenes: SCENES.iter().map(|s| s.to_string()).collect(),
                 stress: true,
+                modes: MODES.iter().map(|s| s.to_string()).collect(),
+                hw_threshold_px: FrameSettings::default().hw_threshold_px,
             },
         }
     }
@@ -118,7 +122,14 @@ pub struct BenchSettings {
     pub scenes: Vec<String>,
     /// Run the `stress` grids.
     pub stress: bool,
+    /// Modes to run (of [`MODES`]); without `brute` there is no reference and no image error.
+    pub modes: Vec<String>,
+    /// vgeo: clusters with longer projected edges than this (pixels) go to the hardware rasterizer.
+    pub hw_threshold_px: f32,
 }
+
+/// The rendering modes a benchmark compares.
+pub const MODES: [&str; 3] = ["brute", "lod", "vgeo"];
 
 /// Command-line arguments of `vgeo bench`.
 #[derive(clap::Args, Clone, Debug)]
@@ -153,6 +164,14 @@ pub struct BenchArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Only these modes (comma-separated of brute, lod, vgeo; default all). Without brute there is
+    /// no reference image, so no image error is reported.
+    #[arg(long, value_delimiter = ',')]
+    pub modes: Option<Vec<String>>,
+    /// vgeo: clusters whose projected edges are longer than this many pixels go to the hardware
+    /// rasterizer (default 32), for tuning the SW/HW split.
+    #[arg(long)]
+    pub hw_threshold: Option<f32>,
 }
 
 impl BenchArgs {
@@ -191,6 +210,18 @@ impl BenchArgs {
         if let Some(h) = self.height {
             s.height = h;
         }
+        if let Some(m) = &self.modes {
+            if let Some(bad) = m.iter().find(|m| !MODES.contains(&m.as_str())) {
+                bail!(
+                    "unknown mode `{bad}` in --modes (available: {})",
+                    MODES.join(", ")
+                );
+            }
+            s.modes = m.clone();
+        }
+        if let Some(t) = self.hw_threshold {
+            s.hw_threshold_px = t;
+        }
         s.validate()?;
         Ok(s)
     }
@@ -204,6 +235,12 @@ impl BenchSettings {
         }
         if self.frames == 0 {
             bail!("frames must be at least 1");
+        }
+        if self.modes.is_empty() {
+            bail!("at least one mode must run");
+        }
+        if self.hw_threshold_px.is_nan() || self.hw_threshold_px < 0.0 {
+            bail!("the hardware-rasterizer threshold must be a number >= 0 (pixels)");
         }
         if self.error_sweep.is_empty()
             || self.error_sweep.iter().any(|e| !e.is_finite() || *e < 0.0)
@@ -864,7 +901,10 @@ fn run_scene(
     bar.set_message(format!("{name}: brute"));
     let mut reference: Vec<Option<Frame>> = vec![None; scene.cameras.len()];
     let meshes = scene.mesh_list();
-    if scene.info.scene_triangles > settings.brute_max_triangles {
+    let runs = |mode: &str| settings.modes.iter().any(|m| m == mode);
+    if !runs("brute") {
+        bar.inc(frames);
+    } else if scene.info.scene_triangles > settings.brute_max_triangles {
         skip(
             report,
             "brute",
@@ -911,62 +951,69 @@ fn run_scene(
 
     // lod, every threshold.
     bar.set_message(format!("{name}: lod"));
-    let lod = Lod::new(ctx, &meshes, &LodOptions::default())?;
-    let lod_instance_bytes =
-        scene.placements.len() as u64 * size_of::<crate::shared::InstanceGpu>() as u64;
-    memory.insert("lod", (lod.geometry_bytes(), lod_instance_bytes));
-    for &e in sweep {
-        // Triangles the selection would draw at the frame with the most (frustum culling aside).
-        let mut most = 0u64;
-        for cam in &scene.cameras {
-            let levels = lod.selection(&scene.placements, cam, h, e)?;
-            let tris: u64 = scene
-                .placements
-                .iter()
-                .zip(&levels)
-                .map(|(p, &l)| lod.lod_triangle_counts(p.mesh as usize)[l as usize] as u64)
-                .sum();
-            most = most.max(tris);
-        }
-        if most > settings.brute_max_triangles {
-            skip(
-                report,
-                "lod",
-                Some(e),
-                format!(
-                    "would draw up to {most} triangles, more than the limit of {}",
-                    settings.brute_max_triangles
-                ),
-            );
-            bar.inc(frames);
-            continue;
-        }
-        if settings.warmup {
-            lod.render(&scene.placements, &scene.cameras[0], &scene.light, w, h, e)?;
-        }
-        for (f, cam) in scene.cameras.iter().enumerate() {
-            let t = Instant::now();
-            let frame = lod.render(&scene.placements, cam, &scene.light, w, h, e)?;
-            let cpu_ms = t.elapsed().as_secs_f64() * 1e3;
-            let error = match &reference[f] {
-                Some(r) => Some(image_error(r, &frame)?),
-                None => None,
-            };
-            report.records.push(FrameRecord {
-                scene: name.clone(),
-                mode: "lod".into(),
-                error_px: Some(e),
-                frame: f as u32,
-                gpu_ms: frame.gpu_total_ms(),
-                passes: frame.gpu_ms.clone(),
-                cpu_ms,
-                triangles: frame.triangles,
-                clusters: None,
-                instances_visible: None,
-                error,
-            });
-            save_example(report, name, "lod", Some(e), f, &frame, &reference[f]);
-            bar.inc(1);
+    let lod = if runs("lod") {
+        Some(Lod::new(ctx, &meshes, &LodOptions::default())?)
+    } else {
+        bar.inc(frames * sweep.len() as u64);
+        None
+    };
+    if let Some(lod) = lod.as_ref() {
+        let lod_instance_bytes =
+            scene.placements.len() as u64 * size_of::<crate::shared::InstanceGpu>() as u64;
+        memory.insert("lod", (lod.geometry_bytes(), lod_instance_bytes));
+        for &e in sweep {
+            // Triangles the selection would draw at the frame with the most (frustum culling aside).
+            let mut most = 0u64;
+            for cam in &scene.cameras {
+                let levels = lod.selection(&scene.placements, cam, h, e)?;
+                let tris: u64 = scene
+                    .placements
+                    .iter()
+                    .zip(&levels)
+                    .map(|(p, &l)| lod.lod_triangle_counts(p.mesh as usize)[l as usize] as u64)
+                    .sum();
+                most = most.max(tris);
+            }
+            if most > settings.brute_max_triangles {
+                skip(
+                    report,
+                    "lod",
+                    Some(e),
+                    format!(
+                        "would draw up to {most} triangles, more than the limit of {}",
+                        settings.brute_max_triangles
+                    ),
+                );
+                bar.inc(frames);
+                continue;
+            }
+            if settings.warmup {
+                lod.render(&scene.placements, &scene.cameras[0], &scene.light, w, h, e)?;
+            }
+            for (f, cam) in scene.cameras.iter().enumerate() {
+                let t = Instant::now();
+                let frame = lod.render(&scene.placements, cam, &scene.light, w, h, e)?;
+                let cpu_ms = t.elapsed().as_secs_f64() * 1e3;
+                let error = match &reference[f] {
+                    Some(r) => Some(image_error(r, &frame)?),
+                    None => None,
+                };
+                report.records.push(FrameRecord {
+                    scene: name.clone(),
+                    mode: "lod".into(),
+                    error_px: Some(e),
+                    frame: f as u32,
+                    gpu_ms: frame.gpu_total_ms(),
+                    passes: frame.gpu_ms.clone(),
+                    cpu_ms,
+                    triangles: frame.triangles,
+                    clusters: None,
+                    instances_visible: None,
+                    error,
+                });
+                save_example(report, name, "lod", Some(e), f, &frame, &reference[f]);
+                bar.inc(1);
+            }
         }
     }
     drop(lod);
@@ -974,12 +1021,17 @@ fn run_scene(
     // vgeo, every threshold, each threshold's path from a fresh history.
     bar.set_message(format!("{name}: vgeo"));
     let built = scene.built_list();
-    let mut vgeo = match VgeoRenderer::new(ctx, &built, &scene.placements) {
-        Ok(r) => Some(r),
-        Err(err) => {
-            skip(report, "vgeo", None, format!("failed: {err}"));
-            bar.inc(frames * sweep.len() as u64);
-            None
+    let mut vgeo = if !runs("vgeo") {
+        bar.inc(frames * sweep.len() as u64);
+        None
+    } else {
+        match VgeoRenderer::new(ctx, &built, &scene.placements) {
+            Ok(r) => Some(r),
+            Err(err) => {
+                skip(report, "vgeo", None, format!("failed: {err}"));
+                bar.inc(frames * sweep.len() as u64);
+                None
+            }
         }
     };
     if let Some(r) = vgeo.as_mut() {
@@ -993,6 +1045,7 @@ fn run_scene(
         for &e in sweep {
             let fs = FrameSettings {
                 error_px: e,
+                hw_threshold_px: settings.hw_threshold_px,
                 ..FrameSettings::default()
             };
             r.reset_history();
@@ -1449,8 +1502,13 @@ pub fn markdown(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         md,
-        "- {}x{}, {} frames per path, thresholds {:?} px; GPU ms from timestamps (mean over the path), CPU ms of the render call including read-back",
-        s.width, s.height, s.frames, s.error_sweep
+        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px; GPU ms from timestamps (mean over the path), CPU ms of the render call including read-back",
+        s.width,
+        s.height,
+        s.frames,
+        s.error_sweep,
+        s.modes.join(", "),
+        s.hw_threshold_px
     );
     let _ = writeln!(
         md,
@@ -1606,6 +1664,14 @@ mod tests {
         s.validate().unwrap();
         s.error_sweep = vec![-1.0];
         assert!(s.validate().is_err());
+        let mut s = Suite::Quick.settings();
+        s.modes.clear();
+        assert!(s.validate().is_err());
+        s.modes = vec!["vgeo".into()];
+        s.hw_threshold_px = f32::NAN;
+        assert!(s.validate().is_err());
+        s.hw_threshold_px = 64.0;
+        s.validate().unwrap();
         let full = Suite::Full.settings();
         assert_eq!((full.width, full.height), (1920, 1080));
         assert_eq!(*full.stress_n.last().unwrap(), 100);
