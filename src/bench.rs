@@ -3,9 +3,11 @@
 //!
 //! For every scene and every frame of its camera path, `brute` renders the full-detail reference;
 //! `lod` and `vgeo` render at every pixel threshold of the sweep, each threshold's whole path in
-//! order (so vgeo's occlusion culling sees the previous frame of the same run). Each render is
-//! measured (GPU ms per pass from timestamps, CPU ms of the render call including its read-back,
-//! triangles, clusters and instances drawn) and compared with brute's image of the same frame
+//! order (so vgeo's occlusion culling sees the previous frame of the same run). Each path is run
+//! twice: first timed, frames back to back without read-back (GPU ms per pass from timestamps, CPU
+//! ms of the frame call: record, submit, wait), so the GPU is busy as in an application rather than
+//! idled, clocks dropping, by read-backs between frames; then again with read-back for the
+//! triangles, clusters and instances drawn and the comparison with brute's image of the same frame
 //! ([`image_error`]). Results go to `--out`: `bench.json`, `bench.md`, SVG plots and a few images.
 //!
 //! Scenes are the TOML files `outdoor`, `indoor`, `foliage`, `drawcalls` and `stress` under
@@ -876,6 +878,30 @@ pub fn run(
 /// The memory a mode holds for a scene: (geometry bytes, instance bytes).
 type Memory = (u64, u64);
 
+/// GPU ms per pass of one frame.
+type PassTimes = Vec<(String, f64)>;
+
+/// Per frame of `cameras`, the GPU times and the CPU ms of `frame` (a render without read-back),
+/// rendered back to back along the path (after one warm-up frame when `warmup`), so the GPU is
+/// busy as in an application and not idled by read-backs between frames.
+fn time_path(
+    warmup: bool,
+    cameras: &[Camera],
+    mut frame: impl FnMut(&Camera) -> Result<PassTimes>,
+) -> Result<Vec<(PassTimes, f64)>> {
+    if warmup && let Some(c) = cameras.first() {
+        frame(c)?;
+    }
+    cameras
+        .iter()
+        .map(|cam| {
+            let t = Instant::now();
+            let passes = frame(cam)?;
+            Ok((passes, t.elapsed().as_secs_f64() * 1e3))
+        })
+        .collect()
+}
+
 fn run_scene(
     ctx: &Context,
     settings: &BenchSettings,
@@ -924,20 +950,20 @@ fn run_scene(
                 scene.placements.len() as u64 * size_of::<crate::shared::InstanceGpu>() as u64,
             ),
         );
-        if settings.warmup {
-            brute.render(&scene.placements, &scene.cameras[0], &scene.light, w, h)?;
-        }
-        for (f, cam) in scene.cameras.iter().enumerate() {
-            let t = Instant::now();
+        let timed = time_path(settings.warmup, &scene.cameras, |cam| {
+            Ok(brute
+                .render_timed(&scene.placements, cam, &scene.light, w, h)?
+                .gpu_ms)
+        })?;
+        for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
             let frame = brute.render(&scene.placements, cam, &scene.light, w, h)?;
-            let cpu_ms = t.elapsed().as_secs_f64() * 1e3;
             report.records.push(FrameRecord {
                 scene: name.clone(),
                 mode: "brute".into(),
                 error_px: None,
                 frame: f as u32,
-                gpu_ms: frame.gpu_total_ms(),
-                passes: frame.gpu_ms.clone(),
+                gpu_ms: passes.iter().map(|p| p.1).sum(),
+                passes,
                 cpu_ms,
                 triangles: frame.triangles,
                 clusters: None,
@@ -987,13 +1013,13 @@ fn run_scene(
                 bar.inc(frames);
                 continue;
             }
-            if settings.warmup {
-                lod.render(&scene.placements, &scene.cameras[0], &scene.light, w, h, e)?;
-            }
-            for (f, cam) in scene.cameras.iter().enumerate() {
-                let t = Instant::now();
+            let timed = time_path(settings.warmup, &scene.cameras, |cam| {
+                Ok(lod
+                    .render_timed(&scene.placements, cam, &scene.light, (w, h), e)?
+                    .gpu_ms)
+            })?;
+            for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
                 let frame = lod.render(&scene.placements, cam, &scene.light, w, h, e)?;
-                let cpu_ms = t.elapsed().as_secs_f64() * 1e3;
                 let error = match &reference[f] {
                     Some(r) => Some(image_error(r, &frame)?),
                     None => None,
@@ -1003,8 +1029,8 @@ fn run_scene(
                     mode: "lod".into(),
                     error_px: Some(e),
                     frame: f as u32,
-                    gpu_ms: frame.gpu_total_ms(),
-                    passes: frame.gpu_ms.clone(),
+                    gpu_ms: passes.iter().map(|p| p.1).sum(),
+                    passes,
                     cpu_ms,
                     triangles: frame.triangles,
                     clusters: None,
@@ -1048,15 +1074,15 @@ fn run_scene(
                 hw_threshold_px: settings.hw_threshold_px,
                 ..FrameSettings::default()
             };
+            // Timed along the path (history flows frame to frame as in an application), then
+            // rendered again with read-back for the counters and the image error.
             r.reset_history();
-            if settings.warmup {
-                r.render(&scene.cameras[0], w, h, &fs, ViewMode::Lit, &scene.light)?;
-                r.reset_history();
-            }
-            for (f, cam) in scene.cameras.iter().enumerate() {
-                let t = Instant::now();
+            let timed = time_path(settings.warmup, &scene.cameras, |cam| {
+                Ok(r.render_timed(cam, w, h, &fs, ViewMode::Lit, &scene.light)?)
+            })?;
+            r.reset_history();
+            for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
                 let vf = r.render(cam, w, h, &fs, ViewMode::Lit, &scene.light)?;
-                let cpu_ms = t.elapsed().as_secs_f64() * 1e3;
                 if let Err(msg) = vf.check() {
                     skip(
                         report,
@@ -1077,8 +1103,8 @@ fn run_scene(
                     mode: "vgeo".into(),
                     error_px: Some(e),
                     frame: f as u32,
-                    gpu_ms: vf.frame.gpu_total_ms(),
-                    passes: vf.frame.gpu_ms.clone(),
+                    gpu_ms: passes.iter().map(|p| p.1).sum(),
+                    passes,
                     cpu_ms,
                     triangles: vf.frame.triangles,
                     clusters: Some(
@@ -1502,7 +1528,7 @@ pub fn markdown(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         md,
-        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px; GPU ms from timestamps (mean over the path), CPU ms of the render call including read-back",
+        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px; GPU ms from timestamps and CPU ms of the frame call (record, submit, wait; no read-back), frames rendered back to back along the path, mean over it; images and counters from a second pass with read-back",
         s.width,
         s.height,
         s.frames,

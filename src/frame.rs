@@ -345,6 +345,83 @@ impl VgeoRenderer {
         mode: ViewMode,
         light: &Light,
     ) -> GpuResult<VgeoFrame> {
+        let gpu_ms = self.run_frame(camera, width, height, settings, mode, light)?;
+        let counting = mode == ViewMode::Overdraw || settings.flags & VIEW_FLAG_COUNT_OVERDRAW != 0;
+        let fb = self
+            .fb
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+        let debug_view = self
+            .debug_view
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("debug view missing".into()))?;
+        let materials = self.materials.as_ref().filter(|_| mode.is_material());
+        let overdraw = self.overdraw.as_ref().filter(|_| counting);
+        let main_res = read_cull(fb, Phase::Main, Vec::new())?;
+        let post_res = read_cull(fb, Phase::Post, Vec::new())?;
+        let vis = visbuffer::download(fb)?;
+        let max_slot = vis
+            .iter()
+            .filter(|v| **v != 0)
+            .map(|v| (*v as u32) >> crate::shared::VISBUFFER_TRIANGLE_BITS)
+            .max();
+        let visible_table = read_visible_table(fb, max_slot)?;
+        let color = match materials {
+            Some(m) => m.download()?,
+            None => debug_view.download()?,
+        };
+        let overdraw = match overdraw {
+            Some(o) => Some(words(&o.download()?)),
+            None => None,
+        };
+        let triangles = main_res.counters.triangles as u64 + post_res.counters.triangles as u64;
+        let depth = vis
+            .iter()
+            .map(|v| f32::from_bits((v >> 32) as u32))
+            .collect();
+        Ok(VgeoFrame {
+            frame: Frame {
+                width,
+                height,
+                color,
+                depth,
+                gpu_ms,
+                triangles,
+            },
+            visbuffer: vis,
+            main: main_res,
+            post: post_res,
+            visible_table,
+            overdraw,
+        })
+    }
+
+    /// The frame of [`VgeoRenderer::render`] without any read-back: records, submits and waits,
+    /// and returns only the GPU time per pass. What an engine embedding vgeo pays per frame; the
+    /// benchmark times frames this way, back to back along the camera path, so the GPU is not left
+    /// idle (and its clocks low) by read-backs between frames.
+    pub fn render_timed(
+        &mut self,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+        mode: ViewMode,
+        light: &Light,
+    ) -> GpuResult<Vec<(String, f64)>> {
+        self.run_frame(camera, width, height, settings, mode, light)
+    }
+
+    /// Records, submits and waits for one frame; updates the occlusion history; the GPU times.
+    fn run_frame(
+        &mut self,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+        mode: ViewMode,
+        light: &Light,
+    ) -> GpuResult<Vec<(String, f64)>> {
         let mut settings = *settings;
         if mode == ViewMode::Fallback {
             settings.error_px = f32::MAX;
@@ -457,44 +534,8 @@ impl VgeoRenderer {
         })?;
         result?;
         let gpu_ms = timer.results()?;
-        let main_res = read_cull(fb, Phase::Main, Vec::new())?;
-        let post_res = read_cull(fb, Phase::Post, Vec::new())?;
-        let vis = visbuffer::download(fb)?;
-        let max_slot = vis
-            .iter()
-            .filter(|v| **v != 0)
-            .map(|v| (*v as u32) >> crate::shared::VISBUFFER_TRIANGLE_BITS)
-            .max();
-        let visible_table = read_visible_table(fb, max_slot)?;
-        let color = match materials {
-            Some(m) => m.download()?,
-            None => debug_view.download()?,
-        };
-        let overdraw = match overdraw {
-            Some(o) => Some(words(&o.download()?)),
-            None => None,
-        };
         self.history = settings.occlusion.then_some(current);
-        let triangles = main_res.counters.triangles as u64 + post_res.counters.triangles as u64;
-        let depth = vis
-            .iter()
-            .map(|v| f32::from_bits((v >> 32) as u32))
-            .collect();
-        Ok(VgeoFrame {
-            frame: Frame {
-                width,
-                height,
-                color,
-                depth,
-                gpu_ms,
-                triangles,
-            },
-            visbuffer: vis,
-            main: main_res,
-            post: post_res,
-            visible_table,
-            overdraw,
-        })
+        Ok(gpu_ms)
     }
 
     /// The overdraw counters as the last counting frame left them (`None` before any frame
@@ -611,9 +652,8 @@ fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> Gpu
     let counters: CullCounters =
         *bytemuck::from_bytes(&counters_buf.download()?[..size_of::<CullCounters>()]);
     let list = |b: &Buffer, n: u32| -> GpuResult<Vec<u32>> {
-        let bytes = b.download()?;
         let n = (n.min(fb.visible_capacity)) as usize;
-        Ok(bytemuck::cast_slice::<u8, u32>(&bytes[..4 * n]).to_vec())
+        Ok(words(&b.download_prefix(4 * n as u64)?))
     };
     let sw = list(sw_buf, counters.sw_count)?;
     let hw = list(hw_buf, counters.hw_count)?;
@@ -638,8 +678,8 @@ fn read_visible_table(fb: &FrameBuffers, max: Option<u32>) -> GpuResult<Vec<[u32
         return Ok(Vec::new());
     };
     let n = (max as usize + 1).min(fb.visible_capacity as usize);
-    let bytes = fb.visible.download()?;
-    Ok(bytemuck::cast_slice::<u8, [u32; 2]>(&bytes[..8 * n]).to_vec())
+    let w = words(&fb.visible.download_prefix(8 * n as u64)?);
+    Ok(w.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
 }
 
 /// Little-endian u32 words of a readback (whatever the byte vector's alignment).

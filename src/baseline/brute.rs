@@ -316,8 +316,8 @@ impl Classic {
     }
 
     /// Records and runs one frame: the GBuffer draws of `draws` (instances from `instances`), then
-    /// `shade` as `mode`; reads colour and depth back. `Frame::triangles` counts the triangles of
-    /// every draw times its instances.
+    /// `shade` as `mode`; reads colour and depth back when `readback` (else they stay empty).
+    /// `Frame::triangles` counts the triangles of every draw times its instances.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn render_draws(
         &self,
@@ -328,6 +328,7 @@ impl Classic {
         width: u32,
         height: u32,
         mode: ShadeMode,
+        readback: bool,
     ) -> GpuResult<Frame> {
         let (ctx, pass) = (&self.ctx, self.pass);
         let uniforms = FrameUniforms {
@@ -420,13 +421,20 @@ impl Classic {
             self.shade.record(cmd, &mut timer, &targets);
         })?;
         let gpu_ms = timer.results()?;
-        let color_bytes = targets.output.download()?;
-        let depth_bytes = depth.download()?;
+        let (color, depth) = if readback {
+            let d = depth.download()?;
+            (
+                targets.output.download()?,
+                bytemuck::cast_slice(&d).to_vec(),
+            )
+        } else {
+            (Vec::new(), Vec::new())
+        };
         Ok(Frame {
             width,
             height,
-            color: color_bytes,
-            depth: bytemuck::cast_slice(&depth_bytes).to_vec(),
+            color,
+            depth,
             gpu_ms,
             triangles,
         })
@@ -471,6 +479,26 @@ impl Brute {
         self.render_view(placements, camera, light, width, height, ShadeMode::Lit)
     }
 
+    /// [`Brute::render`] without read-back: the frame's GPU times and triangle count only (colour
+    /// and depth stay empty). The benchmark times frames this way.
+    pub fn render_timed(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        width: u32,
+        height: u32,
+    ) -> GpuResult<Frame> {
+        self.frame(
+            placements,
+            camera,
+            (width, height),
+            light,
+            ShadeMode::Lit,
+            false,
+        )
+    }
+
     /// [`Brute::render`] with `shade` drawing `mode` (lit, albedo, normals or materials).
     pub fn render_view(
         &self,
@@ -480,6 +508,18 @@ impl Brute {
         width: u32,
         height: u32,
         mode: ShadeMode,
+    ) -> GpuResult<Frame> {
+        self.frame(placements, camera, (width, height), light, mode, true)
+    }
+
+    fn frame(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        (width, height): (u32, u32),
+        light: &Light,
+        mode: ShadeMode,
+        readback: bool,
     ) -> GpuResult<Frame> {
         let meshes = &self.classic.meshes;
         check_placements(placements, meshes.len())?;
@@ -496,7 +536,8 @@ impl Brute {
                 instance_count: count,
             })
             .collect();
-        self.classic
-            .render_draws(&instances, &draws, camera, light, width, height, mode)
+        self.classic.render_draws(
+            &instances, &draws, camera, light, width, height, mode, readback,
+        )
     }
 }

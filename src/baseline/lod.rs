@@ -356,8 +356,43 @@ impl Lod {
         )
     }
 
+    /// [`Lod::render`] without read-back: the frame's GPU times and triangle count only (colour
+    /// and depth stay empty). The benchmark times frames this way.
+    pub fn render_timed(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        (width, height): (u32, u32),
+        error_px: f32,
+    ) -> GpuResult<Frame> {
+        let size = (width, height);
+        self.frame(
+            placements,
+            camera,
+            light,
+            size,
+            error_px,
+            ShadeMode::Lit,
+            false,
+        )
+    }
+
     /// [`Lod::render`] with `shade` drawing `mode` (lit, albedo, normals or materials).
     pub fn render_view(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        size: (u32, u32),
+        error_px: f32,
+        mode: ShadeMode,
+    ) -> GpuResult<Frame> {
+        self.frame(placements, camera, light, size, error_px, mode, true)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn frame(
         &self,
         placements: &[Placement],
         camera: &Camera,
@@ -365,6 +400,7 @@ impl Lod {
         (width, height): (u32, u32),
         error_px: f32,
         mode: ShadeMode,
+        readback: bool,
     ) -> GpuResult<Frame> {
         check_placements(placements, self.infos.len())?;
         let (ps, tau) = self.threshold(camera, height, error_px);
@@ -413,7 +449,8 @@ impl Lod {
             *slot += 1;
         }
         let instances: Vec<InstanceGpu> = instances;
-        self.classic
-            .render_draws(&instances, &draws, camera, light, width, height, mode)
+        self.classic.render_draws(
+            &instances, &draws, camera, light, width, height, mode, readback,
+        )
     }
 }

@@ -188,18 +188,27 @@ impl Buffer {
 
     /// Copies a device buffer back to the CPU (through a readback buffer).
     pub fn download(&self) -> GpuResult<Vec<u8>> {
+        self.download_prefix(self.size)
+    }
+
+    /// The first `bytes` bytes of the buffer (at most its size; at least 1 is copied), for
+    /// reading back the used part of a large list.
+    pub fn download_prefix(&self, bytes: u64) -> GpuResult<Vec<u8>> {
+        let size = bytes.clamp(1, self.size);
         let rb = Self::new(
             &self.ctx,
             &format!("{} (readback)", self.name),
-            self.size,
+            size,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryKind::Readback,
         )?;
         self.ctx
             .submit_and_wait(&format!("download {}", self.name), |cmd| {
-                cmd.copy_buffer(self, &rb, self.size)
+                cmd.copy_buffer(self, &rb, size)
             })?;
-        rb.read()
+        let mut out = rb.read()?;
+        out.truncate(bytes.min(self.size) as usize);
+        Ok(out)
     }
 }
 
