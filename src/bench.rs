@@ -32,6 +32,7 @@ use crate::frame::VgeoRenderer;
 use crate::gpu::Context;
 use crate::mesh::{Material, Mesh};
 use crate::passes::debug_view::ViewMode;
+use crate::passes::emit_gbuffer::EmitPath;
 use crate::passes::view::FrameSettings;
 use crate::render::{Frame, Light, Placement};
 use crate::scene::{GENERATED_PREFIX, Scene};
@@ -80,6 +81,7 @@ impl Suite {
                 stress: true,
                 modes: MODES.iter().map(|s| s.to_string()).collect(),
                 hw_threshold_px: FrameSettings::default().hw_threshold_px,
+                emit: EmitPath::default(),
             },
             Suite::Full => BenchSettings {
                 suite: self,
@@ -95,6 +97,7 @@ impl Suite {
                 stress: true,
                 modes: MODES.iter().map(|s| s.to_string()).collect(),
                 hw_threshold_px: FrameSettings::default().hw_threshold_px,
+                emit: EmitPath::default(),
             },
         }
     }
@@ -128,6 +131,8 @@ pub struct BenchSettings {
     pub modes: Vec<String>,
     /// vgeo: clusters with longer projected edges than this (pixels) go to the hardware rasterizer.
     pub hw_threshold_px: f32,
+    /// vgeo: how `emit_gbuffer` runs.
+    pub emit: EmitPath,
 }
 
 /// The rendering modes a benchmark compares.
@@ -174,6 +179,10 @@ pub struct BenchArgs {
     /// rasterizer (default 32), for tuning the SW/HW split.
     #[arg(long)]
     pub hw_threshold: Option<f32>,
+    /// vgeo: `emit_gbuffer` as `compute` (default: a dispatch per material) or `raster` (a draw
+    /// of tile quads per material against the material depth, DESIGN.md's form).
+    #[arg(long)]
+    pub emit: Option<String>,
 }
 
 impl BenchArgs {
@@ -223,6 +232,10 @@ impl BenchArgs {
         }
         if let Some(t) = self.hw_threshold {
             s.hw_threshold_px = t;
+        }
+        if let Some(e) = &self.emit {
+            s.emit = EmitPath::parse(e)
+                .with_context(|| format!("unknown --emit `{e}` (available: compute, raster)"))?;
         }
         s.validate()?;
         Ok(s)
@@ -1061,6 +1074,7 @@ fn run_scene(
         }
     };
     if let Some(r) = vgeo.as_mut() {
+        r.set_emit_path(settings.emit);
         memory.insert(
             "vgeo",
             (
@@ -1528,13 +1542,14 @@ pub fn markdown(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         md,
-        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px; GPU ms from timestamps and CPU ms of the frame call (record, submit, wait; no read-back), frames rendered back to back along the path, mean over it; images and counters from a second pass with read-back",
+        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px, emit_gbuffer {:?}; GPU ms from timestamps and CPU ms of the frame call (record, submit, wait; no read-back), frames rendered back to back along the path, mean over it; images and counters from a second pass with read-back",
         s.width,
         s.height,
         s.frames,
         s.error_sweep,
         s.modes.join(", "),
-        s.hw_threshold_px
+        s.hw_threshold_px,
+        s.emit
     );
     let _ = writeln!(
         md,

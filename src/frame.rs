@@ -13,6 +13,7 @@ use crate::passes::cluster_cull::{ClusterCull, default_workgroups};
 use crate::passes::cull::Phase;
 use crate::passes::debug_view::{DebugView, ViewMode};
 use crate::passes::depth_pyramid::DepthPyramid;
+use crate::passes::emit_gbuffer::EmitPath;
 use crate::passes::instance_cull::InstanceCull;
 use crate::passes::raster_hw::RasterHw;
 use crate::passes::raster_sw::RasterSw;
@@ -86,6 +87,7 @@ pub struct VgeoRenderer {
     materials: Option<MaterialPasses>,
     /// Whether `emit_gbuffer` counts fragments per material (tests).
     count_fragments: bool,
+    emit_path: EmitPath,
     /// The view whose HZB is in the pyramid (the previous frame's), if any.
     history: Option<OcclusionGpu>,
     vis_path: VisPath,
@@ -140,6 +142,7 @@ impl VgeoRenderer {
             scene_materials,
             materials: None,
             count_fragments: false,
+            emit_path: EmitPath::default(),
             history: None,
             vis_path,
             queue_capacity,
@@ -181,12 +184,21 @@ impl VgeoRenderer {
         }
     }
 
+    /// Chooses how `emit_gbuffer` runs (compute by default; raster is DESIGN.md's tile-quad form).
+    pub fn set_emit_path(&mut self, path: EmitPath) {
+        self.emit_path = path;
+        if let Some(m) = self.materials.as_mut() {
+            m.emit_path = path;
+        }
+    }
+
     /// Uploads the materials (decoding the textures) and creates the material passes, if not yet
     /// done; returns the texture warnings (unreadable files, drawn white).
     pub fn prepare_materials(&mut self) -> GpuResult<Vec<String>> {
         if self.materials.is_none() {
             let mut m = MaterialPasses::new(&self.ctx, &self.scene_materials, self.vis_path)?;
             m.count_fragments = self.count_fragments;
+            m.emit_path = self.emit_path;
             self.materials = Some(m);
         }
         Ok(self

@@ -79,6 +79,10 @@ struct RenderArgs {
     /// `--mode vgeo`: turn two-pass occlusion culling off.
     #[arg(long)]
     no_occlusion: bool,
+    /// `--mode vgeo`: `emit_gbuffer` as `compute` (a dispatch per material, the default) or
+    /// `raster` (a draw of tile quads per material against the material depth).
+    #[arg(long, default_value = "compute")]
+    emit: String,
     /// Frames to render (the same view); the last one is written and reported. With `--mode vgeo`
     /// the first frame has no previous depth to cull with, later ones do.
     #[arg(long, default_value_t = 1)]
@@ -117,6 +121,7 @@ fn main() -> ExitCode {
             view: "lit".into(),
             raster: "auto".into(),
             hw_threshold: 32.0,
+            emit: "compute".into(),
             no_occlusion: false,
             frames: 1,
             stats: true,
@@ -193,6 +198,8 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.frames == 0 {
         anyhow::bail!("--frames must be at least 1");
     }
+    let emit = vgeo::passes::emit_gbuffer::EmitPath::parse(&a.emit)
+        .with_context(|| format!("unknown --emit `{}` (available: compute, raster)", a.emit))?;
     if a.error_px.is_nan() || a.error_px < 0.0 || a.error_px.is_infinite() {
         anyhow::bail!("--error-px must be a finite number >= 0");
     }
@@ -211,6 +218,7 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.mode == "vgeo" {
         let built = loaded.built_meshes(&|line| eprintln!("{line}"))?;
         let mut r = VgeoRenderer::new(&ctx, &built, &loaded.placements)?;
+        r.set_emit_path(emit);
         let settings = FrameSettings {
             error_px: a.error_px,
             hw_threshold_px: a.hw_threshold,

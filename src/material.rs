@@ -16,7 +16,7 @@ use crate::builder::BuiltMesh;
 use crate::camera::Camera;
 use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Image, TextureSet, Timer, vk};
 use crate::mesh::{Material, Mesh};
-use crate::passes::emit_gbuffer::EmitGbuffer;
+use crate::passes::emit_gbuffer::{EmitGbuffer, EmitPath};
 use crate::passes::material_classify::{MaterialClassify, MaterialTargets, MaterialViewGpu};
 use crate::passes::material_depth::MaterialDepth;
 use crate::passes::shade::Shade;
@@ -494,6 +494,8 @@ pub struct MaterialPasses {
     targets: Option<MaterialTargets>,
     /// Whether `emit_gbuffer` counts its fragments per material (tests).
     pub count_fragments: bool,
+    /// How `emit_gbuffer` runs (compute by default).
+    pub emit_path: EmitPath,
 }
 
 impl MaterialPasses {
@@ -509,6 +511,7 @@ impl MaterialPasses {
             gpu,
             targets: None,
             count_fragments: false,
+            emit_path: EmitPath::default(),
         })
     }
 
@@ -572,7 +575,7 @@ impl MaterialPasses {
             cmd.barrier(
                 (S::ALL_TRANSFER, A::TRANSFER_WRITE),
                 (
-                    S::FRAGMENT_SHADER,
+                    S::FRAGMENT_SHADER | S::COMPUTE_SHADER,
                     A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
                 ),
             );
@@ -581,12 +584,24 @@ impl MaterialPasses {
         cmd.barrier(
             (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
             (
-                S::VERTEX_SHADER | S::FRAGMENT_SHADER,
+                S::VERTEX_SHADER | S::FRAGMENT_SHADER | S::COMPUTE_SHADER,
                 A::SHADER_STORAGE_READ,
             ),
         );
-        self.depth.record(cmd, timer, t);
-        self.emit.record(cmd, timer, scene, &self.gpu, fb, t);
+        match self.emit_path {
+            EmitPath::Compute => {
+                self.emit
+                    .record_compute(cmd, timer, scene, &self.gpu, fb, t);
+                cmd.barrier(
+                    (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+                    (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
+                );
+            }
+            EmitPath::Raster => {
+                self.depth.record(cmd, timer, t);
+                self.emit.record(cmd, timer, scene, &self.gpu, fb, t);
+            }
+        }
         self.shade.record(cmd, timer, &t.gbuffer);
         cmd.barrier(
             (

@@ -1,13 +1,20 @@
-//! Pass `emit_gbuffer` (shaders_glsl/emit_gbuffer.vert.glsl / .frag.glsl): one draw per material of
-//! a grid of 64x64 tile quads at the material's depth. The vertex shader drops the tiles whose
-//! `material_classify` range excludes the material; the depth test `EQUAL` against the material
-//! depth lets only that material's pixels run the fragment shader, which rebuilds the triangle's
-//! attributes from the visibility buffer and writes the GBuffer. With counting on, each fragment
-//! adds one to its material's counter (tests compare these with the pixels of each material).
+//! Pass `emit_gbuffer`: per material, the GBuffer of exactly that material's pixels, rebuilt from
+//! the visibility buffer (shaders_glsl/common/emit.glsl). Two forms ([`EmitPath`]):
+//!
+//! - compute (the default, emit_gbuffer.comp.glsl): one dispatch per material over the 64x64
+//!   classification tiles; tiles whose `material_classify` range excludes the material leave at
+//!   once, the others shade the pixels whose per-pixel material is this one;
+//! - raster (DESIGN.md's form, emit_gbuffer.vert/.frag.glsl): one draw per material of a grid of
+//!   tile quads at the material's depth; the vertex shader drops the tiles outside the range, the
+//!   depth test `EQUAL` against the material depth (`material_depth`) lets only that material's
+//!   pixels run the fragment shader.
+//!
+//! With counting on, each shaded pixel adds one to its material's counter (tests compare these
+//! with the pixels of each material).
 
 use crate::gpu::{
-    Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, RenderTarget,
-    ShaderStage, Timer, vk,
+    Cmd, ComputePipeline, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc,
+    RenderTarget, ShaderStage, Timer, vk,
 };
 use crate::material::GpuMaterials;
 use crate::passes::material_classify::{MATERIAL_DEPTH_FORMAT, MaterialTargets};
@@ -18,9 +25,32 @@ use crate::scene_gpu::GpuScene;
 /// The pass's name: debug label, timer scope and pipeline name.
 pub const NAME: &str = "emit_gbuffer";
 
-/// The GBuffer pipeline (made for one material table's texture array and visibility-buffer path).
+/// How `emit_gbuffer` runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EmitPath {
+    /// One compute dispatch per material over the classification tiles (no material depth).
+    #[default]
+    Compute,
+    /// One draw per material of tile quads against the material depth (depth test EQUAL).
+    Raster,
+}
+
+impl EmitPath {
+    /// `compute` or `raster`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "compute" => Some(EmitPath::Compute),
+            "raster" => Some(EmitPath::Raster),
+            _ => None,
+        }
+    }
+}
+
+/// The GBuffer pipelines (made for one material table's texture array and visibility-buffer path).
 pub struct EmitGbuffer {
     pipeline: GraphicsPipeline,
+    compute: ComputePipeline,
 }
 
 impl EmitGbuffer {
@@ -59,10 +89,85 @@ impl EmitGbuffer {
             },
             &materials.textures,
         )?;
-        Ok(Self { pipeline })
+        let comp = match path {
+            VisPath::Buffer => crate::shaders::EMIT_GBUFFER_COMP,
+            VisPath::Image => crate::shaders::EMIT_GBUFFER_COMP_IMAGE,
+        };
+        bindings.extend([
+            D::STORAGE_BUFFER,
+            D::STORAGE_IMAGE,
+            D::STORAGE_IMAGE,
+            D::STORAGE_IMAGE,
+        ]);
+        let compute = ComputePipeline::with_textures(
+            ctx,
+            ShaderStage {
+                name: NAME,
+                spirv: comp,
+            },
+            &bindings,
+            4,
+            &materials.textures,
+        )?;
+        Ok(Self { pipeline, compute })
     }
 
-    /// Records the pass: clears the GBuffer, then one draw per material. The material depth must be
+    /// Records the compute form: clears the GBuffer's albedo (alpha 0: not covered), then one
+    /// dispatch per material. `material_classify`'s tiles and per-pixel materials must be visible
+    /// to compute shaders.
+    pub fn record_compute(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        materials: &GpuMaterials,
+        fb: &FrameBuffers,
+        t: &MaterialTargets,
+    ) {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        timer.begin(cmd, NAME);
+        let g = &t.gbuffer;
+        cmd.clear_image_zero(&g.albedo);
+        for i in [&g.normal, &g.params] {
+            cmd.to_general(i);
+        }
+        cmd.barrier(
+            (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+        );
+        let vis = fb.visbuffer_desc(cmd);
+        cmd.bind_compute(&self.compute);
+        cmd.push_compute_descriptors(
+            &self.compute,
+            &with_geometry(
+                &[
+                    Desc::Uniform(&g.view),
+                    Desc::Storage(&t.tiles),
+                    Desc::Uniform(&fb.view),
+                    Desc::Storage(&fb.visible),
+                ],
+                scene,
+                &[
+                    Desc::Storage(&materials.table),
+                    Desc::Storage(&materials.meshes),
+                    vis,
+                    Desc::Storage(&t.fragment_counts),
+                    Desc::Storage(&t.pixel_materials),
+                    Desc::StorageImage(&g.albedo),
+                    Desc::StorageImage(&g.normal),
+                    Desc::StorageImage(&g.params),
+                ],
+            ),
+        );
+        cmd.bind_compute_textures(&self.compute, &materials.textures);
+        for m in 0..materials.count {
+            cmd.compute_push_constants(&self.compute, bytemuck::bytes_of(&m));
+            cmd.dispatch(t.tiles_x, t.tiles_y, 1);
+        }
+        timer.end(cmd);
+    }
+
+    /// Records the raster form: clears the GBuffer, then one draw per material. The material depth must be
     /// written (`material_depth`), the tile ranges visible to vertex shaders.
     pub fn record(
         &self,

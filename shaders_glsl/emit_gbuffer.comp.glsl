@@ -1,0 +1,72 @@
+#version 460
+// Pass `emit_gbuffer`, compute form (the default; the raster form is emit_gbuffer.frag): one
+// dispatch per material over the 64x64 classification tiles. A workgroup whose tile range
+// (material_classify) excludes the material leaves at once; in the others each thread takes 16
+// pixels and shades those whose material (material_classify's per-pixel id) is this dispatch's,
+// writing the GBuffer images directly. No material depth and no fragment shading: on the H100
+// this is several times faster than the tile-quad draws (docs/architecture.md).
+//! variant image VISBUFFER_IMAGE
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_nonuniform_qualifier : require
+#include "shared.glsl"
+#include "material.glsl"
+
+#define VISBUFFER_BINDING 12
+#define VISBUFFER_READONLY
+#include "visbuffer.glsl"
+
+layout(local_size_x = 16, local_size_y = 16) in;
+
+layout(set = 0, binding = 0, scalar) uniform MaterialView { MaterialViewGpu mview; };
+layout(set = 0, binding = 1, scalar) readonly buffer Tiles { uvec2 tiles[]; };
+layout(set = 0, binding = 2, scalar) uniform View { ViewGpu view; };
+layout(set = 0, binding = 3, scalar) readonly buffer Visible { uvec2 visible[]; };
+layout(set = 0, binding = 4, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
+layout(set = 0, binding = 5, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer Vertices { PackedVertex vertices[]; };
+layout(set = 0, binding = 8, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
+layout(set = 0, binding = 9, scalar) readonly buffer Triangles { uint triangle_words[]; };
+layout(set = 0, binding = 10, scalar) readonly buffer Materials { MaterialGpu materials[]; };
+layout(set = 0, binding = 11, scalar) readonly buffer MeshMaterials { MeshMaterialGpu mesh_materials[]; };
+layout(set = 0, binding = 13, scalar) buffer FragmentCounts { uint fragment_counts[]; };
+layout(set = 0, binding = 14, scalar) readonly buffer PixelMaterials { uint pixel_materials[]; };
+layout(set = 0, binding = 15, rgba8) uniform writeonly image2D albedo_image;
+layout(set = 0, binding = 16, rgba16f) uniform writeonly image2D normal_image;
+layout(set = 0, binding = 17, rgba8) uniform writeonly image2D params_image;
+layout(set = 1, binding = 0) uniform sampler2D textures[];
+
+layout(push_constant, scalar) uniform Push { uint material; };
+
+#include "raster.glsl"
+#include "shading.glsl"
+#include "gbuffer.glsl"
+#include "emit.glsl"
+
+void main() {
+    uvec2 range = tiles[gl_WorkGroupID.y * mview.tiles_x + gl_WorkGroupID.x];
+    if (material < range.x || material > range.y) {
+        return;
+    }
+    uint width = uint(mview.viewport.x);
+    uint height = uint(mview.viewport.y);
+    // Thread (x, y) takes pixels (x + 16 i, y + 16 j): a subgroup reads and writes runs of
+    // neighbouring pixels.
+    uvec2 base = gl_WorkGroupID.xy * MATERIAL_TILE + gl_LocalInvocationID.xy;
+    for (uint dy = 0u; dy < 4u; dy++) {
+        for (uint dx = 0u; dx < 4u; dx++) {
+            uvec2 p = base + uvec2(dx, dy) * 16u;
+            if (p.x >= width || p.y >= height || pixel_materials[p.y * width + p.x] != material) {
+                continue;
+            }
+            vec4 a;
+            vec4 n;
+            vec4 q;
+            if (emit_pixel(ivec2(p), material, a, n, q)) {
+                imageStore(albedo_image, ivec2(p), a);
+                imageStore(normal_image, ivec2(p), n);
+                imageStore(params_image, ivec2(p), q);
+            }
+        }
+    }
+}
