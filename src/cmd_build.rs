@@ -39,6 +39,10 @@ pub struct BuildArgs {
     /// Triangle count the fallback mesh aims for.
     #[arg(long = "fallback-triangles", default_value_t = 2000)]
     pub fallback_triangles: u32,
+    /// Keep simplifying the single top cluster while it has more than this many triangles (small
+    /// roots make far instances cheap; 0: stop at the first single cluster).
+    #[arg(long = "root-triangles", default_value_t = 16)]
+    pub root_triangles: u32,
     /// Write the fallback mesh as OBJ.
     #[arg(long = "fallback-out")]
     pub fallback_out: Option<PathBuf>,
@@ -96,6 +100,7 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         keep_percent: a.keep_percent,
         trim_error: a.trim_error,
         fallback_triangles: a.fallback_triangles,
+        root_triangles: a.root_triangles,
         threads: a.threads,
         partitioner: match a.partitioner.as_str() {
             "metis" => builder::Partitioner::Metis,

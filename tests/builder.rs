@@ -136,13 +136,57 @@ fn one_triangle() {
 
 #[test]
 fn small_meshes_are_one_cluster() {
-    let (p, i) = grid(5, 1, [0.0; 3], 1.0); // 10 triangles
+    let (p, i) = grid(5, 1, [0.0; 3], 1.0); // 10 triangles: under the root chain's limit
     let b = build_and_verify(&mesh_from("ten", p, i));
     assert_eq!(b.clusters.len(), 1);
-    let (p, i) = grid(9, 7, [0.0; 3], 1.0); // 126 triangles
-    let b = build_and_verify(&mesh_from("126", p, i));
+    // 126 triangles: one cluster; without the root chain that is the whole DAG.
+    let (p, i) = grid(9, 7, [0.0; 3], 1.0);
+    let m = mesh_from("126", p, i);
+    let opts = BuildOptions {
+        root_triangles: 0,
+        ..BuildOptions::default()
+    };
+    let b = builder::build(&m, &opts).expect("builds");
     assert_eq!(b.clusters.len(), 1);
     assert_eq!(b.stats.stored_triangles, 126);
+    // With it (the default), level 0 is that cluster and the root is small.
+    let b = build_and_verify(&m);
+    assert_eq!(b.clusters.iter().filter(|c| c.level == 0).count(), 1);
+    assert!(b.clusters[b.root as usize].triangle_count() <= 16);
+}
+
+#[test]
+fn root_chain_shrinks_the_root_one_cluster_per_level() {
+    let (p, i) = grid(60, 40, [0.0; 3], 0.1);
+    let m = mesh_from("grid", p, i);
+    let b = build_and_verify(&m);
+    let root = &b.clusters[b.root as usize];
+    assert!(
+        root.triangle_count() <= 16,
+        "root {}",
+        root.triangle_count()
+    );
+    // The levels after the first single-cluster level each hold one cluster, with fewer
+    // triangles and no smaller error than the one before.
+    let levels = &b.stats.levels;
+    let first_single = levels
+        .iter()
+        .position(|l| l.clusters == 1)
+        .expect("one cluster at some level");
+    assert!(levels.len() > first_single + 1, "a chain: {levels:?}");
+    for w in levels[first_single..].windows(2) {
+        assert_eq!(w[1].clusters, 1);
+        assert!(w[1].triangles < w[0].triangles, "{levels:?}");
+        assert!(w[1].max_error >= w[0].max_error, "{levels:?}");
+    }
+    // Without it, the DAG stops at the first single cluster.
+    let opts = BuildOptions {
+        root_triangles: 0,
+        ..BuildOptions::default()
+    };
+    let short = builder::build(&m, &opts).expect("builds");
+    assert_eq!(short.stats.levels.len(), first_single + 1);
+    assert!(short.clusters[short.root as usize].triangle_count() > 16);
 }
 
 #[test]

@@ -814,6 +814,63 @@ fn build_inner(
         working = next;
         iteration += 1;
     }
+    // Root chain: simplify the single cluster further (a group of one, nothing to lock) while it
+    // is above `root_triangles` and simplification still removes triangles into one cluster.
+    let owner = vec![NONE; npid];
+    while (opts.root_triangles as usize) > 0
+        && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
+        && iteration < 4096
+    {
+        let top = working[0];
+        let ctx = GroupCtx {
+            parter,
+            clusters: &clusters,
+            positions: &positions,
+            pid: &pid,
+            owner: &owner,
+            opts,
+            min_error,
+            single: true,
+        };
+        let Some(out) = ctx.simplify_group(&[top]) else {
+            break;
+        };
+        let n = clusters[top as usize].tris.len();
+        let [part] = out.parts.as_slice() else {
+            break;
+        };
+        if part.is_empty() || part.len() >= n {
+            break;
+        }
+        fallback_groups += out.fallback as usize;
+        let gid = groups.len() as u32;
+        clusters[top as usize].group = gid;
+        let level = iteration + 1;
+        working = vec![clusters.len() as u32];
+        clusters.push(WCluster {
+            tris: part.clone(),
+            self_error: out.error,
+            self_sphere: out.sphere,
+            creator: gid,
+            level,
+            group: NO_GROUP,
+        });
+        groups.push(WGroup {
+            members: vec![top],
+            error: out.error,
+            sphere: out.sphere,
+            iteration,
+        });
+        let prev = levels.last().map_or(0, |l| l.triangles);
+        let mut st = level_stats(level, &working, &clusters, prev, 1, 0);
+        st.level = level;
+        progress(&format!(
+            "{}: level {level}: root chain, {} triangles",
+            mesh.name, st.triangles
+        ));
+        levels.push(st);
+        iteration += 1;
+    }
     let root = working[0];
     // The root's pseudo-group: parent error infinite.
     let root_sphere = clusters[root as usize].self_sphere;

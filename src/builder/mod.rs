@@ -53,6 +53,11 @@ pub struct BuildOptions {
     pub trim_error: f32,
     /// Triangle count the fallback mesh ([`BuiltMesh::fallback_mesh`]) aims for.
     pub fallback_triangles: u32,
+    /// Once one cluster is left, keep simplifying it (a group of one, each step a new level with
+    /// one cluster) while it has more than this many triangles and simplification still removes
+    /// some: the root gets small, so a far instance (drawn as its root alone) costs a few
+    /// triangles. 0 or at least `max_cluster_triangles`: stop at the first single cluster.
+    pub root_triangles: u32,
     /// Worker threads (`None`: rayon's default). The output does not depend on it.
     pub threads: Option<usize>,
     /// Graph partitioner for clusters and groups.
@@ -84,6 +89,7 @@ impl Default for BuildOptions {
             keep_percent: 100.0,
             trim_error: 0.0,
             fallback_triangles: 2000,
+            root_triangles: 16,
             threads: None,
             partitioner: Partitioner::default(),
         }
