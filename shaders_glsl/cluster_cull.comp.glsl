@@ -56,9 +56,12 @@ void process(uint64_t item) {
         }
         return;
     }
-    // No cluster below can be drawn when even the largest parent error is already fine.
+    // No cluster below can be drawn when even the largest parent error is already fine (the
+    // fallback cut is by level: every node is walked).
+    bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
     vec3 lc = relative_position(inst, view, node.lod_sphere.xyz);
-    if (lod_error_px(node.max_parent_error * scale, lc, node.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
+    if (!fallback
+        && lod_error_px(node.max_parent_error * scale, lc, node.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
         return;
     }
     if ((node.flags & BVH_FLAG_LEAF) == 0u) {
@@ -73,12 +76,19 @@ void process(uint64_t item) {
             uint ci = mesh.cluster_offset + group.first_cluster + k;
             Cluster cl = clusters[ci];
             atomicAdd(counters.clusters_tested, 1u);
-            vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
-            vec3 pcen = relative_position(inst, view, cl.parent_sphere.xyz);
-            bool fine = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) <= view.error_px;
-            bool parent_coarse =
-                lod_error_px(cl.parent_error * scale, pcen, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
-            if (!(fine && parent_coarse)) {
+            bool in_cut;
+            if (fallback) {
+                in_cut = cl.level <= mesh.fallback_level
+                    && groups[mesh.group_offset + cl.group].iteration >= mesh.fallback_level;
+            } else {
+                vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
+                vec3 pcen = relative_position(inst, view, cl.parent_sphere.xyz);
+                bool fine = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) <= view.error_px;
+                bool parent_coarse =
+                    lod_error_px(cl.parent_error * scale, pcen, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
+                in_cut = fine && parent_coarse;
+            }
+            if (!in_cut) {
                 continue;
             }
             vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);

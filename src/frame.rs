@@ -343,9 +343,9 @@ impl VgeoRenderer {
     /// Renders one frame: both culling phases, both rasterizers, the HZB, and `mode`'s debug view,
     /// and reads back the image, the visibility buffer and the counters.
     ///
-    /// Two views change the frame itself: [`ViewMode::Fallback`] renders with
-    /// `error_px = f32::MAX` (the cut becomes the DAG roots wherever the camera is outside their
-    /// LOD spheres), and [`ViewMode::Overdraw`] (like [`VIEW_FLAG_COUNT_OVERDRAW`] in
+    /// Two views change the frame itself: [`ViewMode::Fallback`] draws each mesh's fallback mesh
+    /// (the complete DAG level nearest the fallback triangle count,
+    /// [`crate::shared::VIEW_FLAG_FALLBACK_CUT`]) instead of the LOD cut, and [`ViewMode::Overdraw`] (like [`VIEW_FLAG_COUNT_OVERDRAW`] in
     /// `settings.flags` with any view) makes the rasterizers count writes per pixel, returned in
     /// [`VgeoFrame::overdraw`].
     pub fn render(
@@ -436,7 +436,7 @@ impl VgeoRenderer {
     ) -> GpuResult<Vec<(String, f64)>> {
         let mut settings = *settings;
         if mode == ViewMode::Fallback {
-            settings.error_px = f32::MAX;
+            settings.flags |= crate::shared::VIEW_FLAG_FALLBACK_CUT;
         }
         if mode == ViewMode::Overdraw {
             settings.flags |= VIEW_FLAG_COUNT_OVERDRAW;

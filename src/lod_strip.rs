@@ -97,7 +97,7 @@ impl LodStripOptions {
         }
         if self.view == ViewMode::Fallback {
             return bad(
-                "view `fallback` replaces the cut by the DAG roots: a strip needs a view that \
+                "view `fallback` replaces the cut by the fallback mesh: a strip needs a view that \
                  shows the cut (clusters, lod, groups, triangles, ...)"
                     .into(),
             );

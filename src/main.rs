@@ -66,7 +66,7 @@ struct RenderArgs {
     /// ambient), albedo, normals, materials (a colour per material). `--mode vgeo` also: lambert
     /// (vertex normals, no materials), depth, triangles, clusters, instances, lod (DAG level),
     /// hwsw (which rasterizer drew it), groups (DAG group), overdraw (rasterizer writes per pixel),
-    /// fallback (the DAG roots: the coarsest cut).
+    /// fallback (the fallback mesh: the DAG level nearest 2,000 triangles).
     #[arg(long, default_value = "lit")]
     view: String,
     /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).

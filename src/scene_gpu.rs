@@ -124,7 +124,9 @@ impl GpuScene {
                 bounds_center: center,
                 bounds_radius: radius,
                 root_cluster: m.root,
-                _pad: [0; 3],
+                fallback_level: m
+                    .fallback_level(crate::builder::BuildOptions::default().fallback_triangles),
+                _pad: [0; 2],
             });
             clusters.extend_from_slice(&m.clusters);
             groups.extend_from_slice(&m.groups);

@@ -44,6 +44,10 @@ pub const VIEW_FLAG_DIRECT_VISIBLE: u32 = 8;
 /// and `raster_hw` (each fragment) add 1 to a per-pixel u32 counter (the overdraw view). Off, the
 /// rasterizers only pay the branch.
 pub const VIEW_FLAG_COUNT_OVERDRAW: u32 = 16;
+/// `ViewGpu::flags`: draw each mesh's fallback mesh (`MeshGpu::fallback_level`: the complete DAG
+/// level nearest the fallback triangle count) instead of the LOD cut: a cluster is drawn when its
+/// level is at most that level and its group was simplified at or after it (the fallback view).
+pub const VIEW_FLAG_FALLBACK_CUT: u32 = 32;
 /// `BvhNode::flags`: the node is a leaf over groups `first .. first + count`.
 pub const BVH_FLAG_LEAF: u32 = 1;
 /// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).
@@ -111,7 +115,10 @@ pub struct MeshGpu {
     /// The DAG's root cluster, relative to `cluster_offset` (instance-level LOD: when it alone is
     /// fine, `instance_cull` emits it without walking the BVH).
     pub root_cluster: u32,
-    pub _pad: [u32; 3],
+    /// DAG level of the fallback mesh ([`crate::builder::BuiltMesh::fallback_level`]), drawn
+    /// under [`VIEW_FLAG_FALLBACK_CUT`].
+    pub fallback_level: u32,
+    pub _pad: [u32; 2],
 }
 const _: () = assert!(size_of::<MeshGpu>() == 80);
 

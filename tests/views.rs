@@ -366,12 +366,13 @@ fn overdraw_counts_every_rasterizer_write() {
 }
 
 #[test]
-fn fallback_view_draws_exactly_the_dag_roots() {
+fn fallback_view_draws_exactly_the_fallback_level() {
     let ctx = gpu();
     let (mesh, built) = spot();
-    let roots: Vec<u32> = (0..built.clusters.len() as u32)
-        .filter(|&c| built.clusters[c as usize].parent_error == f32::INFINITY)
-        .collect();
+    // The fallback level: the complete DAG level nearest the builder's fallback target.
+    let level = built.fallback_level(vgeo::builder::BuildOptions::default().fallback_triangles);
+    assert!(level > 0, "spot's fallback is coarser than the input");
+    let roots: Vec<u32> = built.level_clusters(level);
     let root_tris: u64 = roots
         .iter()
         .map(|&c| built.clusters[c as usize].triangle_count() as u64)
@@ -390,11 +391,15 @@ fn fallback_view_draws_exactly_the_dag_roots() {
         occlusion: false,
         ..Default::default()
     };
-    let detailed = render(&mut r, &camera, &settings, ViewMode::Lambert);
+    let full = FrameSettings {
+        error_px: 0.0,
+        ..settings
+    };
+    let detailed = render(&mut r, &camera, &full, ViewMode::Lambert);
     let f = render(&mut r, &camera, &settings, ViewMode::Fallback);
     let visible_instances = f.main.counters.instances_visible + f.post.counters.instances_visible;
     eprintln!(
-        "fallback: {} roots ({root_tris} triangles) per instance, {} visible instances, {} triangles drawn (detailed view: {})",
+        "fallback (level {level}): {} clusters ({root_tris} triangles) per instance, {} visible instances, {} triangles drawn (detailed view: {})",
         roots.len(),
         visible_instances,
         f.frame.triangles,
@@ -404,14 +409,17 @@ fn fallback_view_draws_exactly_the_dag_roots() {
     assert_eq!(
         f.frame.triangles,
         visible_instances as u64 * root_tris,
-        "fallback draws the roots' triangles of every visible instance"
+        "fallback draws the fallback level's triangles for every visible instance"
     );
     let mut drawn = f.visible();
     drawn.sort_unstable();
     let expected: Vec<[u32; 2]> = (0..3u32)
         .flat_map(|i| roots.iter().map(move |&c| [i, c]))
         .collect();
-    assert_eq!(drawn, expected, "the drawn clusters are the roots");
+    assert_eq!(
+        drawn, expected,
+        "the drawn clusters are the fallback level's"
+    );
     assert!(
         detailed.frame.triangles > 2 * f.frame.triangles,
         "the fallback is coarser than the normal cut ({} vs {})",

@@ -152,9 +152,16 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     uint ci = mesh.cluster_offset + mesh.root_cluster;
     Cluster cl = clusters[ci];
     float scale = inst.max_scale;
-    vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
-    if (lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) > view.error_px) {
-        return false;
+    if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u) {
+        // The fallback cut is the root alone only when the fallback level is the root's.
+        if (cl.level > mesh.fallback_level) {
+            return false;
+        }
+    } else {
+        vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
+        if (lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) > view.error_px) {
+            return false;
+        }
     }
     atomicAdd(counters.clusters_tested, 1u);
     vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);

@@ -31,9 +31,9 @@ struct MeshGpu {
     vec3 bounds_center;
     float bounds_radius;
     uint root_cluster;
+    uint fallback_level;
     uint _pad0;
     uint _pad1;
-    uint _pad2;
 };
 
 struct InstanceVgeo {

@@ -426,8 +426,8 @@ impl BuiltMesh {
             .collect()
     }
 
-    /// The complete level whose triangle count is closest to `target`, as a plain mesh.
-    pub fn fallback_mesh(&self, target: u32) -> Mesh {
+    /// The complete level whose triangle count is closest to `target` (the finer on a tie).
+    pub fn fallback_level(&self, target: u32) -> u32 {
         let mut best = 0u32;
         let mut best_d = u64::MAX;
         for l in &self.stats.levels {
@@ -437,7 +437,12 @@ impl BuiltMesh {
                 best = l.level;
             }
         }
-        self.level_mesh(best)
+        best
+    }
+
+    /// The complete level whose triangle count is closest to `target`, as a plain mesh.
+    pub fn fallback_mesh(&self, target: u32) -> Mesh {
+        self.level_mesh(self.fallback_level(target))
     }
 
     /// Complete level `k` as a plain mesh (vertices compacted, attributes decoded).

@@ -47,9 +47,11 @@ pub enum ViewMode {
     /// 8 red, 16 and more white. The frame counts only for this view
     /// ([`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW)).
     Overdraw,
-    /// The fallback mesh: what the frame draws at the coarsest, the DAG roots (the cut of an
-    /// unbounded error threshold: the frame renders this view with `error_px = f32::MAX`), Lambert
-    /// shaded like [`ViewMode::Lambert`], tinted per cluster with dark cluster borders.
+    /// The fallback mesh: the complete DAG level whose triangle count is nearest the builder's
+    /// fallback target (2,000 triangles; [`crate::builder::BuiltMesh::fallback_level`]), what a
+    /// renderer without virtualized geometry would draw. The frame draws that level instead of the
+    /// LOD cut ([`crate::shared::VIEW_FLAG_FALLBACK_CUT`]), Lambert shaded like
+    /// [`ViewMode::Lambert`], tinted per cluster with dark cluster borders.
     Fallback,
     /// The image: materials (base colour, textures, normal maps, metallic/roughness) lit by the
     /// directional light plus ambient (`material_classify` -> `material_depth` -> `emit_gbuffer`
