@@ -4,9 +4,10 @@
 //! For every scene and every frame of its camera path, `brute` renders the full-detail reference;
 //! `lod` and `vgeo` render at every pixel threshold of the sweep, each threshold's whole path in
 //! order (so vgeo's occlusion culling sees the previous frame of the same run). Each path is run
-//! twice: first timed, frames back to back without read-back (GPU ms per pass from timestamps, CPU
-//! ms of the frame call: record, submit, wait), so the GPU is busy as in an application rather than
-//! idled, clocks dropping, by read-backs between frames; then again with read-back for the
+//! twice: first timed, the path's frames recorded back to back into one submission without
+//! read-back (GPU ms per pass from timestamps; CPU ms: the submission's wall time over its frames),
+//! so the GPU is busy as in an application with frames in flight rather than idled, clocks
+//! dropping, by waits and read-backs between frames; then again with read-back for the
 //! triangles, clusters and instances drawn and the comparison with brute's image of the same frame
 //! ([`image_error`]). Results go to `--out`: `bench.json`, `bench.md`, SVG plots and a few images.
 //!
@@ -894,25 +895,38 @@ type Memory = (u64, u64);
 /// GPU ms per pass of one frame.
 type PassTimes = Vec<(String, f64)>;
 
-/// Per frame of `cameras`, the GPU times and the CPU ms of `frame` (a render without read-back),
-/// rendered back to back along the path (after one warm-up frame when `warmup`), so the GPU is
-/// busy as in an application and not idled by read-backs between frames.
+/// Per frame of `cameras`, the GPU times and CPU ms of `path` (frames rendered back to back in
+/// one submission, no read-back; `path(first, frames)` renders the frames from index `first`).
+/// With `warmup`, one frame is rendered first, which also sizes the submissions to about 100 ms
+/// of work each so that heavy frames never make one long submission. CPU ms of a frame: the wall
+/// time of its submission (record, submit, wait) over its frames.
 fn time_path(
     warmup: bool,
     cameras: &[Camera],
-    mut frame: impl FnMut(&Camera) -> Result<PassTimes>,
+    mut path: impl FnMut(usize, &[Camera]) -> Result<Vec<PassTimes>>,
 ) -> Result<Vec<(PassTimes, f64)>> {
-    if warmup && let Some(c) = cameras.first() {
-        frame(c)?;
+    let mut per_frame_ms = 0.0;
+    if warmup && !cameras.is_empty() {
+        let t = Instant::now();
+        path(0, &cameras[..1])?;
+        per_frame_ms = t.elapsed().as_secs_f64() * 1e3;
     }
-    cameras
-        .iter()
-        .map(|cam| {
-            let t = Instant::now();
-            let passes = frame(cam)?;
-            Ok((passes, t.elapsed().as_secs_f64() * 1e3))
-        })
-        .collect()
+    let chunk = if per_frame_ms > 0.0 {
+        ((100.0 / per_frame_ms) as usize).clamp(1, cameras.len().max(1))
+    } else {
+        cameras.len().max(1)
+    };
+    let mut out = Vec::with_capacity(cameras.len());
+    for (i, frames) in cameras.chunks(chunk).enumerate() {
+        let t = Instant::now();
+        let times = path(i * chunk, frames)?;
+        let cpu = t.elapsed().as_secs_f64() * 1e3 / frames.len() as f64;
+        if times.len() != frames.len() {
+            bail!("{} frames timed, {} expected", times.len(), frames.len());
+        }
+        out.extend(times.into_iter().map(|p| (p, cpu)));
+    }
+    Ok(out)
 }
 
 fn run_scene(
@@ -963,10 +977,8 @@ fn run_scene(
                 scene.placements.len() as u64 * size_of::<crate::shared::InstanceGpu>() as u64,
             ),
         );
-        let timed = time_path(settings.warmup, &scene.cameras, |cam| {
-            Ok(brute
-                .render_timed(&scene.placements, cam, &scene.light, w, h)?
-                .gpu_ms)
+        let timed = time_path(settings.warmup, &scene.cameras, |_, cams| {
+            Ok(brute.render_path_timed(&scene.placements, cams, &scene.light, w, h)?)
         })?;
         for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
             let frame = brute.render(&scene.placements, cam, &scene.light, w, h)?;
@@ -1026,10 +1038,8 @@ fn run_scene(
                 bar.inc(frames);
                 continue;
             }
-            let timed = time_path(settings.warmup, &scene.cameras, |cam| {
-                Ok(lod
-                    .render_timed(&scene.placements, cam, &scene.light, (w, h), e)?
-                    .gpu_ms)
+            let timed = time_path(settings.warmup, &scene.cameras, |_, cams| {
+                Ok(lod.render_path_timed(&scene.placements, cams, &scene.light, (w, h), e)?)
             })?;
             for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
                 let frame = lod.render(&scene.placements, cam, &scene.light, w, h, e)?;
@@ -1090,9 +1100,11 @@ fn run_scene(
             };
             // Timed along the path (history flows frame to frame as in an application), then
             // rendered again with read-back for the counters and the image error.
-            r.reset_history();
-            let timed = time_path(settings.warmup, &scene.cameras, |cam| {
-                Ok(r.render_timed(cam, w, h, &fs, ViewMode::Lit, &scene.light)?)
+            let timed = time_path(settings.warmup, &scene.cameras, |first, cams| {
+                if first == 0 {
+                    r.reset_history();
+                }
+                Ok(r.render_path_timed(cams, w, h, &fs, ViewMode::Lit, &scene.light)?)
             })?;
             r.reset_history();
             for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
@@ -1542,7 +1554,7 @@ pub fn markdown(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         md,
-        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px, emit_gbuffer {:?}; GPU ms from timestamps and CPU ms of the frame call (record, submit, wait; no read-back), frames rendered back to back along the path, mean over it; images and counters from a second pass with read-back",
+        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px, emit_gbuffer {:?}; GPU ms from timestamps, frames of the path recorded back to back in one submission (no read-back, no CPU wait between them; heavy frames in submissions of ~100 ms), mean over the path; CPU ms: a submission's wall time over its frames; images and counters from a second pass with read-back",
         s.width,
         s.height,
         s.frames,

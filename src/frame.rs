@@ -434,6 +434,41 @@ impl VgeoRenderer {
         mode: ViewMode,
         light: &Light,
     ) -> GpuResult<Vec<(String, f64)>> {
+        let cams = std::slice::from_ref(camera);
+        let mut frames = self.run_frames(cams, width, height, settings, mode, light)?;
+        Ok(frames.pop().unwrap_or_default())
+    }
+
+    /// The frames of `cameras` (a camera path) in one submission, back to back, without read-back:
+    /// the GPU times per pass of each frame. Each frame's view, occlusion and material view are
+    /// written into the command buffer, so the GPU never waits for the CPU between frames (as in
+    /// an application with frames in flight; the benchmark times paths this way). The occlusion
+    /// history flows from frame to frame and stays for the next call.
+    pub fn render_path_timed(
+        &mut self,
+        cameras: &[Camera],
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+        mode: ViewMode,
+        light: &Light,
+    ) -> GpuResult<Vec<Vec<(String, f64)>>> {
+        self.run_frames(cameras, width, height, settings, mode, light)
+    }
+
+    fn run_frames(
+        &mut self,
+        cameras: &[Camera],
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+        mode: ViewMode,
+        light: &Light,
+    ) -> GpuResult<Vec<Vec<(String, f64)>>> {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        let Some(first) = cameras.first() else {
+            return Ok(Vec::new());
+        };
         let mut settings = *settings;
         if mode == ViewMode::Fallback {
             settings.flags |= crate::shared::VIEW_FLAG_FALLBACK_CUT;
@@ -442,8 +477,7 @@ impl VgeoRenderer {
             settings.flags |= VIEW_FLAG_COUNT_OVERDRAW;
         }
         let counting = settings.flags & VIEW_FLAG_COUNT_OVERDRAW != 0;
-        let settings = &settings;
-        self.write_view(camera, width, height, settings)?;
+        self.write_view(first, width, height, &settings)?;
         if counting && self.overdraw.is_none() {
             self.overdraw = Some(Buffer::new(
                 &self.ctx,
@@ -455,14 +489,15 @@ impl VgeoRenderer {
                 crate::gpu::MemoryKind::Gpu,
             )?);
         }
-        if let Some(sm) = mode.shade_mode() {
+        let shade = mode.shade_mode();
+        if let Some(sm) = shade {
             self.prepare_materials()?;
             let fb = self
                 .fb
                 .as_ref()
                 .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
             if let Some(m) = self.materials.as_mut() {
-                m.prepare(fb, camera, light.direction, sm)?;
+                m.prepare(fb, first, light.direction, sm)?;
             }
         }
         let levels = self
@@ -470,21 +505,41 @@ impl VgeoRenderer {
             .as_ref()
             .map(|p| p.levels.len() as u32)
             .unwrap_or(0);
-        let current = occlusion_of(camera, width, height, levels, settings.occlusion);
-        let fb = self
-            .fb
-            .as_mut()
-            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
-        let main = match (&self.history, settings.occlusion) {
-            (Some(h), true) => *h,
-            _ => OcclusionGpu::default(),
-        };
-        fb.occ_main.write(0, bytemuck::bytes_of(&main))?;
-        fb.occ_post.write(0, bytemuck::bytes_of(&current))?;
+        let mut view_settings = settings;
+        if self.direct_visible() {
+            view_settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
+        }
         let fb = self
             .fb
             .as_ref()
             .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+        let materials = self.materials.as_ref().filter(|_| mode.is_material());
+        // Per frame: view, occlusion of the main phase (the previous frame's) and of the post
+        // phase (this frame's), material view.
+        let mut history = self.history;
+        let mut data = Vec::with_capacity(cameras.len());
+        for cam in cameras {
+            let current = occlusion_of(cam, width, height, levels, settings.occlusion);
+            let main = match (history, settings.occlusion) {
+                (Some(h), true) => h,
+                _ => OcclusionGpu::default(),
+            };
+            let view = view_gpu(
+                cam,
+                width,
+                height,
+                &view_settings,
+                self.scene.instance_count,
+                self.queue_capacity,
+                self.visible_capacity,
+            );
+            let mview = match (shade, materials) {
+                (Some(sm), Some(m)) => Some(m.view_for(fb, cam, light.direction, sm)?),
+                _ => None,
+            };
+            data.push((view, main, current, mview));
+            history = settings.occlusion.then_some(current);
+        }
         let pyramid = self
             .pyramid
             .as_ref()
@@ -493,61 +548,93 @@ impl VgeoRenderer {
             .debug_view
             .as_ref()
             .ok_or_else(|| GpuError::Other("debug view missing".into()))?;
-        let materials = self.materials.as_ref().filter(|_| mode.is_material());
+        let material_view = materials.and_then(|m| m.targets()).map(|t| &t.gbuffer.view);
         let overdraw = self.overdraw.as_ref().filter(|_| counting);
-        let mut timer = Timer::new(&self.ctx, 24)?;
+        let mut timer = Timer::new(&self.ctx, 24 * cameras.len() as u32)?;
+        let mut starts = Vec::with_capacity(cameras.len());
         let mut result = Ok(());
         self.ctx.submit_and_wait("vgeo frame", |cmd| {
             timer.reset(cmd);
-            visbuffer::clear(cmd, fb);
-            // Direct slots leave holes: empty entries read as all ones.
-            cmd.fill_buffer(&fb.visible, u32::MAX);
-            if let Some(o) = overdraw {
-                cmd.fill_buffer(o, 0);
-            }
-            let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
-            let raster_stages =
-                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
-            cmd.barrier(
-                (
-                    vk::PipelineStageFlags2::ALL_TRANSFER,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                ),
-                (raster_stages, rw),
-            );
-            for phase in [Phase::Main, Phase::Post] {
-                self.record_cull(cmd, &mut timer, fb, &pyramid.hzb, phase);
-                self.raster_sw
-                    .record_counting(cmd, &mut timer, &self.scene, fb, phase, overdraw);
-                // Both rasterizers do atomics on the visibility buffer.
-                cmd.barrier((raster_stages, rw), (raster_stages, rw));
-                self.raster_hw
-                    .record_counting(cmd, &mut timer, &self.scene, fb, phase, overdraw);
+            for (view, main, current, mview) in &data {
+                starts.push(timer.count());
+                // The previous frame is done with this frame's inputs before they are rewritten.
                 cmd.barrier(
-                    (raster_stages, rw),
-                    (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
                 );
-                // After the main phase: this frame's HZB for the post phase; after the post phase:
-                // the HZB the next frame's main phase tests against.
-                pyramid.record(cmd, &mut timer, fb);
+                cmd.update_buffer(&fb.view, 0, bytemuck::bytes_of(view));
+                cmd.update_buffer(&fb.occ_main, 0, bytemuck::bytes_of(main));
+                cmd.update_buffer(&fb.occ_post, 0, bytemuck::bytes_of(current));
+                if let (Some(mv), Some(buf)) = (mview, material_view) {
+                    cmd.update_buffer(buf, 0, bytemuck::bytes_of(mv));
+                }
+                visbuffer::clear(cmd, fb);
+                // Direct slots leave holes: empty entries read as all ones.
+                cmd.fill_buffer(&fb.visible, u32::MAX);
+                if let Some(o) = overdraw {
+                    cmd.fill_buffer(o, 0);
+                }
+                let rw = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
+                let raster_stages = S::COMPUTE_SHADER | S::FRAGMENT_SHADER;
+                cmd.barrier(
+                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                );
+                for phase in [Phase::Main, Phase::Post] {
+                    self.record_cull(cmd, &mut timer, fb, &pyramid.hzb, phase);
+                    self.raster_sw.record_counting(
+                        cmd,
+                        &mut timer,
+                        &self.scene,
+                        fb,
+                        phase,
+                        overdraw,
+                    );
+                    // Both rasterizers do atomics on the visibility buffer.
+                    cmd.barrier((raster_stages, rw), (raster_stages, rw));
+                    self.raster_hw.record_counting(
+                        cmd,
+                        &mut timer,
+                        &self.scene,
+                        fb,
+                        phase,
+                        overdraw,
+                    );
+                    cmd.barrier((raster_stages, rw), (S::COMPUTE_SHADER, rw));
+                    // After the main phase: this frame's HZB for the post phase; after the post
+                    // phase: the HZB the next frame's main phase tests against.
+                    pyramid.record(cmd, &mut timer, fb);
+                }
+                result = match materials {
+                    Some(m) => m.record(cmd, &mut timer, &self.scene, fb),
+                    None => debug_view.record_with_overdraw(
+                        cmd,
+                        &mut timer,
+                        &self.scene,
+                        fb,
+                        mode,
+                        light.direction,
+                        overdraw,
+                    ),
+                };
+                if result.is_err() {
+                    break;
+                }
             }
-            result = match materials {
-                Some(m) => m.record(cmd, &mut timer, &self.scene, fb),
-                None => debug_view.record_with_overdraw(
-                    cmd,
-                    &mut timer,
-                    &self.scene,
-                    fb,
-                    mode,
-                    light.direction,
-                    overdraw,
-                ),
-            };
         })?;
         result?;
-        let gpu_ms = timer.results()?;
-        self.history = settings.occlusion.then_some(current);
-        Ok(gpu_ms)
+        let all = timer.results()?;
+        self.history = history;
+        if all.is_empty() {
+            return Ok(vec![Vec::new(); cameras.len()]);
+        }
+        let mut ends: Vec<usize> = starts.iter().skip(1).copied().collect();
+        ends.push(all.len());
+        Ok(starts
+            .iter()
+            .zip(ends)
+            .map(|(&a, b)| all[a.min(all.len())..b.min(all.len())].to_vec())
+            .collect())
     }
 
     /// The overdraw counters as the last counting frame left them (`None` before any frame

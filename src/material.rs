@@ -540,19 +540,35 @@ impl MaterialPasses {
                 self.gpu.count,
             )?);
         }
+        let view = self.view_for(fb, camera, light_dir, mode)?;
         let t = self
             .targets
             .as_mut()
             .ok_or_else(|| GpuError::Other("material targets missing".into()))?;
-        let view = MaterialViewGpu {
+        t.gbuffer.view.write(0, bytemuck::bytes_of(&view))
+    }
+
+    /// The material view of a frame seen from `camera` (targets sized by
+    /// [`MaterialPasses::prepare`] first); for recording several frames in one submission.
+    pub fn view_for(
+        &self,
+        fb: &FrameBuffers,
+        camera: &Camera,
+        light_dir: Vec3,
+        mode: ShadeMode,
+    ) -> GpuResult<MaterialViewGpu> {
+        let t = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| GpuError::Other("material targets missing".into()))?;
+        Ok(MaterialViewGpu {
             tiles_x: t.tiles_x,
             tiles_y: t.tiles_y,
             material_count: self.gpu.count,
             visible_capacity: fb.visible_capacity,
             count_fragments: self.count_fragments as u32,
             ..t.gbuffer.view_for(camera, light_dir, mode)
-        };
-        t.gbuffer.view.write(0, bytemuck::bytes_of(&view))
+        })
     }
 
     /// Records the four passes after the rasterizers (the visibility buffer and visible list must

@@ -308,15 +308,8 @@ fn wall_mesh(n: u32) -> Mesh {
     m
 }
 
-#[test]
-fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
-    // Synchronization validation on for this test: the two-phase frame has the most barriers.
-    let ctx = Context::new(&ContextOptions {
-        validation: true,
-        sync_validation: true,
-        ..ContextOptions::from_env()
-    })
-    .expect("Vulkan device");
+/// A wall in front of 20 spots (the occlusion tests' scene): meshes, placements, camera.
+fn occlusion_scene() -> (Vec<BuiltMesh>, Vec<Placement>, Camera) {
     let (_, spot) = load(&assets().join("spot.obj"));
     let wall = build(&wall_mesh(16), &BuildOptions::default()).unwrap();
     let mut placements = vec![Placement {
@@ -345,6 +338,99 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
         50f32.to_radians(),
         0.1,
     );
+    (meshes, placements, camera)
+}
+
+#[test]
+fn a_timed_path_renders_the_same_frames_in_one_submission() {
+    // Synchronization validation on: several frames in one command buffer, each rewriting its
+    // inputs with vkCmdUpdateBuffer.
+    let ctx = Context::new(&ContextOptions {
+        validation: true,
+        sync_validation: true,
+        ..ContextOptions::from_env()
+    })
+    .expect("Vulkan device");
+    let (meshes, placements, camera) = occlusion_scene();
+    let cams: Vec<Camera> = (0..3)
+        .map(|k| {
+            let mut c = camera;
+            c.position.x += 0.3 * k as f64;
+            c
+        })
+        .collect();
+    let settings = FrameSettings {
+        error_px: 1.0,
+        ..Default::default()
+    };
+    // One frame after another, each waited for...
+    let mut seq = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
+    for c in &cams[..2] {
+        render(&mut seq, c, &settings);
+    }
+    let want = render(&mut seq, &cams[2], &settings);
+    // ... against the first two in one submission: the third frame sees the same history.
+    let mut path = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
+    let times = path
+        .render_path_timed(
+            &cams[..2],
+            W,
+            H,
+            &settings,
+            ViewMode::Lit,
+            &Light::default(),
+        )
+        .expect("timed path");
+    assert_eq!(times.len(), 2);
+    if ctx.caps().timestamp_period_ns.is_some() {
+        for t in &times {
+            let names: Vec<&str> = t.iter().map(|(n, _)| n.as_str()).collect();
+            assert!(
+                names.contains(&"cluster_cull") && names.contains(&"shade"),
+                "{names:?}"
+            );
+            assert!(t.iter().all(|(_, ms)| ms.is_finite() && *ms >= 0.0));
+        }
+    }
+    let got = render(&mut path, &cams[2], &settings);
+    assert_eq!(
+        got.main.counters.post_instance_count,
+        want.main.counters.post_instance_count
+    );
+    assert!(
+        want.main.counters.post_instance_count > 0,
+        "history defers instances"
+    );
+    assert_eq!(
+        got.visbuffer, want.visbuffer,
+        "same frame after the timed path"
+    );
+    // The classic paths time paths the same way.
+    let plain: Vec<Mesh> = meshes.iter().map(|b| b.level_mesh(0)).collect();
+    let brute = Brute::new(&ctx, &plain).unwrap();
+    let times = brute
+        .render_path_timed(&placements, &cams, &Light::default(), W, H)
+        .expect("brute path");
+    assert_eq!(times.len(), 3);
+    if ctx.caps().timestamp_period_ns.is_some() {
+        for t in &times {
+            let names: Vec<&str> = t.iter().map(|(n, _)| n.as_str()).collect();
+            assert_eq!(names, ["brute", "shade"]);
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
+    // Synchronization validation on for this test: the two-phase frame has the most barriers.
+    let ctx = Context::new(&ContextOptions {
+        validation: true,
+        sync_validation: true,
+        ..ContextOptions::from_env()
+    })
+    .expect("Vulkan device");
+    let (meshes, placements, camera) = occlusion_scene();
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
     let on = FrameSettings {
         error_px: 1.0,

@@ -330,41 +330,62 @@ impl Classic {
         mode: ShadeMode,
         readback: bool,
     ) -> GpuResult<Frame> {
-        let (ctx, pass) = (&self.ctx, self.pass);
-        let uniforms = FrameUniforms {
-            view_proj: camera.view_proj(width, height).to_cols_array_2d(),
-            light_dir: light.direction.normalize_or_zero().extend(0.0).into(),
-            viewport: [
-                width as f32,
-                height as f32,
-                1.0 / width as f32,
-                1.0 / height as f32,
-            ],
+        let frame = ClassicFrame {
+            instances: instances.to_vec(),
+            draws: draws.to_vec(),
+            camera: *camera,
         };
-        let mut ubo = Buffer::new(
+        let mut frames = self.render_frames(
+            std::slice::from_ref(&frame),
+            light,
+            (width, height),
+            mode,
+            readback,
+        )?;
+        frames
+            .pop()
+            .ok_or_else(|| crate::gpu::GpuError::Other("no frame rendered".into()))
+    }
+
+    /// Records `frames` into one submission, back to back (each frame's uniforms and material
+    /// view written into the command buffer), submits and waits: per frame its GPU times and
+    /// triangles; colour and depth of the last frame when `readback`.
+    pub(crate) fn render_frames(
+        &self,
+        frames: &[ClassicFrame],
+        light: &Light,
+        (width, height): (u32, u32),
+        mode: ShadeMode,
+        readback: bool,
+    ) -> GpuResult<Vec<Frame>> {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        let (ctx, pass) = (&self.ctx, self.pass);
+        let ubo = Buffer::new(
             ctx,
             &format!("{pass} frame uniforms"),
             size_of::<FrameUniforms>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryKind::Upload,
+            vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryKind::Gpu,
         )?;
-        ubo.write(0, bytemuck::bytes_of(&uniforms))?;
         // An empty frame still binds a valid (one-record) instance buffer.
         let zero = [bytemuck::Zeroable::zeroed()];
-        let inst_data: &[InstanceGpu] = if instances.is_empty() {
-            &zero
-        } else {
-            instances
-        };
-        let inst_buf = Buffer::with_data(
-            ctx,
-            &format!("{pass} instances"),
-            bytemuck::cast_slice(inst_data),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
-        let mut targets = GbufferTargets::new(ctx, &format!("{pass} gbuffer"), width, height)?;
-        let view = targets.view_for(camera, light.direction, mode);
-        targets.view.write(0, bytemuck::bytes_of(&view))?;
+        let inst_bufs = frames
+            .iter()
+            .map(|f| {
+                let data: &[InstanceGpu] = if f.instances.is_empty() {
+                    &zero
+                } else {
+                    &f.instances
+                };
+                Buffer::with_data(
+                    ctx,
+                    &format!("{pass} instances"),
+                    bytemuck::cast_slice(data),
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                )
+            })
+            .collect::<GpuResult<Vec<_>>>()?;
+        let targets = GbufferTargets::new(ctx, &format!("{pass} gbuffer"), width, height)?;
         let depth = Image::new(
             ctx,
             &format!("{pass} depth"),
@@ -373,54 +394,83 @@ impl Classic {
             DEPTH_FORMAT,
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
         )?;
-        let mut timer = Timer::new(ctx, 4)?;
-        let mut triangles = 0u64;
+        let mut timer = Timer::new(ctx, 4 * frames.len() as u32)?;
+        let mut triangles = vec![0u64; frames.len()];
+        let mut starts = Vec::with_capacity(frames.len());
         ctx.submit_and_wait(&format!("{pass} frame"), |cmd| {
             timer.reset(cmd);
-            timer.begin(cmd, pass);
-            cmd.begin_rendering(
-                &targets.attachments(),
-                Some(RenderTarget {
-                    image: &depth,
-                    clear: Some([0.0; 4]),
-                }),
-            );
-            cmd.bind_graphics(&self.pipeline);
-            cmd.push_graphics_descriptors(
-                &self.pipeline,
-                &[
-                    Desc::Uniform(&ubo),
-                    Desc::Storage(&inst_buf),
-                    Desc::Storage(&self.materials.table),
-                ],
-            );
-            cmd.bind_graphics_textures(&self.pipeline, &self.materials.textures);
-            let mut bound: Option<u32> = None;
-            for d in draws {
-                if d.instance_count == 0 || d.index_count == 0 {
-                    continue;
-                }
-                let Some(mesh) = self.meshes.get(d.mesh as usize) else {
-                    continue;
+            for ((f, inst_buf), tris) in frames.iter().zip(&inst_bufs).zip(&mut triangles) {
+                starts.push(timer.count());
+                let uniforms = FrameUniforms {
+                    view_proj: f.camera.view_proj(width, height).to_cols_array_2d(),
+                    light_dir: light.direction.normalize_or_zero().extend(0.0).into(),
+                    viewport: [
+                        width as f32,
+                        height as f32,
+                        1.0 / width as f32,
+                        1.0 / height as f32,
+                    ],
                 };
-                if bound != Some(d.mesh) {
-                    cmd.bind_mesh_buffers(&mesh.vertices, &mesh.indices);
-                    cmd.graphics_push_constants(&self.pipeline, bytemuck::bytes_of(&mesh.flags));
-                    bound = Some(d.mesh);
-                }
-                cmd.draw_indexed(
-                    d.index_count,
-                    d.instance_count,
-                    d.first_index,
-                    d.first_instance,
+                let view = targets.view_for(&f.camera, light.direction, mode);
+                // The previous frame is done with this frame's inputs before they are rewritten.
+                cmd.barrier(
+                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
                 );
-                triangles += (d.index_count / 3) as u64 * d.instance_count as u64;
+                cmd.update_buffer(&ubo, 0, bytemuck::bytes_of(&uniforms));
+                cmd.update_buffer(&targets.view, 0, bytemuck::bytes_of(&view));
+                cmd.barrier(
+                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                    (S::ALL_COMMANDS, A::MEMORY_READ),
+                );
+                timer.begin(cmd, pass);
+                cmd.begin_rendering(
+                    &targets.attachments(),
+                    Some(RenderTarget {
+                        image: &depth,
+                        clear: Some([0.0; 4]),
+                    }),
+                );
+                cmd.bind_graphics(&self.pipeline);
+                cmd.push_graphics_descriptors(
+                    &self.pipeline,
+                    &[
+                        Desc::Uniform(&ubo),
+                        Desc::Storage(inst_buf),
+                        Desc::Storage(&self.materials.table),
+                    ],
+                );
+                cmd.bind_graphics_textures(&self.pipeline, &self.materials.textures);
+                let mut bound: Option<u32> = None;
+                for d in &f.draws {
+                    if d.instance_count == 0 || d.index_count == 0 {
+                        continue;
+                    }
+                    let Some(mesh) = self.meshes.get(d.mesh as usize) else {
+                        continue;
+                    };
+                    if bound != Some(d.mesh) {
+                        cmd.bind_mesh_buffers(&mesh.vertices, &mesh.indices);
+                        cmd.graphics_push_constants(
+                            &self.pipeline,
+                            bytemuck::bytes_of(&mesh.flags),
+                        );
+                        bound = Some(d.mesh);
+                    }
+                    cmd.draw_indexed(
+                        d.index_count,
+                        d.instance_count,
+                        d.first_index,
+                        d.first_instance,
+                    );
+                    *tris += (d.index_count / 3) as u64 * d.instance_count as u64;
+                }
+                cmd.end_rendering();
+                timer.end(cmd);
+                self.shade.record(cmd, &mut timer, &targets);
             }
-            cmd.end_rendering();
-            timer.end(cmd);
-            self.shade.record(cmd, &mut timer, &targets);
         })?;
-        let gpu_ms = timer.results()?;
+        let all = timer.results()?;
         let (color, depth) = if readback {
             let d = depth.download()?;
             (
@@ -430,15 +480,35 @@ impl Classic {
         } else {
             (Vec::new(), Vec::new())
         };
-        Ok(Frame {
-            width,
-            height,
-            color,
-            depth,
-            gpu_ms,
-            triangles,
-        })
+        let mut ends: Vec<usize> = starts.iter().skip(1).copied().collect();
+        ends.push(all.len());
+        let n = frames.len();
+        let mut out: Vec<Frame> = starts
+            .iter()
+            .zip(ends)
+            .zip(triangles)
+            .map(|((&a, b), triangles)| Frame {
+                width,
+                height,
+                color: Vec::new(),
+                depth: Vec::new(),
+                gpu_ms: all[a.min(all.len())..b.min(all.len())].to_vec(),
+                triangles,
+            })
+            .collect();
+        if let Some(last) = out.get_mut(n.saturating_sub(1)) {
+            last.color = color;
+            last.depth = depth;
+        }
+        Ok(out)
     }
+}
+
+/// One frame of a classic path: its instance records, draws and camera.
+pub(crate) struct ClassicFrame {
+    pub(crate) instances: Vec<InstanceGpu>,
+    pub(crate) draws: Vec<Draw>,
+    pub(crate) camera: Camera,
 }
 
 /// The brute-force renderer: every mesh at full detail, one instanced draw per mesh.
@@ -521,6 +591,41 @@ impl Brute {
         mode: ShadeMode,
         readback: bool,
     ) -> GpuResult<Frame> {
+        let f = self.frame_input(placements, camera)?;
+        self.classic.render_draws(
+            &f.instances,
+            &f.draws,
+            camera,
+            light,
+            width,
+            height,
+            mode,
+            readback,
+        )
+    }
+
+    /// The frames of `cameras` (a camera path) in one submission, back to back, without
+    /// read-back: the GPU times per pass of each frame (the benchmark times paths this way).
+    pub fn render_path_timed(
+        &self,
+        placements: &[Placement],
+        cameras: &[Camera],
+        light: &Light,
+        width: u32,
+        height: u32,
+    ) -> GpuResult<Vec<Vec<(String, f64)>>> {
+        let frames = cameras
+            .iter()
+            .map(|c| self.frame_input(placements, c))
+            .collect::<GpuResult<Vec<_>>>()?;
+        let out =
+            self.classic
+                .render_frames(&frames, light, (width, height), ShadeMode::Lit, false)?;
+        Ok(out.into_iter().map(|f| f.gpu_ms).collect())
+    }
+
+    /// One instanced draw per mesh of every placement seen from `camera`.
+    fn frame_input(&self, placements: &[Placement], camera: &Camera) -> GpuResult<ClassicFrame> {
         let meshes = &self.classic.meshes;
         check_placements(placements, meshes.len())?;
         let (instances, ranges) = instances_by_mesh(camera, placements, meshes.len());
@@ -536,8 +641,10 @@ impl Brute {
                 instance_count: count,
             })
             .collect();
-        self.classic.render_draws(
-            &instances, &draws, camera, light, width, height, mode, readback,
-        )
+        Ok(ClassicFrame {
+            instances,
+            draws,
+            camera: *camera,
+        })
     }
 }

@@ -12,7 +12,7 @@
 use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
-use super::brute::{Classic, ClassicMesh, Draw, check_placements, instance_gpu};
+use super::brute::{Classic, ClassicFrame, ClassicMesh, Draw, check_placements, instance_gpu};
 use crate::builder::cut::{lod_error_px, proj_scale};
 use crate::camera::Camera;
 use crate::gpu::{Context, GpuResult};
@@ -402,6 +402,49 @@ impl Lod {
         mode: ShadeMode,
         readback: bool,
     ) -> GpuResult<Frame> {
+        let f = self.frame_input(placements, camera, (width, height), error_px)?;
+        self.classic.render_draws(
+            &f.instances,
+            &f.draws,
+            camera,
+            light,
+            width,
+            height,
+            mode,
+            readback,
+        )
+    }
+
+    /// The frames of `cameras` (a camera path) at threshold `error_px` in one submission, back
+    /// to back, without read-back: the GPU times per pass of each frame (selection on the CPU
+    /// before; the benchmark times paths this way).
+    pub fn render_path_timed(
+        &self,
+        placements: &[Placement],
+        cameras: &[Camera],
+        light: &Light,
+        size: (u32, u32),
+        error_px: f32,
+    ) -> GpuResult<Vec<Vec<(String, f64)>>> {
+        let frames = cameras
+            .iter()
+            .map(|c| self.frame_input(placements, c, size, error_px))
+            .collect::<GpuResult<Vec<_>>>()?;
+        let out = self
+            .classic
+            .render_frames(&frames, light, size, ShadeMode::Lit, false)?;
+        Ok(out.into_iter().map(|f| f.gpu_ms).collect())
+    }
+
+    /// Per-instance level selection and frustum culling for `camera`: instances grouped per
+    /// (mesh, level), one instanced draw each.
+    fn frame_input(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        (width, height): (u32, u32),
+        error_px: f32,
+    ) -> GpuResult<ClassicFrame> {
         check_placements(placements, self.infos.len())?;
         let (ps, tau) = self.threshold(camera, height, error_px);
         // Counting sort by (mesh, level): O(instances + meshes), allocations per frame only.
@@ -449,8 +492,10 @@ impl Lod {
             *slot += 1;
         }
         let instances: Vec<InstanceGpu> = instances;
-        self.classic.render_draws(
-            &instances, &draws, camera, light, width, height, mode, readback,
-        )
+        Ok(ClassicFrame {
+            instances,
+            draws,
+            camera: *camera,
+        })
     }
 }

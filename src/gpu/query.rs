@@ -88,6 +88,11 @@ impl Timer {
         cmd.end_label();
     }
 
+    /// Passes begun since the last reset (the index the next pass's result will have).
+    pub fn count(&self) -> usize {
+        self.names.len()
+    }
+
     /// Milliseconds per pass of the last submission (after it completed); empty without timestamps.
     pub fn results(&self) -> GpuResult<Vec<(String, f64)>> {
         let (Some(pool), Some(period)) = (self.pool, self.ctx.caps().timestamp_period_ns) else {

@@ -63,7 +63,7 @@ impl GbufferTargets {
                 ctx,
                 &format!("{prefix} material view"),
                 size_of::<MaterialViewGpu>() as u64,
-                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryKind::Upload,
             )?,
             albedo: gbuf("albedo", ALBEDO_FORMAT)?,
