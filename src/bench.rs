@@ -895,11 +895,18 @@ type Memory = (u64, u64);
 /// GPU ms per pass of one frame.
 type PassTimes = Vec<(String, f64)>;
 
+/// How long the GPU is kept busy before a path is timed (see [`time_path`]).
+const WARMUP_MS: f64 = 500.0;
+
 /// Per frame of `cameras`, the GPU times and CPU ms of `path` (frames rendered back to back in
 /// one submission, no read-back; `path(first, frames)` renders the frames from index `first`).
-/// With `warmup`, one frame is rendered first, which also sizes the submissions to about 100 ms
-/// of work each so that heavy frames never make one long submission. CPU ms of a frame: the wall
-/// time of its submission (record, submit, wait) over its frames.
+///
+/// With `warmup`, the GPU is first kept busy for about [`WARMUP_MS`]: the whole path again and
+/// again when it is short (a GPU left idle by the read-backs and image comparisons between
+/// paths runs at a low clock; a 1 ms frame after idling measured up to 3.5x slower on the H100),
+/// or its first frame once when frames are long. The warm-up also sizes the submissions to about
+/// 100 ms of work each so that heavy frames never make one long submission. CPU ms of a frame:
+/// the wall time of its submission (record, submit, wait) over its frames.
 fn time_path(
     warmup: bool,
     cameras: &[Camera],
@@ -910,6 +917,12 @@ fn time_path(
         let t = Instant::now();
         path(0, &cameras[..1])?;
         per_frame_ms = t.elapsed().as_secs_f64() * 1e3;
+        if per_frame_ms * (cameras.len() as f64) < WARMUP_MS {
+            let t = Instant::now();
+            while t.elapsed().as_secs_f64() * 1e3 < WARMUP_MS {
+                path(0, cameras)?;
+            }
+        }
     }
     let chunk = if per_frame_ms > 0.0 {
         ((100.0 / per_frame_ms) as usize).clamp(1, cameras.len().max(1))
@@ -1554,7 +1567,7 @@ pub fn markdown(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         md,
-        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px, emit_gbuffer {:?}; GPU ms from timestamps, frames of the path recorded back to back in one submission (no read-back, no CPU wait between them; heavy frames in submissions of ~100 ms), mean over the path; CPU ms: a submission's wall time over its frames; images and counters from a second pass with read-back",
+        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px, emit_gbuffer {:?}; GPU ms from timestamps, frames of the path recorded back to back in one submission (no read-back, no CPU wait between them; heavy frames in submissions of ~100 ms) after ~0.5 s of GPU warm-up, mean over the path; CPU ms: a submission's wall time over its frames; images and counters from a second pass with read-back",
         s.width,
         s.height,
         s.frames,
