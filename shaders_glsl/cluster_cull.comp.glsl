@@ -96,20 +96,9 @@ void process(uint64_t item) {
             if (frustum && !sphere_in_frustum(view, cc, cr)) {
                 continue;
             }
-            if (hzb_occluded(inst, cl.bounds_min, cl.bounds_max)) {
-                if (pc.phase == 0u) {
-                    uint j = atomicAdd(counters.post_cluster_count, 1u);
-                    if (j < view.visible_capacity) {
-                        post_clusters[j] = uvec2(instance, ci);
-                    } else {
-                        atomicAdd(counters.visible_overflow, 1u);
-                    }
-                } else {
-                    atomicAdd(counters.occluded_clusters, 1u);
-                }
-                continue;
+            if (!cluster_occluded(instance, inst, cl, ci)) {
+                emit_cluster(instance, ci, cc, cr);
             }
-            emit_cluster(instance, ci, cc, cr);
         }
     }
 }

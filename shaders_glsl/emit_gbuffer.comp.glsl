@@ -17,24 +17,12 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(set = 0, binding = 0, scalar) uniform MaterialView { MaterialViewGpu mview; };
+#include "emit_bindings.glsl"
 layout(set = 0, binding = 1, scalar) readonly buffer Tiles { uvec2 tiles[]; };
-layout(set = 0, binding = 2, scalar) uniform View { ViewGpu view; };
-layout(set = 0, binding = 3, scalar) readonly buffer Visible { uvec2 visible[]; };
-layout(set = 0, binding = 4, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
-layout(set = 0, binding = 5, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Clusters { Cluster clusters[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer Vertices { PackedVertex vertices[]; };
-layout(set = 0, binding = 8, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
-layout(set = 0, binding = 9, scalar) readonly buffer Triangles { uint triangle_words[]; };
-layout(set = 0, binding = 10, scalar) readonly buffer Materials { MaterialGpu materials[]; };
-layout(set = 0, binding = 11, scalar) readonly buffer MeshMaterials { MeshMaterialGpu mesh_materials[]; };
-layout(set = 0, binding = 13, scalar) buffer FragmentCounts { uint fragment_counts[]; };
 layout(set = 0, binding = 14, scalar) readonly buffer PixelMaterials { uint pixel_materials[]; };
 layout(set = 0, binding = 15, rgba8) uniform writeonly image2D albedo_image;
 layout(set = 0, binding = 16, rgba16f) uniform writeonly image2D normal_image;
 layout(set = 0, binding = 17, rgba8) uniform writeonly image2D params_image;
-layout(set = 1, binding = 0) uniform sampler2D textures[];
 
 layout(push_constant, scalar) uniform Push { uint material; };
 

@@ -10,7 +10,7 @@ use vgeo::builder::{BuildOptions, BuiltMesh, build};
 use vgeo::camera::Camera;
 use vgeo::frame::{VgeoFrame, VgeoRenderer};
 use vgeo::gpu::{Context, ContextOptions};
-use vgeo::mesh::{Material, Mesh};
+use vgeo::mesh::Mesh;
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
 use vgeo::render::{Light, Placement};
@@ -279,39 +279,10 @@ fn key(f: &VgeoFrame, v: u64) -> (u32, [u32; 2], u32) {
     }
 }
 
-/// A flat square in the xy plane, `n` x `n` quads, centred on the origin, side 2.
-fn wall_mesh(n: u32) -> Mesh {
-    let mut m = Mesh {
-        name: "wall".into(),
-        materials: vec![Material::default()],
-        ..Default::default()
-    };
-    for y in 0..=n {
-        for x in 0..=n {
-            m.positions.push([
-                x as f32 / n as f32 * 2.0 - 1.0,
-                y as f32 / n as f32 * 2.0 - 1.0,
-                0.0,
-            ]);
-            m.normals.push([0.0, 0.0, 1.0]);
-            m.uvs.push([0.0, 0.0]);
-        }
-    }
-    for y in 0..n {
-        for x in 0..n {
-            let i = y * (n + 1) + x;
-            m.indices
-                .extend([i, i + 1, i + n + 1, i + 1, i + n + 2, i + n + 1]);
-            m.material_ids.extend([0, 0]);
-        }
-    }
-    m
-}
-
 /// A wall in front of 20 spots (the occlusion tests' scene): meshes, placements, camera.
 fn occlusion_scene() -> (Vec<BuiltMesh>, Vec<Placement>, Camera) {
     let (_, spot) = load(&assets().join("spot.obj"));
-    let wall = build(&wall_mesh(16), &BuildOptions::default()).unwrap();
+    let wall = build(&common::wall_mesh(16), &BuildOptions::default()).unwrap();
     let mut placements = vec![Placement {
         mesh: 1,
         transform: DMat4::from_scale(DVec3::splat(6.0)),

@@ -12,7 +12,7 @@ use vgeo::builder::{BuildOptions, BuiltMesh, build};
 use vgeo::camera::Camera;
 use vgeo::frame::{VgeoFrame, VgeoRenderer};
 use vgeo::lod_strip::{LodStripOptions, panel_view, render_lod_strip};
-use vgeo::mesh::{Material, Mesh};
+use vgeo::mesh::Mesh;
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
 use vgeo::render::{BACKGROUND, Light, Placement};
@@ -223,39 +223,10 @@ fn groups_view_colours_by_instance_and_dag_group() {
     assert_no_validation_errors(&ctx);
 }
 
-/// A flat square in the xy plane, `n` x `n` quads, side 2, facing +z.
-fn wall_mesh(n: u32) -> Mesh {
-    let mut m = Mesh {
-        name: "wall".into(),
-        materials: vec![Material::default()],
-        ..Default::default()
-    };
-    for y in 0..=n {
-        for x in 0..=n {
-            m.positions.push([
-                x as f32 / n as f32 * 2.0 - 1.0,
-                y as f32 / n as f32 * 2.0 - 1.0,
-                0.0,
-            ]);
-            m.normals.push([0.0, 0.0, 1.0]);
-            m.uvs.push([0.0, 0.0]);
-        }
-    }
-    for y in 0..n {
-        for x in 0..n {
-            let i = y * (n + 1) + x;
-            m.indices
-                .extend([i, i + 1, i + n + 1, i + 1, i + n + 2, i + n + 1]);
-            m.material_ids.extend([0, 0]);
-        }
-    }
-    m
-}
-
 #[test]
 fn overdraw_counts_every_rasterizer_write() {
     let ctx = gpu();
-    let wall = build(&wall_mesh(6), &BuildOptions::default()).expect("wall builds");
+    let wall = build(&common::wall_mesh(6), &BuildOptions::default()).expect("wall builds");
     // Front-on, the wall covers the middle of the view and nothing overlaps: exactly 1 per pixel.
     let camera = Camera::look_at(
         DVec3::new(0.0, 0.0, 3.5),

@@ -143,6 +143,25 @@ void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) 
     atomicAdd(counters.triangles, (clusters[cluster_index].counts >> 8) & 0xffu);
 }
 
+// The HZB test of a cluster in the cut: occluded in the main phase, it waits in `post_clusters`
+// for the post phase; occluded in the post phase, it is rejected for good. False: visible.
+bool cluster_occluded(uint instance, InstanceVgeo inst, Cluster cl, uint ci) {
+    if (!hzb_occluded(inst, cl.bounds_min, cl.bounds_max)) {
+        return false;
+    }
+    if (pc.phase == 0u) {
+        uint j = atomicAdd(counters.post_cluster_count, 1u);
+        if (j < view.visible_capacity) {
+            post_clusters[j] = uvec2(instance, ci);
+        } else {
+            atomicAdd(counters.visible_overflow, 1u);
+        }
+    } else {
+        atomicAdd(counters.occluded_clusters, 1u);
+    }
+    return true;
+}
+
 // Instance-level LOD. When the mesh's root cluster alone is fine for this view, the cut is exactly
 // {root}: every other cluster's parent error projects to at most the root's own (errors and LOD
 // spheres grow towards the root), so none of them is drawn and the BVH walk is skipped. The root
@@ -169,20 +188,9 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, cc, cr)) {
         return true;
     }
-    if (hzb_occluded(inst, cl.bounds_min, cl.bounds_max)) {
-        if (pc.phase == 0u) {
-            uint j = atomicAdd(counters.post_cluster_count, 1u);
-            if (j < view.visible_capacity) {
-                post_clusters[j] = uvec2(instance, ci);
-            } else {
-                atomicAdd(counters.visible_overflow, 1u);
-            }
-        } else {
-            atomicAdd(counters.occluded_clusters, 1u);
-        }
-        return true;
+    if (!cluster_occluded(instance, inst, cl, ci)) {
+        emit_cluster(instance, ci, cc, cr);
     }
-    emit_cluster(instance, ci, cc, cr);
     return true;
 }
 

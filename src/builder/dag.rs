@@ -128,6 +128,40 @@ struct Outcome {
     fallback: bool,
 }
 
+/// Records a simplified group: its members point to it, its parts become clusters of the next
+/// level (created by it, with its error and sphere); returns the new clusters' indices.
+fn commit_group(
+    clusters: &mut Vec<WCluster>,
+    groups: &mut Vec<WGroup>,
+    members: Vec<u32>,
+    out: Outcome,
+    iteration: u32,
+) -> Vec<u32> {
+    let gid = groups.len() as u32;
+    for &m in &members {
+        clusters[m as usize].group = gid;
+    }
+    let mut created = Vec::with_capacity(out.parts.len());
+    for part in out.parts {
+        created.push(clusters.len() as u32);
+        clusters.push(WCluster {
+            tris: part,
+            self_error: out.error,
+            self_sphere: out.sphere,
+            creator: gid,
+            level: iteration + 1,
+            group: NO_GROUP,
+        });
+    }
+    groups.push(WGroup {
+        members,
+        error: out.error,
+        sphere: out.sphere,
+        iteration,
+    });
+    created
+}
+
 /// Input after quantization and welding.
 struct Prepared {
     vertices: Vec<PackedVertex>,
@@ -765,27 +799,7 @@ fn build_inner(
                 Some(out) => {
                     progressed = true;
                     fallback_groups += out.fallback as usize;
-                    let gid = groups.len() as u32;
-                    for &m in &g {
-                        clusters[m as usize].group = gid;
-                    }
-                    for part in out.parts {
-                        next.push(clusters.len() as u32);
-                        clusters.push(WCluster {
-                            tris: part,
-                            self_error: out.error,
-                            self_sphere: out.sphere,
-                            creator: gid,
-                            level,
-                            group: NO_GROUP,
-                        });
-                    }
-                    groups.push(WGroup {
-                        members: g,
-                        error: out.error,
-                        sphere: out.sphere,
-                        iteration,
-                    });
+                    next.extend(commit_group(&mut clusters, &mut groups, g, out, iteration));
                 }
                 None => {
                     stuck_groups += 1;
@@ -843,24 +857,8 @@ fn build_inner(
             break;
         }
         fallback_groups += out.fallback as usize;
-        let gid = groups.len() as u32;
-        clusters[top as usize].group = gid;
         let level = iteration + 1;
-        working = vec![clusters.len() as u32];
-        clusters.push(WCluster {
-            tris: part.clone(),
-            self_error: out.error,
-            self_sphere: out.sphere,
-            creator: gid,
-            level,
-            group: NO_GROUP,
-        });
-        groups.push(WGroup {
-            members: vec![top],
-            error: out.error,
-            sphere: out.sphere,
-            iteration,
-        });
+        working = commit_group(&mut clusters, &mut groups, vec![top], out, iteration);
         let prev = levels.last().map_or(0, |l| l.triangles);
         let mut st = level_stats(level, &working, &clusters, prev, 1, 0);
         st.level = level;

@@ -137,28 +137,14 @@ impl EmitGbuffer {
         );
         let vis = fb.visbuffer_desc(cmd);
         cmd.bind_compute(&self.compute);
-        cmd.push_compute_descriptors(
-            &self.compute,
-            &with_geometry(
-                &[
-                    Desc::Uniform(&g.view),
-                    Desc::Storage(&t.tiles),
-                    Desc::Uniform(&fb.view),
-                    Desc::Storage(&fb.visible),
-                ],
-                scene,
-                &[
-                    Desc::Storage(&materials.table),
-                    Desc::Storage(&materials.meshes),
-                    vis,
-                    Desc::Storage(&t.fragment_counts),
-                    Desc::Storage(&t.pixel_materials),
-                    Desc::StorageImage(&g.albedo),
-                    Desc::StorageImage(&g.normal),
-                    Desc::StorageImage(&g.params),
-                ],
-            ),
-        );
+        let mut descs = descriptors(scene, materials, fb, t, vis);
+        descs.extend([
+            Desc::Storage(&t.pixel_materials),
+            Desc::StorageImage(&g.albedo),
+            Desc::StorageImage(&g.normal),
+            Desc::StorageImage(&g.params),
+        ]);
+        cmd.push_compute_descriptors(&self.compute, &descs);
         cmd.bind_compute_textures(&self.compute, &materials.textures);
         for m in 0..materials.count {
             cmd.compute_push_constants(&self.compute, bytemuck::bytes_of(&m));
@@ -188,24 +174,7 @@ impl EmitGbuffer {
             }),
         );
         cmd.bind_graphics(&self.pipeline);
-        cmd.push_graphics_descriptors(
-            &self.pipeline,
-            &with_geometry(
-                &[
-                    Desc::Uniform(&t.gbuffer.view),
-                    Desc::Storage(&t.tiles),
-                    Desc::Uniform(&fb.view),
-                    Desc::Storage(&fb.visible),
-                ],
-                scene,
-                &[
-                    Desc::Storage(&materials.table),
-                    Desc::Storage(&materials.meshes),
-                    vis,
-                    Desc::Storage(&t.fragment_counts),
-                ],
-            ),
-        );
+        cmd.push_graphics_descriptors(&self.pipeline, &descriptors(scene, materials, fb, t, vis));
         cmd.bind_graphics_textures(&self.pipeline, &materials.textures);
         let vertices = 6 * t.tiles_x * t.tiles_y;
         for m in 0..materials.count {
@@ -215,4 +184,29 @@ impl EmitGbuffer {
         cmd.end_rendering();
         timer.end(cmd);
     }
+}
+
+/// The descriptors both forms bind (bindings 0-13; the compute form appends 14-17).
+fn descriptors<'a>(
+    scene: &'a GpuScene,
+    materials: &'a GpuMaterials,
+    fb: &'a FrameBuffers,
+    t: &'a MaterialTargets,
+    vis: Desc<'a>,
+) -> Vec<Desc<'a>> {
+    with_geometry(
+        &[
+            Desc::Uniform(&t.gbuffer.view),
+            Desc::Storage(&t.tiles),
+            Desc::Uniform(&fb.view),
+            Desc::Storage(&fb.visible),
+        ],
+        scene,
+        &[
+            Desc::Storage(&materials.table),
+            Desc::Storage(&materials.meshes),
+            vis,
+            Desc::Storage(&t.fragment_counts),
+        ],
+    )
 }

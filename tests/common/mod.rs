@@ -53,3 +53,32 @@ pub fn assert_no_validation_errors(ctx: &Context) {
         errors.join("\n")
     );
 }
+
+/// A flat square in the xy plane, `n` x `n` quads, centred on the origin, side 2.
+pub fn wall_mesh(n: u32) -> vgeo::mesh::Mesh {
+    let mut m = vgeo::mesh::Mesh {
+        name: "wall".into(),
+        materials: vec![vgeo::mesh::Material::default()],
+        ..Default::default()
+    };
+    for y in 0..=n {
+        for x in 0..=n {
+            m.positions.push([
+                x as f32 / n as f32 * 2.0 - 1.0,
+                y as f32 / n as f32 * 2.0 - 1.0,
+                0.0,
+            ]);
+            m.normals.push([0.0, 0.0, 1.0]);
+            m.uvs.push([0.0, 0.0]);
+        }
+    }
+    for y in 0..n {
+        for x in 0..n {
+            let i = y * (n + 1) + x;
+            m.indices
+                .extend([i, i + 1, i + n + 1, i + 1, i + n + 2, i + n + 1]);
+            m.material_ids.extend([0, 0]);
+        }
+    }
+    m
+}
