@@ -408,22 +408,6 @@ impl VgeoRenderer {
         })
     }
 
-    /// The frame of [`VgeoRenderer::render`] without any read-back: records, submits and waits,
-    /// and returns only the GPU time per pass. What an engine embedding vgeo pays per frame; the
-    /// benchmark times frames this way, back to back along the camera path, so the GPU is not left
-    /// idle (and its clocks low) by read-backs between frames.
-    pub fn render_timed(
-        &mut self,
-        camera: &Camera,
-        width: u32,
-        height: u32,
-        settings: &FrameSettings,
-        mode: ViewMode,
-        light: &Light,
-    ) -> GpuResult<Vec<(String, f64)>> {
-        self.run_frame(camera, width, height, settings, mode, light)
-    }
-
     /// Records, submits and waits for one frame; updates the occlusion history; the GPU times.
     fn run_frame(
         &mut self,

@@ -504,6 +504,20 @@ impl Classic {
     }
 }
 
+impl Classic {
+    /// The GPU times per pass of `frames` rendered lit, back to back in one submission, without
+    /// read-back.
+    pub(crate) fn path_times(
+        &self,
+        frames: &[ClassicFrame],
+        light: &Light,
+        size: (u32, u32),
+    ) -> GpuResult<Vec<Vec<(String, f64)>>> {
+        let out = self.render_frames(frames, light, size, ShadeMode::Lit, false)?;
+        Ok(out.into_iter().map(|f| f.gpu_ms).collect())
+    }
+}
+
 /// One frame of a classic path: its instance records, draws and camera.
 pub(crate) struct ClassicFrame {
     pub(crate) instances: Vec<InstanceGpu>,
@@ -547,26 +561,6 @@ impl Brute {
         height: u32,
     ) -> GpuResult<Frame> {
         self.render_view(placements, camera, light, width, height, ShadeMode::Lit)
-    }
-
-    /// [`Brute::render`] without read-back: the frame's GPU times and triangle count only (colour
-    /// and depth stay empty). The benchmark times frames this way.
-    pub fn render_timed(
-        &self,
-        placements: &[Placement],
-        camera: &Camera,
-        light: &Light,
-        width: u32,
-        height: u32,
-    ) -> GpuResult<Frame> {
-        self.frame(
-            placements,
-            camera,
-            (width, height),
-            light,
-            ShadeMode::Lit,
-            false,
-        )
     }
 
     /// [`Brute::render`] with `shade` drawing `mode` (lit, albedo, normals or materials).
@@ -618,10 +612,7 @@ impl Brute {
             .iter()
             .map(|c| self.frame_input(placements, c))
             .collect::<GpuResult<Vec<_>>>()?;
-        let out =
-            self.classic
-                .render_frames(&frames, light, (width, height), ShadeMode::Lit, false)?;
-        Ok(out.into_iter().map(|f| f.gpu_ms).collect())
+        self.classic.path_times(&frames, light, (width, height))
     }
 
     /// One instanced draw per mesh of every placement seen from `camera`.

@@ -356,28 +356,6 @@ impl Lod {
         )
     }
 
-    /// [`Lod::render`] without read-back: the frame's GPU times and triangle count only (colour
-    /// and depth stay empty). The benchmark times frames this way.
-    pub fn render_timed(
-        &self,
-        placements: &[Placement],
-        camera: &Camera,
-        light: &Light,
-        (width, height): (u32, u32),
-        error_px: f32,
-    ) -> GpuResult<Frame> {
-        let size = (width, height);
-        self.frame(
-            placements,
-            camera,
-            light,
-            size,
-            error_px,
-            ShadeMode::Lit,
-            false,
-        )
-    }
-
     /// [`Lod::render`] with `shade` drawing `mode` (lit, albedo, normals or materials).
     pub fn render_view(
         &self,
@@ -430,10 +408,7 @@ impl Lod {
             .iter()
             .map(|c| self.frame_input(placements, c, size, error_px))
             .collect::<GpuResult<Vec<_>>>()?;
-        let out = self
-            .classic
-            .render_frames(&frames, light, size, ShadeMode::Lit, false)?;
-        Ok(out.into_iter().map(|f| f.gpu_ms).collect())
+        self.classic.path_times(&frames, light, size)
     }
 
     /// Per-instance level selection and frustum culling for `camera`: instances grouped per
