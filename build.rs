@@ -19,6 +19,7 @@ fn main() {
     println!("cargo:rerun-if-changed=shaders_glsl");
     println!("cargo:rerun-if-changed=src/shared.rs");
     println!("cargo:rerun-if-env-changed=SHADER_DEBUG");
+    build_commit(&root);
 
     let constants = shared_constants(&root.join("src/shared.rs"));
     let debug = std::env::var("SHADER_DEBUG").is_ok_and(|v| v == "1");
@@ -184,4 +185,32 @@ fn shared_constants(path: &Path) -> Vec<(String, String)> {
         }
     }
     out
+}
+
+/// `VGEO_BUILD_COMMIT`: the commit the binary is built from (`git rev-parse --short HEAD`, with
+/// `-dirty` for uncommitted changes to tracked files), so a binary carried elsewhere (the GPU
+/// machine) reports its own commit in benchmark results; unset without git.
+fn build_commit(root: &Path) {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .current_dir(root)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let Some(mut commit) = git(&["rev-parse", "--short", "HEAD"]).filter(|c| !c.is_empty()) else {
+        return;
+    };
+    if git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty()) {
+        commit.push_str("-dirty");
+    }
+    println!("cargo:rustc-env=VGEO_BUILD_COMMIT={commit}");
+    // Rerun when HEAD moves or the index changes (commits, checkouts, staging).
+    for f in [".git/HEAD", ".git/index"] {
+        if root.join(f).exists() {
+            println!("cargo:rerun-if-changed={f}");
+        }
+    }
 }

@@ -471,7 +471,8 @@ pub struct BenchReport {
     pub driver: String,
     pub api_version: String,
     pub validation: bool,
-    /// `git rev-parse --short HEAD` (with `-dirty` for local changes) where available.
+    /// The commit the binary was built from (`git rev-parse --short HEAD`, `-dirty` for local
+    /// changes), where git was available.
     pub commit: Option<String>,
     /// UTC, ISO 8601.
     pub date: String,
@@ -1278,6 +1279,10 @@ fn summarize(report: &BenchReport) -> Vec<Summary> {
 }
 
 fn git_commit() -> Option<String> {
+    // The commit the binary was built from (build.rs), else the source tree's now.
+    if let Some(c) = option_env!("VGEO_BUILD_COMMIT") {
+        return Some(c.to_string());
+    }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out = std::process::Command::new("git")
         .args(["rev-parse", "--short", "HEAD"])
