@@ -6,7 +6,7 @@ use glam::{DMat4, DVec3, Mat3};
 use crate::builder::BuiltMesh;
 use crate::gpu::{Buffer, Context, Desc, GpuError, GpuResult, vk};
 use crate::render::Placement;
-use crate::shared::{InstanceVgeo, MeshGpu};
+use crate::shared::{GpuVertex, InstanceVgeo, MeshGpu, NO_UVS};
 
 /// Splits an f64 into a high f32 and the f32 of the remainder (`hi + lo` is exact to ~1e-14 relative).
 pub fn split_f64(v: f64) -> (f32, f32) {
@@ -77,6 +77,8 @@ pub struct GpuScene {
     pub groups: Buffer,
     pub bvh: Buffer,
     pub vertices: Buffer,
+    /// Texture coordinates (2 x 16 bits) of the meshes with UVs (`MeshGpu::uv_offset`).
+    pub uvs: Buffer,
     pub vertex_refs: Buffer,
     /// Local triangle indices, 3 bytes per triangle, packed into u32 words (little-endian).
     pub triangles: Buffer,
@@ -103,10 +105,11 @@ impl GpuScene {
             Vec::new(),
             Vec::new(),
             Vec::new(),
-            Vec::new(),
+            Vec::<GpuVertex>::new(),
             Vec::new(),
             Vec::new(),
         );
+        let mut uvs: Vec<u32> = Vec::new();
         for m in built {
             let (center, radius) = mesh_sphere(m);
             let q = &m.quantization;
@@ -126,19 +129,29 @@ impl GpuScene {
                 root_cluster: m.root,
                 fallback_level: m
                     .fallback_level(crate::builder::BuildOptions::default().fallback_triangles),
-                _pad: [0; 2],
+                uv_offset: if m.has_uvs { uvs.len() as u32 } else { NO_UVS },
+                _pad: 0,
             });
             clusters.extend_from_slice(&m.clusters);
             groups.extend_from_slice(&m.groups);
             bvh.extend_from_slice(&m.bvh);
-            vertices.extend_from_slice(&m.vertices);
+            vertices.extend(m.vertices.iter().map(|v| GpuVertex {
+                position: v.position,
+                normal: v.normal,
+            }));
+            if m.has_uvs {
+                uvs.extend(m.vertices.iter().map(|v| v.uv));
+            }
             refs.extend_from_slice(&m.vertex_refs);
             tris.extend_from_slice(&m.triangles);
         }
         while !tris.len().is_multiple_of(4) {
             tris.push(0);
         }
-        if clusters.len() as u64 >= (1 << 31) || tris.len() as u64 >= u32::MAX as u64 {
+        if clusters.len() as u64 >= (1 << 31)
+            || tris.len() as u64 >= u32::MAX as u64
+            || uvs.len() as u64 >= NO_UVS as u64
+        {
             return Err(GpuError::Other(
                 "scene geometry exceeds 32-bit offsets".into(),
             ));
@@ -163,6 +176,11 @@ impl GpuScene {
             groups: up("scene groups", bytemuck::cast_slice(&groups))?,
             bvh: up("scene bvh", bytemuck::cast_slice(&bvh))?,
             vertices: up("scene vertices", bytemuck::cast_slice(&vertices))?,
+            // One word where no mesh has UVs: a binding needs a buffer.
+            uvs: up(
+                "scene uvs",
+                bytemuck::cast_slice(if uvs.is_empty() { &[0u32][..] } else { &uvs }),
+            )?,
             vertex_refs: up("scene vertex refs", bytemuck::cast_slice(&refs))?,
             triangles: up("scene triangles", &tris)?,
             total_clusters: clusters.len() as u32,
@@ -192,6 +210,7 @@ impl GpuScene {
             &self.groups,
             &self.bvh,
             &self.vertices,
+            &self.uvs,
             &self.vertex_refs,
             &self.triangles,
         ]

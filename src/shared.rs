@@ -118,8 +118,26 @@ pub struct MeshGpu {
     /// DAG level of the fallback mesh ([`crate::builder::BuiltMesh::fallback_level`]), drawn
     /// under [`VIEW_FLAG_FALLBACK_CUT`].
     pub fallback_level: u32,
-    pub _pad: [u32; 2],
+    /// First entry of the mesh's UVs in the scene's UV stream ([`NO_UVS`]: the mesh has none, and
+    /// stores none on the GPU).
+    pub uv_offset: u32,
+    pub _pad: u32,
 }
+
+/// [`MeshGpu::uv_offset`] of a mesh without texture coordinates.
+pub const NO_UVS: u32 = u32::MAX;
+
+/// A vertex of the vgeo path on the GPU: the builder's `PackedVertex` without its UV, which lives
+/// in a separate stream only for meshes that have UVs (12 bytes instead of 16 per vertex).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuVertex {
+    /// Low and high words of `x | y << 21 | z << 42` on the mesh's grid.
+    pub position: [u32; 2],
+    /// Octahedral normal, 2 x 16 bits.
+    pub normal: u32,
+}
+const _: () = assert!(size_of::<GpuVertex>() == 12);
 const _: () = assert!(size_of::<MeshGpu>() == 80);
 
 /// One instance of the vgeo path. The translation is split into high and low f32 parts so that

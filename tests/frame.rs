@@ -589,3 +589,27 @@ fn capacity_overflows_are_reported_not_silent() {
     assert!(err.contains("queue overflowed"), "{err}");
     assert_no_validation_errors(&ctx);
 }
+
+#[test]
+fn gpu_geometry_is_at_most_16_bytes_per_triangle_without_uvs() {
+    let ctx = gpu();
+    for (file, uvs) in [
+        ("scanned/bunny.ply", false),
+        ("scanned/turbineblade.ply", false),
+    ] {
+        let (mesh, built) = load(&shared_assets().join(file));
+        assert_eq!(mesh.has_uvs, uvs);
+        let r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one(0)).unwrap();
+        let per_tri = r.scene.geometry_bytes() as f64 / mesh.triangle_count() as f64;
+        eprintln!("{file}: {per_tri:.2} GPU bytes per input triangle");
+        assert!(per_tri <= 16.0, "{file}: {per_tri:.2} B per triangle");
+        // No UV stream is kept for them (the 4-byte placeholder only).
+        assert_eq!(r.scene.uvs.size(), 4);
+    }
+    // A mesh with UVs keeps one word per vertex for them.
+    let (mesh, built) = load(&assets().join("spot.obj"));
+    assert!(mesh.has_uvs);
+    let r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one(0)).unwrap();
+    assert_eq!(r.scene.uvs.size(), 4 * built.vertices.len() as u64);
+    assert_no_validation_errors(&ctx);
+}

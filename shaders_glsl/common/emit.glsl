@@ -3,7 +3,7 @@
 // from the camera ray through the pixel centre, UV and position derivatives from the rays through
 // the next pixels, exact for the triangle's plane), then the material model (gbuffer.glsl).
 // The including shader declares the bindings (mview, visible, instances, meshes, clusters,
-// vertices, vertex_refs, triangle_words, materials, mesh_materials, fragment_counts, textures,
+// vertices, uvs, vertex_refs, triangle_words, materials, mesh_materials, fragment_counts, textures,
 // vis_read) and includes raster.glsl, shading.glsl and gbuffer.glsl first.
 #ifndef VGEO_EMIT_GLSL
 #define VGEO_EMIT_GLSL
@@ -40,11 +40,13 @@ bool emit_pixel(ivec2 px, uint material, out vec4 out_albedo, out vec4 out_norma
     vec3 p[3];
     vec3 n[3];
     vec2 uv[3];
+    bool has_uvs = (mm.flags & MESH_HAS_UVS) != 0u && mesh.uv_offset != NO_UVS;
     for (uint k = 0u; k < 3u; k++) {
-        PackedVertex pv = vertices[cluster_vertex(mesh, c, t[k])];
+        uint gv = cluster_vertex(mesh, c, t[k]);
+        PackedVertex pv = vertices[gv];
         p[k] = relative_position(inst, decode_position(mesh, pv));
         n[k] = decode_normal(pv.normal);
-        uv[k] = decode_uv(mm, pv.uv);
+        uv[k] = has_uvs ? decode_uv(mm, uvs[mesh.uv_offset + (gv - mesh.vertex_offset)]) : vec2(0.0);
     }
     vec2 pc = vec2(px) + 0.5;
     vec3 dir = pixel_ray(mview.inv_view_proj, pc, mview.viewport);
@@ -68,7 +70,7 @@ bool emit_pixel(ivec2 px, uint material, out vec4 out_albedo, out vec4 out_norma
         vec2 bc = clamp(b, 0.0, 1.0);
         bc.y = min(bc.y, 1.0 - bc.x);
         s.normal = normal_matrix * (n[0] * (1.0 - bc.x - bc.y) + n[1] * bc.x + n[2] * bc.y);
-        if ((mm.flags & MESH_HAS_UVS) != 0u) {
+        if (has_uvs) {
             // Derivatives from the rays through the next pixels (exact for the triangle's plane).
             vec2 bx;
             vec2 by;

@@ -1,5 +1,5 @@
 // The descriptor set both forms of pass `emit_gbuffer` share (src/passes/emit_gbuffer.rs builds
-// the matching layout); the compute form adds bindings 14-17 after it.
+// the matching layout); the compute form adds bindings 15-18 after it.
 #ifndef VGEO_EMIT_BINDINGS_GLSL
 #define VGEO_EMIT_BINDINGS_GLSL
 
@@ -15,6 +15,7 @@ layout(set = 0, binding = 9, scalar) readonly buffer Triangles { uint triangle_w
 layout(set = 0, binding = 10, scalar) readonly buffer Materials { MaterialGpu materials[]; };
 layout(set = 0, binding = 11, scalar) readonly buffer MeshMaterials { MeshMaterialGpu mesh_materials[]; };
 layout(set = 0, binding = 13, scalar) buffer FragmentCounts { uint fragment_counts[]; };
+layout(set = 0, binding = 14, scalar) readonly buffer Uvs { uint uvs[]; };
 layout(set = 1, binding = 0) uniform sampler2D textures[];
 
 #endif

@@ -32,8 +32,8 @@ struct MeshGpu {
     float bounds_radius;
     uint root_cluster;
     uint fallback_level;
+    uint uv_offset;  // first entry in the UV stream, NO_UVS: none
     uint _pad0;
-    uint _pad1;
 };
 
 struct InstanceVgeo {
@@ -143,10 +143,13 @@ struct BvhNode {
     uint _pad1;
 };
 
+// GpuVertex (src/shared.rs): the builder's packed vertex without its UV (a separate stream,
+// `MeshGpu::uv_offset`, only for meshes with UVs).
 struct PackedVertex {
     uvec2 position;  // x | y << 21 | z << 42 on the mesh grid
     uint normal;     // octahedral, 2 x 16 bits
-    uint uv;         // 2 x 16 bits over the mesh's UV range
 };
+
+#define NO_UVS 0xffffffffu
 
 #endif

@@ -65,7 +65,7 @@ impl EmitGbuffer {
         let mut bindings = vec![D::UNIFORM_BUFFER, D::STORAGE_BUFFER, D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 9]);
         bindings.push(vis);
-        bindings.push(D::STORAGE_BUFFER);
+        bindings.extend([D::STORAGE_BUFFER, D::STORAGE_BUFFER]);
         let pipeline = GraphicsPipeline::with_textures(
             ctx,
             &GraphicsPipelineDesc {
@@ -186,7 +186,7 @@ impl EmitGbuffer {
     }
 }
 
-/// The descriptors both forms bind (bindings 0-13; the compute form appends 14-17).
+/// The descriptors both forms bind (bindings 0-14; the compute form appends 15-18).
 fn descriptors<'a>(
     scene: &'a GpuScene,
     materials: &'a GpuMaterials,
@@ -207,6 +207,7 @@ fn descriptors<'a>(
             Desc::Storage(&materials.meshes),
             vis,
             Desc::Storage(&t.fragment_counts),
+            Desc::Storage(&scene.uvs),
         ],
     )
 }
