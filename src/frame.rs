@@ -359,14 +359,8 @@ impl VgeoRenderer {
     ) -> GpuResult<VgeoFrame> {
         let gpu_ms = self.run_frame(camera, width, height, settings, mode, light)?;
         let counting = mode == ViewMode::Overdraw || settings.flags & VIEW_FLAG_COUNT_OVERDRAW != 0;
-        let fb = self
-            .fb
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
-        let debug_view = self
-            .debug_view
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("debug view missing".into()))?;
+        let fb = present(self.fb.as_ref(), "frame buffers")?;
+        let debug_view = present(self.debug_view.as_ref(), "debug view")?;
         let materials = self.materials.as_ref().filter(|_| mode.is_material());
         let overdraw = self.overdraw.as_ref().filter(|_| counting);
         let main_res = read_cull(fb, Phase::Main, Vec::new())?;
@@ -476,10 +470,7 @@ impl VgeoRenderer {
         let shade = mode.shade_mode();
         if let Some(sm) = shade {
             self.prepare_materials()?;
-            let fb = self
-                .fb
-                .as_ref()
-                .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+            let fb = present(self.fb.as_ref(), "frame buffers")?;
             if let Some(m) = self.materials.as_mut() {
                 m.prepare(fb, first, light.direction, sm)?;
             }
@@ -493,10 +484,7 @@ impl VgeoRenderer {
         if self.direct_visible() {
             view_settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
         }
-        let fb = self
-            .fb
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
+        let fb = present(self.fb.as_ref(), "frame buffers")?;
         let materials = self.materials.as_ref().filter(|_| mode.is_material());
         // Per frame: view, occlusion of the main phase (the previous frame's) and of the post
         // phase (this frame's), material view.
@@ -524,14 +512,8 @@ impl VgeoRenderer {
             data.push((view, main, current, mview));
             history = settings.occlusion.then_some(current);
         }
-        let pyramid = self
-            .pyramid
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("HZB missing".into()))?;
-        let debug_view = self
-            .debug_view
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("debug view missing".into()))?;
+        let pyramid = present(self.pyramid.as_ref(), "HZB")?;
+        let debug_view = present(self.debug_view.as_ref(), "debug view")?;
         let material_view = materials.and_then(|m| m.targets()).map(|t| &t.gbuffer.view);
         let overdraw = self.overdraw.as_ref().filter(|_| counting);
         let mut timer = Timer::new(&self.ctx, 24 * cameras.len() as u32)?;
@@ -639,15 +621,8 @@ impl VgeoRenderer {
         settings: &FrameSettings,
     ) -> GpuResult<CullResult> {
         self.write_view(camera, width, height, settings)?;
-        let fb = self
-            .fb
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("frame buffers missing".into()))?;
-        let hzb = &self
-            .pyramid
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("HZB missing".into()))?
-            .hzb;
+        let fb = present(self.fb.as_ref(), "frame buffers")?;
+        let hzb = &present(self.pyramid.as_ref(), "HZB")?.hzb;
         let mut timer = Timer::new(&self.ctx, 8)?;
         self.ctx.submit_and_wait("vgeo cull", |cmd| {
             timer.reset(cmd);
@@ -771,4 +746,9 @@ fn words(bytes: &[u8]) -> Vec<u32> {
         .chunks_exact(4)
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect()
+}
+
+/// `o`, or an error naming what is missing (state an earlier step sets up).
+fn present<'a, T>(o: Option<&'a T>, what: &str) -> GpuResult<&'a T> {
+    o.ok_or_else(|| GpuError::Other(format!("{what} missing")))
 }

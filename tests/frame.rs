@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_no_validation_errors, assets, gpu, shared_assets};
+use common::{assert_no_validation_errors, assets, filling_camera, gpu, load_built, shared_assets};
 use glam::{DMat4, DVec3, Vec3};
 use vgeo::baseline::brute::Brute;
 use vgeo::builder::{BuildOptions, BuiltMesh, build};
@@ -19,34 +19,12 @@ use vgeo::shared::{VIEW_FLAG_FORCE_HW, VIEW_FLAG_FORCE_SW};
 const W: u32 = 192;
 const H: u32 = 160;
 
-fn load(path: &std::path::Path) -> (Mesh, BuiltMesh) {
-    let (mesh, _) = vgeo::mesh::load_mesh(path).expect("mesh loads");
-    let built = build(&mesh, &BuildOptions::default()).expect("mesh builds");
-    (mesh, built)
-}
-
 fn one(mesh: u32) -> Vec<Placement> {
     vec![Placement {
         mesh,
         transform: DMat4::IDENTITY,
         color: [0.9, 0.8, 0.7],
     }]
-}
-
-/// A camera that fills the view with the mesh's bounds (looking at it from the front).
-fn filling_camera(m: &Mesh, dist_scale: f64) -> Camera {
-    let (lo, hi) = m.bounds().unwrap();
-    let lo = DVec3::from(lo.map(f64::from));
-    let hi = DVec3::from(hi.map(f64::from));
-    let c = (lo + hi) * 0.5;
-    let r = (hi - lo).length() * 0.5;
-    Camera::look_at(
-        c + DVec3::new(0.2, 0.1, 1.0).normalize() * r * dist_scale,
-        c,
-        Vec3::Y,
-        45f32.to_radians(),
-        (r * 0.05) as f32,
-    )
 }
 
 fn render(r: &mut VgeoRenderer, camera: &Camera, settings: &FrameSettings) -> VgeoFrame {
@@ -88,7 +66,7 @@ fn interior(depth: &[f32], margin: i32) -> Vec<bool> {
 fn no_cracks_in_closed_meshes_at_1_2_8_px() {
     let ctx = gpu();
     for name in ["scanned/lucy.ply", "scanned/turbineblade.ply"] {
-        let (mesh, built) = load(&shared_assets().join(name));
+        let (mesh, built) = load_built(&shared_assets().join(name));
         let camera = filling_camera(&mesh, 1.3);
         let brute = Brute::new(&ctx, std::slice::from_ref(&mesh)).unwrap();
         let reference = brute
@@ -128,7 +106,7 @@ fn no_cracks_in_closed_meshes_at_1_2_8_px() {
 #[test]
 fn threshold_zero_equals_brute() {
     let ctx = gpu();
-    let (mesh, built) = load(&shared_assets().join("scanned/bunny.ply"));
+    let (mesh, built) = load_built(&shared_assets().join("scanned/bunny.ply"));
     // Far enough that the whole bunny is in view (frustum culling drops nothing).
     let camera = filling_camera(&mesh, 3.0);
     let brute = Brute::new(&ctx, std::slice::from_ref(&mesh)).unwrap();
@@ -179,7 +157,7 @@ fn threshold_zero_equals_brute() {
 #[test]
 fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_deterministic() {
     let ctx = gpu();
-    let (mesh, built) = load(&assets().join("spot.obj"));
+    let (mesh, built) = load_built(&assets().join("spot.obj"));
     let camera = filling_camera(&mesh, 1.5);
     let placements: Vec<Placement> = (0..3)
         .map(|i| Placement {
@@ -281,7 +259,7 @@ fn key(f: &VgeoFrame, v: u64) -> (u32, [u32; 2], u32) {
 
 /// A wall in front of 20 spots (the occlusion tests' scene): meshes, placements, camera.
 fn occlusion_scene() -> (Vec<BuiltMesh>, Vec<Placement>, Camera) {
-    let (_, spot) = load(&assets().join("spot.obj"));
+    let (_, spot) = load_built(&assets().join("spot.obj"));
     let wall = build(&common::wall_mesh(16), &BuildOptions::default()).unwrap();
     let mut placements = vec![Placement {
         mesh: 1,
@@ -478,7 +456,7 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
 fn image_and_buffer_visibility_paths_agree() {
     use vgeo::passes::VisPath;
     let ctx = gpu();
-    let (mesh, built) = load(&assets().join("spot.obj"));
+    let (mesh, built) = load_built(&assets().join("spot.obj"));
     let camera = filling_camera(&mesh, 1.4);
     let placements = one(0);
     if !ctx.caps().image_int64_atomics {
@@ -541,7 +519,7 @@ fn image_and_buffer_visibility_paths_agree() {
 #[test]
 fn capacity_overflows_are_reported_not_silent() {
     let ctx = gpu();
-    let (mesh, built) = load(&assets().join("spot.obj"));
+    let (mesh, built) = load_built(&assets().join("spot.obj"));
     let camera = filling_camera(&mesh, 1.4);
     let placements: Vec<Placement> = (0..4)
         .map(|i| Placement {
@@ -597,7 +575,7 @@ fn gpu_geometry_is_at_most_16_bytes_per_triangle_without_uvs() {
         ("scanned/bunny.ply", false),
         ("scanned/turbineblade.ply", false),
     ] {
-        let (mesh, built) = load(&shared_assets().join(file));
+        let (mesh, built) = load_built(&shared_assets().join(file));
         assert_eq!(mesh.has_uvs, uvs);
         let r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one(0)).unwrap();
         let per_tri = r.scene.geometry_bytes() as f64 / mesh.triangle_count() as f64;
@@ -607,7 +585,7 @@ fn gpu_geometry_is_at_most_16_bytes_per_triangle_without_uvs() {
         assert_eq!(r.scene.uvs.size(), 4);
     }
     // A mesh with UVs keeps one word per vertex for them.
-    let (mesh, built) = load(&assets().join("spot.obj"));
+    let (mesh, built) = load_built(&assets().join("spot.obj"));
     assert!(mesh.has_uvs);
     let r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one(0)).unwrap();
     assert_eq!(r.scene.uvs.size(), 4 * built.vertices.len() as u64);

@@ -22,9 +22,7 @@ const W: u32 = 160;
 const H: u32 = 120;
 
 fn spot() -> (Mesh, BuiltMesh) {
-    let (mesh, _) = vgeo::mesh::load_mesh(&assets().join("spot.obj")).expect("spot loads");
-    let built = build(&mesh, &BuildOptions::default()).expect("spot builds");
-    (mesh, built)
+    common::load_built(&assets().join("spot.obj"))
 }
 
 fn at(mesh: u32, offset: DVec3) -> Placement {
@@ -33,22 +31,6 @@ fn at(mesh: u32, offset: DVec3) -> Placement {
         transform: DMat4::from_translation(offset),
         color: [0.9, 0.8, 0.7],
     }
-}
-
-/// A camera `dist_scale` bounding radii from the mesh's centre, looking at it from the front.
-fn front_camera(m: &Mesh, dist_scale: f64) -> Camera {
-    let (lo, hi) = m.bounds().expect("bounds");
-    let lo = DVec3::from(lo.map(f64::from));
-    let hi = DVec3::from(hi.map(f64::from));
-    let c = (lo + hi) * 0.5;
-    let r = (hi - lo).length() * 0.5;
-    Camera::look_at(
-        c + DVec3::new(0.2, 0.1, 1.0).normalize() * r * dist_scale,
-        c,
-        Vec3::Y,
-        45f32.to_radians(),
-        (r * 0.05) as f32,
-    )
 }
 
 fn render(
@@ -96,7 +78,7 @@ fn new_views_render_without_validation_errors() {
     let (mesh, built) = spot();
     let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &[at(0, DVec3::ZERO)])
         .expect("renderer");
-    let camera = front_camera(&mesh, 1.6);
+    let camera = common::filling_camera(&mesh, 1.6);
     for mode in [ViewMode::Groups, ViewMode::Overdraw, ViewMode::Fallback] {
         let f = render(&mut r, &camera, &FrameSettings::default(), mode);
         let shown = non_background(&f.frame.color);
@@ -138,7 +120,7 @@ fn groups_view_colours_by_instance_and_dag_group() {
         at(0, DVec3::new(0.6, 0.0, 0.0)),
     ];
     let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).unwrap();
-    let camera = front_camera(&mesh, 2.4);
+    let camera = common::filling_camera(&mesh, 2.4);
     let settings = FrameSettings {
         error_px: 0.0,
         occlusion: false,
@@ -355,7 +337,7 @@ fn fallback_view_draws_exactly_the_fallback_level() {
         at(0, DVec3::new(0.8, 0.0, 0.0)),
     ];
     let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).unwrap();
-    let camera = front_camera(&mesh, 3.0);
+    let camera = common::filling_camera(&mesh, 3.0);
     // Occlusion off: a root partly hidden behind another instance still counts as drawn.
     let settings = FrameSettings {
         error_px: 0.5,
@@ -407,7 +389,7 @@ fn lod_strip_cut_coarsens_with_distance_and_matches_the_unmagnified_view() {
     let (mesh, built) = spot();
     let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &[at(0, DVec3::ZERO)])
         .expect("renderer");
-    let base = front_camera(&mesh, 1.5);
+    let base = common::filling_camera(&mesh, 1.5);
     let (lo, hi) = mesh.bounds().unwrap();
     let centre = (DVec3::from(lo.map(f64::from)) + DVec3::from(hi.map(f64::from))) * 0.5;
     let d0 = (centre - base.position).length();

@@ -82,3 +82,28 @@ pub fn wall_mesh(n: u32) -> vgeo::mesh::Mesh {
     }
     m
 }
+
+/// Imports a mesh and builds its DAG with default options (panics on failure: test input).
+pub fn load_built(path: &std::path::Path) -> (vgeo::mesh::Mesh, vgeo::builder::BuiltMesh) {
+    let (mesh, _) = vgeo::mesh::load_mesh(path).expect("mesh loads");
+    let built =
+        vgeo::builder::build(&mesh, &vgeo::builder::BuildOptions::default()).expect("mesh builds");
+    (mesh, built)
+}
+
+/// A camera `dist_scale` bounding radii from the mesh's centre, looking at it from the front.
+pub fn filling_camera(m: &vgeo::mesh::Mesh, dist_scale: f64) -> vgeo::camera::Camera {
+    use glam::DVec3;
+    let (lo, hi) = m.bounds().expect("bounds");
+    let lo = DVec3::from(lo.map(f64::from));
+    let hi = DVec3::from(hi.map(f64::from));
+    let c = (lo + hi) * 0.5;
+    let r = (hi - lo).length() * 0.5;
+    vgeo::camera::Camera::look_at(
+        c + DVec3::new(0.2, 0.1, 1.0).normalize() * r * dist_scale,
+        c,
+        glam::Vec3::Y,
+        45f32.to_radians(),
+        (r * 0.05) as f32,
+    )
+}
