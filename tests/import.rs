@@ -1064,6 +1064,84 @@ fn stl_binary_with_solid_header_and_off_ngons() {
 }
 
 #[test]
+fn in_memory_import_equals_file_import_and_has_no_external_files() {
+    let dir = scratch("in-memory");
+    let cases: Vec<(&str, mesh::Format, Vec<u8>)> = vec![
+        ("scene.glb", mesh::Format::Gltf, glb()),
+        (
+            "scene.gltf",
+            mesh::Format::Gltf,
+            gltf_with_data_uri().into_bytes(),
+        ),
+        ("bin.ply", mesh::Format::Ply, binary_ply()),
+        ("ascii.ply", mesh::Format::Ply, ascii_ply().into_bytes()),
+        ("square.stl", mesh::Format::Stl, binary_stl()),
+        (
+            "arrow.off",
+            mesh::Format::Off,
+            b"OFF 5 1 0\n0 0 0\n2 1 0\n0 2 0\n1 1 0\n-1 1 0\n5 0 1 2 3 4\n".to_vec(),
+        ),
+        (
+            "quad.obj",
+            mesh::Format::Obj,
+            b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n".to_vec(),
+        ),
+    ];
+    for (name, format, bytes) in &cases {
+        let path = write(&dir, name, bytes);
+        let from_file = load_ok(&path, &ImportOptions::default());
+        let from_memory = mesh::load_bytes(bytes, *format, name, &ImportOptions::default())
+            .unwrap_or_else(|e| panic!("{name} from memory: {e}"));
+        assert_eq!(from_memory.report, {
+            let mut r = from_file.report.clone();
+            let prefix = format!("{}: ", path.display());
+            for w in &mut r.warnings {
+                *w = w.replace(&prefix, &format!("{name}: "));
+            }
+            r
+        });
+        assert_eq!(from_memory.meshes.len(), from_file.meshes.len());
+        for (a, b) in from_memory.meshes.iter().zip(&from_file.meshes) {
+            assert_eq!(a.name, b.name);
+            assert_eq!(
+                (&a.positions, &a.normals, &a.uvs, &a.indices),
+                (&b.positions, &b.normals, &b.uvs, &b.indices)
+            );
+        }
+    }
+    // Nothing is read from disk: an external buffer is missing (the file import of the same JSON
+    // finds it), a material library is a warning.
+    let (bin, json) = gltf_scene("");
+    write(&dir, "ext.bin", &bin);
+    let json = json.replace("BUFFER_URI", r#", "uri": "ext.bin""#);
+    load_ok(&write(&dir, "ext.gltf", &json), &ImportOptions::default());
+    match mesh::load_bytes(
+        json.as_bytes(),
+        mesh::Format::Gltf,
+        "ext.gltf",
+        &ImportOptions::default(),
+    ) {
+        Err(e @ ImportError::MissingBuffer { .. }) => {
+            assert_msg(&e, &["ext.gltf", "ext.bin", "missing"])
+        }
+        other => panic!("expected a missing buffer, got {other:?}"),
+    }
+    let obj = b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
+    let import = mesh::load_bytes(obj, mesh::Format::Obj, "m.obj", &ImportOptions::default())
+        .expect("obj without its mtl");
+    assert!(
+        import
+            .report
+            .warnings
+            .iter()
+            .any(|w| w.contains("m.obj") && w.contains("m.mtl")),
+        "{:?}",
+        import.report.warnings
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn weld_and_drop_degenerate_semantics() {
     let mut m = Mesh {
         name: "t".into(),

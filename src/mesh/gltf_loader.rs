@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use glam::{DMat3, DMat4, DVec3, Mat4};
 use gltf::mesh::Mode;
 
-use super::{ImportError, ImportOptions, Material, Mesh};
+use super::{ImportError, ImportOptions, Material, Mesh, Siblings};
 
 /// Accessors larger than this many elements without a buffer view are refused (they would be
 /// materialized as zeros).
@@ -24,23 +24,23 @@ const MAX_VIEWLESS_ELEMENTS: usize = 1 << 26;
 /// Reads a glTF file into unprocessed meshes: one, or one per node with a mesh.
 pub(super) fn load(
     path: &Path,
+    bytes: &[u8],
+    files: Siblings,
     opts: &ImportOptions,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Mesh>, ImportError> {
-    let bytes = std::fs::read(path).map_err(|e| ImportError::io(path, path, e))?;
     let (json_bytes, blob) = if bytes.starts_with(b"glTF") {
-        split_glb(path, &bytes)?
+        split_glb(path, bytes)?
     } else {
-        (&bytes[..], None)
+        (bytes, None)
     };
     check_draco(path, json_bytes)?;
     let gltf = gltf::Gltf::from_slice_without_validation(json_bytes)
         .map_err(|e| ImportError::parse(path, format!("invalid glTF: {e}")))?;
     let doc = &gltf.document;
     validate(path, doc)?;
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let buffers = load_buffers(path, &dir, doc, blob)?;
-    let materials = load_materials(path, &dir, doc, warnings);
+    let buffers = load_buffers(path, files, doc, blob)?;
+    let materials = load_materials(path, files, doc, warnings);
     let default_material = materials.len() as u32;
     let mut all_materials = materials;
     all_materials.push(Material::default());
@@ -326,14 +326,9 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
     Some(out)
 }
 
-/// Resolves a relative (percent-encoded) URI against the document's folder.
-fn resolve_uri(dir: &Path, uri: &str) -> PathBuf {
-    dir.join(percent_decode(uri))
-}
-
 fn load_buffers(
     path: &Path,
-    dir: &Path,
+    files: Siblings,
     doc: &gltf::Document,
     blob: Option<&[u8]>,
 ) -> Result<Vec<Vec<u8>>, ImportError> {
@@ -367,8 +362,8 @@ fn load_buffers(
                 })?
             }
             gltf::buffer::Source::Uri(uri) => {
-                let file = resolve_uri(dir, uri);
-                match std::fs::read(&file) {
+                let file = files.resolve(percent_decode(uri));
+                match files.read(&file) {
                     Ok(d) => d,
                     Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
                         return Err(ImportError::MissingBuffer {
@@ -399,7 +394,7 @@ fn load_buffers(
 /// A texture's file, if it is an existing file next to the document; otherwise a warning.
 fn texture_file(
     path: &Path,
-    dir: &Path,
+    files: Siblings,
     texture: gltf::Texture,
     what: &str,
     material: &str,
@@ -407,8 +402,8 @@ fn texture_file(
 ) -> Option<PathBuf> {
     match texture.source().source() {
         gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => {
-            let file = resolve_uri(dir, uri);
-            if file.is_file() {
+            let file = files.resolve(percent_decode(uri));
+            if files.is_file(&file) {
                 Some(file)
             } else {
                 warnings.push(format!(
@@ -431,7 +426,7 @@ fn texture_file(
 
 fn load_materials(
     path: &Path,
-    dir: &Path,
+    files: Siblings,
     doc: &gltf::Document,
     warnings: &mut Vec<String>,
 ) -> Vec<Material> {
@@ -442,16 +437,16 @@ fn load_materials(
                 .map(str::to_owned)
                 .unwrap_or_else(|| format!("material{}", m.index().unwrap_or(0)));
             let pbr = m.pbr_metallic_roughness();
-            let base_color_texture = pbr
-                .base_color_texture()
-                .and_then(|t| texture_file(path, dir, t.texture(), "base-colour", &name, warnings));
+            let base_color_texture = pbr.base_color_texture().and_then(|t| {
+                texture_file(path, files, t.texture(), "base-colour", &name, warnings)
+            });
             let normal_texture = m
                 .normal_texture()
-                .and_then(|t| texture_file(path, dir, t.texture(), "normal", &name, warnings));
+                .and_then(|t| texture_file(path, files, t.texture(), "normal", &name, warnings));
             let metallic_roughness_texture = pbr.metallic_roughness_texture().and_then(|t| {
                 texture_file(
                     path,
-                    dir,
+                    files,
                     t.texture(),
                     "metallic-roughness",
                     &name,

@@ -7,17 +7,19 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
 use super::off::file_stem;
-use super::{ImportError, Material, Mesh, polygon};
+use super::{ImportError, Material, Mesh, Siblings, polygon};
 
 /// Reads an OBJ file into an unprocessed [`Mesh`] (see [`super::load`] for the processing).
-pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, ImportError> {
-    let file = std::fs::File::open(path).map_err(|e| ImportError::io(path, path, e))?;
-    let mut reader = BufReader::new(file);
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+pub(super) fn load(
+    path: &Path,
+    bytes: &[u8],
+    files: Siblings,
+    warnings: &mut Vec<String>,
+) -> Result<Mesh, ImportError> {
+    let mut reader = bytes;
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: false,
@@ -28,12 +30,13 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
     let parsed: RefCell<Vec<Material>> = RefCell::new(Vec::new());
     let mtl_warnings: RefCell<Vec<String>> = RefCell::new(Vec::new());
     let loaded = tobj::load_obj_buf(&mut reader, &options, |mtl_path| {
-        let full = dir.join(mtl_path);
-        match std::fs::read(&full) {
+        let full = files.resolve(mtl_path);
+        match files.read(&full) {
             Ok(bytes) => {
                 let mats = parse_mtl(
                     &String::from_utf8_lossy(&bytes),
-                    full.parent().unwrap_or(&dir),
+                    full.parent().unwrap_or(Path::new("")),
+                    files,
                     &mtl_warnings,
                     &full,
                 );
@@ -62,7 +65,7 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
     });
     warnings.extend(mtl_warnings.into_inner());
     let (models, _) = loaded.map_err(|e| {
-        let located = locate_error(path)
+        let located = locate_error(bytes)
             .map(|l| format!(" ({l})"))
             .unwrap_or_default();
         ImportError::parse(path, format!("OBJ parse error: {e}{located}"))
@@ -173,9 +176,8 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
 }
 
 /// Finds the first face line with a bad vertex reference, to point at it after tobj fails.
-fn locate_error(path: &Path) -> Option<String> {
-    let bytes = std::fs::read(path).ok()?;
-    let text = String::from_utf8_lossy(&bytes);
+fn locate_error(bytes: &[u8]) -> Option<String> {
+    let text = String::from_utf8_lossy(bytes);
     let (mut v, mut vt, mut vn) = (0i64, 0i64, 0i64);
     for (i, line) in text.lines().enumerate() {
         let mut toks = line.split_whitespace();
@@ -223,6 +225,7 @@ fn locate_error(path: &Path) -> Option<String> {
 fn parse_mtl(
     text: &str,
     dir: &Path,
+    files: Siblings,
     warnings: &RefCell<Vec<String>>,
     file: &Path,
 ) -> Vec<Material> {
@@ -231,7 +234,7 @@ fn parse_mtl(
         // Options such as "-bm 1.0" precede the file name; the name is the last token.
         let name = rest.last()?;
         let p = dir.join(name.replace('\\', "/"));
-        if p.is_file() {
+        if files.is_file(&p) {
             Some(p)
         } else {
             warnings.borrow_mut().push(format!(
