@@ -1180,6 +1180,273 @@ fn weld_and_drop_degenerate_semantics() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Nothing dropped without a word: counts that make no triangle, skipped elements, trailing data.
+
+/// The warnings of `import` that contain every needle.
+fn warnings_with<'a>(import: &'a mesh::Import, needles: &[&str]) -> Vec<&'a String> {
+    import
+        .report
+        .warnings
+        .iter()
+        .filter(|w| needles.iter().all(|n| w.contains(n)))
+        .collect()
+}
+
+/// A glTF whose primitives have counts that are not a multiple of 3 (or too short for a strip):
+/// mesh "leftovers": 0 = non-indexed TRIANGLES over 4 vertices, 1 = TRIANGLES with 5 indices,
+/// 2 = TRIANGLE_STRIP with 2 indices, 3 = TRIANGLE_FAN with 4 indices (complete); mesh "whole": a
+/// non-indexed triangle over the first 3 vertices. Node 0 instances "leftovers" twice (nodes 0 and
+/// 1), so that a warning per primitive, not per instance, is checked.
+fn gltf_leftovers() -> String {
+    let mut b = Vec::new();
+    for c in [
+        0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0,
+    ] {
+        b.extend_from_slice(&c.to_le_bytes()); // 0..48: 4 positions
+    }
+    for i in [0u16, 1, 2, 1, 3, 0, 1, 0, 1, 2, 3, 0] {
+        b.extend_from_slice(&i.to_le_bytes()); // 48..58 list, 58..60 pad, 60..64 strip, 64..72 fan
+    }
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scenes": [{{"nodes": [0, 1, 2]}}],
+  "nodes": [{{"mesh": 0}}, {{"mesh": 0, "translation": [5, 0, 0]}}, {{"mesh": 1}}],
+  "meshes": [
+    {{"name": "leftovers", "primitives": [
+      {{"attributes": {{"POSITION": 0}}}},
+      {{"attributes": {{"POSITION": 0}}, "indices": 1}},
+      {{"attributes": {{"POSITION": 0}}, "indices": 2, "mode": 5}},
+      {{"attributes": {{"POSITION": 0}}, "indices": 3, "mode": 6}}]}},
+    {{"name": "whole", "primitives": [{{"attributes": {{"POSITION": 4}}}}]}}],
+  "accessors": [
+    {{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3"}},
+    {{"bufferView": 1, "componentType": 5123, "count": 5, "type": "SCALAR"}},
+    {{"bufferView": 2, "componentType": 5123, "count": 2, "type": "SCALAR"}},
+    {{"bufferView": 3, "componentType": 5123, "count": 4, "type": "SCALAR"}},
+    {{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}}],
+  "bufferViews": [
+    {{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
+    {{"buffer": 0, "byteOffset": 48, "byteLength": 10}},
+    {{"buffer": 0, "byteOffset": 60, "byteLength": 4}},
+    {{"buffer": 0, "byteOffset": 64, "byteLength": 8}}],
+  "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}]}}"#,
+        b.len(),
+        base64(&b)
+    )
+}
+
+#[test]
+fn gltf_counts_not_a_multiple_of_3_are_warned_with_what_was_dropped() {
+    let dir = scratch("gltf-leftovers");
+    let path = write(&dir, "leftovers.gltf", gltf_leftovers());
+    let import = load_ok(&path, &ImportOptions::default());
+    // Per instance of "leftovers": 1 (4 vertices) + 1 (5 indices) + 0 (strip of 2) + 2 (fan of 4);
+    // two instances, plus "whole".
+    assert_eq!(import.report.source_triangles, 2 * (1 + 1 + 2) + 1);
+    let w = |needles: &[&str]| warnings_with(&import, needles).len();
+    let all = ["leftovers.gltf", "mesh 'leftovers'"];
+    assert_eq!(
+        w(&[
+            &all[..],
+            &[
+                "primitive 0",
+                "TRIANGLES",
+                "vertex count (non-indexed) 4 is not a multiple of 3",
+                "the last 1 vertices dropped"
+            ]
+        ]
+        .concat()),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    assert_eq!(
+        w(&[
+            &all[..],
+            &[
+                "primitive 1",
+                "index count 5 is not a multiple of 3",
+                "the last 2 indices dropped"
+            ]
+        ]
+        .concat()),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    assert_eq!(
+        w(&[
+            &all[..],
+            &[
+                "primitive 2",
+                "TRIANGLE_STRIP",
+                "index count 2 is less than 3",
+                "the last 2 indices dropped"
+            ]
+        ]
+        .concat()),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    // The complete fan and the complete triangle are not mentioned; nothing else dropped.
+    assert_eq!(w(&["dropped"]), 3, "{:?}", import.report.warnings);
+    assert_eq!(w(&["primitive 3"]), 0);
+    assert_eq!(w(&["mesh 'whole'"]), 0);
+
+    // The same from memory names the given file name.
+    let import = mesh::load_bytes(
+        gltf_leftovers().as_bytes(),
+        mesh::Format::Gltf,
+        "in-memory.gltf",
+        &ImportOptions::default(),
+    )
+    .expect("loads from memory");
+    assert_eq!(
+        warnings_with(&import, &["in-memory.gltf", "mesh 'leftovers'", "dropped"]).len(),
+        3
+    );
+    // A file with complete primitives warns about no dropped corners.
+    let clean = load_ok(
+        &write(&dir, "clean.gltf", gltf_with_data_uri()),
+        &ImportOptions::default(),
+    );
+    assert!(warnings_with(&clean, &["dropped"]).is_empty());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn obj_ply_off_stl_warn_about_what_they_skip() {
+    let dir = scratch("skips");
+    // OBJ: a point, a polyline of 3 points (tobj would make it a triangle), a 2-vertex face, and
+    // one real triangle.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\np 4\nl 1 2 3\nf 1 4\nf 1 2 3\n";
+    let import = load_ok(&write(&dir, "skips.obj", obj), &ImportOptions::default());
+    assert_eq!(import.report.source_triangles, 1, "the polyline is no face");
+    for needles in [
+        &["skips.obj", "skipped 1 point elements ('p')"][..],
+        &["skips.obj", "skipped 1 polyline elements ('l')"],
+        &["skips.obj", "skipped 1 faces with fewer than 3 vertices"],
+    ] {
+        assert_eq!(
+            warnings_with(&import, needles).len(),
+            1,
+            "{needles:?} in {:?}",
+            import.report.warnings
+        );
+    }
+    let plain = load_ok(
+        &write(&dir, "plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        &ImportOptions::default(),
+    );
+    assert!(
+        plain.report.warnings.is_empty(),
+        "{:?}",
+        plain.report.warnings
+    );
+
+    // PLY: faces beyond the declared count (ASCII) and bytes after the last element (binary).
+    let ascii = ascii_ply() + "3 0 1 2\n";
+    let import = load_ok(&write(&dir, "extra.ply", ascii), &ImportOptions::default());
+    assert_eq!(import.report.source_triangles, 3);
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "extra.ply",
+                "data (from line 23) after the declared elements ignored"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    let mut bin = binary_ply();
+    bin.extend_from_slice(&[0u8; 7]);
+    let import = load_ok(
+        &write(&dir, "extra_bin.ply", bin),
+        &ImportOptions::default(),
+    );
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "extra_bin.ply",
+                "7 bytes after the declared elements ignored"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    let clean = load_ok(
+        &write(&dir, "clean.ply", ascii_ply()),
+        &ImportOptions::default(),
+    );
+    assert!(
+        clean.report.warnings.is_empty(),
+        "{:?}",
+        clean.report.warnings
+    );
+
+    // OFF: two lines past the declared faces (a face count that undercounts), and a 2-corner face.
+    let off = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n2 0 1\n3 1 3 2\n3 0 2 3\n";
+    let import = load_ok(&write(&dir, "extra.off", off), &ImportOptions::default());
+    assert_eq!(import.report.source_triangles, 1);
+    for needles in [
+        &[
+            "extra.off",
+            "2 line(s) after the 2 declared faces ignored (from line 9)",
+        ][..],
+        &["extra.off", "skipped 1 faces with fewer than 3 vertices"],
+    ] {
+        assert_eq!(
+            warnings_with(&import, needles).len(),
+            1,
+            "{needles:?} in {:?}",
+            import.report.warnings
+        );
+    }
+
+    // STL: a facet with 2 vertices (ASCII), bytes past the declared triangles (binary).
+    let stl = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n\
+               facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid s\n";
+    let import = load_ok(&write(&dir, "short.stl", stl), &ImportOptions::default());
+    assert_eq!(import.report.source_triangles, 1);
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "short.stl",
+                "skipped 1 of 2 facets with fewer than 3 vertices"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    let mut bin = binary_stl();
+    bin.extend_from_slice(&[0u8; 30]);
+    let import = load_ok(&write(&dir, "long.stl", bin), &ImportOptions::default());
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "long.stl",
+                "30 bytes after the 2 declared triangles ignored"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---------------------------------------------------------------------------------------------
 // Fuzz: truncations and byte flips never panic; whatever loads is valid.
 
 #[test]

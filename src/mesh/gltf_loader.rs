@@ -51,6 +51,7 @@ pub(super) fn load(
         cache: HashMap::new(),
         skipped_modes: 0,
         default_material,
+        notes: Vec::new(),
     };
 
     // Roots to walk.
@@ -117,6 +118,7 @@ pub(super) fn load(
             stack.push((child, world));
         }
     }
+    warnings.append(&mut ctx.notes);
     if ctx.skipped_modes > 0 {
         warnings.push(format!(
             "{}: skipped {} primitive instance(s) that are points or lines",
@@ -483,6 +485,8 @@ struct Ctx<'a> {
     cache: HashMap<(usize, usize), Option<std::rc::Rc<Prim>>>,
     skipped_modes: usize,
     default_material: u32,
+    /// Warnings from reading primitives (once per primitive, however many nodes instance it).
+    notes: Vec<String>,
 }
 
 impl Ctx<'_> {
@@ -552,7 +556,7 @@ impl Ctx<'_> {
     }
 
     fn read_primitive(
-        &self,
+        &mut self,
         gmesh: &gltf::Mesh,
         prim: &gltf::Primitive,
     ) -> Result<Option<Prim>, ImportError> {
@@ -661,6 +665,34 @@ impl Ctx<'_> {
             None => (0..nv as u32).collect(),
         };
         let n = indices.len();
+        // Corners that make no triangle: a TRIANGLES list's remainder past a multiple of 3, a
+        // strip or fan too short for one triangle.
+        let unused = match mode {
+            Mode::Triangles => n % 3,
+            _ if n < 3 => n,
+            _ => 0,
+        };
+        if unused > 0 {
+            let (what_count, unit) = if prim.indices().is_some() {
+                ("index count", "indices")
+            } else {
+                ("vertex count (non-indexed)", "vertices")
+            };
+            let kind = match mode {
+                Mode::Triangles => "TRIANGLES",
+                Mode::TriangleStrip => "TRIANGLE_STRIP",
+                _ => "TRIANGLE_FAN",
+            };
+            let why = if mode == Mode::Triangles {
+                "is not a multiple of 3"
+            } else {
+                "is less than 3"
+            };
+            self.notes.push(format!(
+                "{}: {what} ({kind}): {what_count} {n} {why}; the last {unused} {unit} dropped",
+                self.path.display()
+            ));
+        }
         let mut triangles = Vec::new();
         match mode {
             Mode::Triangles => {

@@ -3,7 +3,8 @@
 //! files named by `mtllib`, parsed here (tobj's MTL parser panics on short `Kd` lines): `Kd` is the
 //! base colour, `d`/`Tr` its alpha, `Pm`/`Pr` metallic/roughness when present, `map_Kd` and
 //! `norm`/`map_Bump`/`bump` the textures. A missing `.mtl` is a warning; faces then get the default
-//! material.
+//! material. Points (`p`), polylines (`l`) and faces of fewer than three vertices are skipped with a
+//! counted warning.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -19,7 +20,8 @@ pub(super) fn load(
     files: Siblings,
     warnings: &mut Vec<String>,
 ) -> Result<Mesh, ImportError> {
-    let mut reader = bytes;
+    let (skipped, filtered) = non_surface_elements(bytes);
+    let mut reader = filtered.as_deref().unwrap_or(bytes);
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: false,
@@ -159,6 +161,15 @@ pub(super) fn load(
                 .extend(std::iter::repeat_n(material, tris.len() - before));
         }
     }
+    for (n, what) in [
+        (skipped.points, "point elements ('p')"),
+        (skipped.lines, "polyline elements ('l')"),
+        (skipped.short_faces, "faces with fewer than 3 vertices"),
+    ] {
+        if n > 0 {
+            warnings.push(format!("{}: skipped {n} {what}", path.display()));
+        }
+    }
     if unknown_material {
         warnings.push(format!(
             "{}: faces use a material not found in any .mtl; using the default",
@@ -173,6 +184,49 @@ pub(super) fn load(
     }
     mesh.indices = tris.iter().flatten().copied().collect();
     Ok(mesh)
+}
+
+/// Elements of an OBJ file that are not surfaces, counted.
+#[derive(Default)]
+struct NonSurface {
+    points: usize,
+    lines: usize,
+    short_faces: usize,
+}
+
+/// Counts what tobj would skip without a word (`p` points, `f` with one or two vertices) or read
+/// wrongly (an `l` polyline of three or more points becomes a polygon), and returns a copy of the
+/// file with the `l` statements commented out when there are any (line numbers unchanged).
+fn non_surface_elements(bytes: &[u8]) -> (NonSurface, Option<Vec<u8>>) {
+    let mut found = NonSurface::default();
+    let mut polylines = Vec::new();
+    let mut start = 0usize;
+    for line in bytes.split(|&b| b == b'\n') {
+        let mut toks = line
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|t| !t.is_empty());
+        match toks.next() {
+            Some(b"p") => found.points += 1,
+            Some(b"l") => {
+                found.lines += 1;
+                let at = line.iter().position(|b| !b.is_ascii_whitespace());
+                polylines.extend(at.map(|a| start + a));
+            }
+            Some(b"f") if toks.count() < 3 => found.short_faces += 1,
+            _ => {}
+        }
+        start += line.len() + 1;
+    }
+    let filtered = (!polylines.is_empty()).then(|| {
+        let mut copy = bytes.to_vec();
+        for at in polylines {
+            if let Some(b) = copy.get_mut(at) {
+                *b = b'#';
+            }
+        }
+        copy
+    });
+    (found, filtered)
 }
 
 /// Finds the first face line with a bad vertex reference, to point at it after tobj fails.

@@ -161,6 +161,13 @@ fn parse(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<Mesh, Im
         }
         polygon::triangulate(&mesh.positions, &corners, &mut tris);
     }
+    if let Some((first, _)) = lines.next() {
+        warnings.push(format!(
+            "{}: {} line(s) after the {nf} declared faces ignored (from line {first})",
+            path.display(),
+            1 + lines.count()
+        ));
+    }
     polygon::set_triangles(&mut mesh, &tris, skipped, path, warnings);
     Ok(mesh)
 }

@@ -372,6 +372,19 @@ pub(super) fn load(
     if !vertex_seen {
         return Err(ImportError::parse(path, "no 'vertex' element"));
     }
+    // Data past the declared elements (a header that undercounts them, say) is not read.
+    let trailing = match &mut payload {
+        Payload::Binary(r) => (!r.is_empty()).then(|| format!("{} bytes", r.len())),
+        Payload::Ascii(t) => t
+            .next_token()
+            .map(|(line, _)| format!("data (from line {line})")),
+    };
+    if let Some(what) = trailing {
+        warnings.push(format!(
+            "{}: {what} after the declared elements ignored",
+            path.display()
+        ));
+    }
     let Some(faces) = faces else {
         return Err(ImportError::NoTriangles {
             path: path.to_path_buf(),
