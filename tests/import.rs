@@ -759,11 +759,16 @@ fn gltf_with_data_uri() -> String {
 
 fn glb() -> Vec<u8> {
     let (bin, json) = gltf_scene("");
-    let mut json = json.replace("BUFFER_URI", "").into_bytes();
+    glb_container(json.replace("BUFFER_URI", "").as_bytes(), Some(&bin))
+}
+
+/// A GLB file: header, the JSON chunk (space-padded to 4 bytes), the BIN chunk if any.
+fn glb_container(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
+    let mut json = json.to_vec();
     while json.len() % 4 != 0 {
         json.push(b' ');
     }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let total = 12 + 8 + json.len() + bin.map_or(0, |b| 8 + b.len());
     let mut out = Vec::new();
     out.extend_from_slice(b"glTF");
     out.extend_from_slice(&2u32.to_le_bytes());
@@ -771,9 +776,11 @@ fn glb() -> Vec<u8> {
     out.extend_from_slice(&(json.len() as u32).to_le_bytes());
     out.extend_from_slice(b"JSON");
     out.extend_from_slice(&json);
-    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
+    if let Some(bin) = bin {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(bin);
+    }
     out
 }
 
@@ -1444,6 +1451,137 @@ fn obj_ply_off_stl_warn_about_what_they_skip() {
         import.report.warnings
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hostile glTF: documents the gltf crate's validation passes but its accessors unwrap on.
+
+/// The GLB test scene with a material whose base-colour texture shows image `image` (JSON).
+fn glb_with_image(image: &str) -> Vec<u8> {
+    let (bin, json) = gltf_scene(&format!(
+        r#""materials": [{{"name": "m", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}}}}}],
+  "textures": [{{"source": 0}}], "images": [{image}],"#
+    ));
+    glb_container(json.replace("BUFFER_URI", "").as_bytes(), Some(&bin))
+}
+
+/// Regression (found by a mutation fuzzer): an image with neither `uri` nor `bufferView` made
+/// `gltf::Image::source` panic (gltf-1.4.1 src/image.rs:128, `uri.unwrap()`).
+#[test]
+fn gltf_image_without_uri_or_buffer_view_is_a_warning_not_a_panic() {
+    let bytes = glb_with_image("{}");
+    let import = mesh::load_bytes(
+        &bytes,
+        mesh::Format::Gltf,
+        "noimage.glb",
+        &ImportOptions::default(),
+    )
+    .expect("the mesh loads without its texture");
+    assert_eq!(import.report.source_triangles, 9);
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "noimage.glb",
+                "material 'm'",
+                "base-colour",
+                "image 0",
+                "neither"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    assert_eq!(import.meshes[0].materials[0].base_color_texture, None);
+}
+
+/// Regression: an image with a `bufferView` but no `mimeType` made `gltf::Image::source` panic
+/// (gltf-1.4.1 src/image.rs:125, `mime_type.unwrap()`).
+#[test]
+fn gltf_image_in_a_buffer_view_without_mime_type_is_a_warning_not_a_panic() {
+    let bytes = glb_with_image(r#"{"bufferView": 0}"#);
+    let import = mesh::load_bytes(
+        &bytes,
+        mesh::Format::Gltf,
+        "nomime.glb",
+        &ImportOptions::default(),
+    )
+    .expect("the mesh loads without its texture");
+    assert_eq!(
+        warnings_with(&import, &["nomime.glb", "material 'm'", "embedded"]).len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+}
+
+/// Regression: a GLB whose JSON chunk is itself a GLB header with a length under 12 made the gltf
+/// crate's GLB parser subtract with overflow (gltf-1.4.1 src/binary.rs:252), a panic in debug
+/// builds. The JSON chunk is now parsed as JSON only.
+#[test]
+fn gltf_nested_glb_header_in_the_json_chunk_is_an_error_not_a_panic() {
+    let mut inner = b"glTF".to_vec();
+    inner.extend_from_slice(&2u32.to_le_bytes());
+    inner.extend_from_slice(&4u32.to_le_bytes());
+    let bytes = glb_container(&inner, None);
+    match mesh::load_bytes(
+        &bytes,
+        mesh::Format::Gltf,
+        "nested.glb",
+        &ImportOptions::default(),
+    ) {
+        Err(e) => assert_msg(&e, &["nested.glb", "invalid glTF"]),
+        Ok(_) => panic!("a GLB header is no JSON document"),
+    }
+}
+
+/// A few bytes of JSON must not ask for gigabytes: an accessor without a buffer view (zeros plus
+/// sparse substitutions) of more than 2^20 elements is refused.
+#[test]
+fn gltf_huge_accessor_without_buffer_view_is_refused() {
+    let gltf = |count: usize| {
+        let mut b = Vec::new();
+        b.extend_from_slice(&1u32.to_le_bytes());
+        for c in [1.0f32, 0.0, 0.0] {
+            b.extend_from_slice(&c.to_le_bytes());
+        }
+        format!(
+            r#"{{"asset": {{"version": "2.0"}}, "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}],
+  "accessors": [{{"componentType": 5126, "count": {count}, "type": "VEC3",
+    "sparse": {{"count": 1, "indices": {{"bufferView": 0, "componentType": 5125}}, "values": {{"bufferView": 1}}}}}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 4}}, {{"buffer": 0, "byteOffset": 4, "byteLength": 12}}],
+  "buffers": [{{"byteLength": 16, "uri": "data:application/octet-stream;base64,{}"}}]}}"#,
+            base64(&b)
+        )
+    };
+    let load = |count| {
+        mesh::load_bytes(
+            gltf(count).as_bytes(),
+            mesh::Format::Gltf,
+            "zeros.gltf",
+            &ImportOptions::default(),
+        )
+    };
+    match load((1 << 20) + 1) {
+        Err(e) => assert_msg(
+            &e,
+            &[
+                "zeros.gltf",
+                "POSITION accessor 0",
+                "1048577 elements without a buffer view",
+            ],
+        ),
+        Ok(_) => panic!("2^20 + 1 zero vertices should be refused"),
+    }
+    // Within the limit the accessor is read: zeros with vertex 1 moved, so the only triangle
+    // (0, 1, 2) is degenerate.
+    match load(6) {
+        Err(e) => assert_msg(&e, &["zeros.gltf", "all 2 triangles are degenerate"]),
+        Ok(_) => panic!("only degenerate triangles"),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

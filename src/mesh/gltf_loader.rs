@@ -17,9 +17,10 @@ use gltf::mesh::Mode;
 
 use super::{ImportError, ImportOptions, Material, Mesh, Siblings};
 
-/// Accessors larger than this many elements without a buffer view are refused (they would be
-/// materialized as zeros).
-const MAX_VIEWLESS_ELEMENTS: usize = 1 << 26;
+/// Accessors larger than this many elements without a buffer view are refused: they are zeros
+/// (plus sparse substitutions) that cost memory (about 100 bytes per vertex through the import)
+/// without taking room in the file, so a few bytes of JSON could ask for gigabytes.
+const MAX_VIEWLESS_ELEMENTS: usize = 1 << 20;
 
 /// Reads a glTF file into unprocessed meshes: one, or one per node with a mesh.
 pub(super) fn load(
@@ -35,9 +36,12 @@ pub(super) fn load(
         (bytes, None)
     };
     check_draco(path, json_bytes)?;
-    let gltf = gltf::Gltf::from_slice_without_validation(json_bytes)
+    // The JSON is parsed as JSON only: `gltf::Gltf::from_slice*` would take a JSON chunk starting
+    // with "glTF" for a nested GLB and subtract with overflow on its length (gltf-1.4.1
+    // src/binary.rs:252).
+    let root: gltf::json::Root = gltf::json::deserialize::from_slice(json_bytes)
         .map_err(|e| ImportError::parse(path, format!("invalid glTF: {e}")))?;
-    let doc = &gltf.document;
+    let doc = &gltf::Document::from_json_without_validation(root);
     validate(path, doc)?;
     let buffers = load_buffers(path, files, doc, blob)?;
     let materials = load_materials(path, files, doc, warnings);
@@ -394,16 +398,23 @@ fn load_buffers(
 }
 
 /// A texture's file, if it is an existing file next to the document; otherwise a warning.
+///
+/// The image's JSON is read directly: `gltf::Image::source` unwraps a missing `uri` (an image with
+/// neither `uri` nor `bufferView`) and a missing `mimeType` of a `bufferView` image, neither of
+/// which the crate's validation reports.
 fn texture_file(
     path: &Path,
     files: Siblings,
+    doc: &gltf::Document,
     texture: gltf::Texture,
     what: &str,
     material: &str,
     warnings: &mut Vec<String>,
 ) -> Option<PathBuf> {
-    match texture.source().source() {
-        gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => {
+    let index = texture.source().index();
+    let image = doc.as_json().images.get(index);
+    match image.map(|i| (i.uri.as_deref(), i.buffer_view.is_some())) {
+        Some((Some(uri), false)) if !uri.starts_with("data:") => {
             let file = files.resolve(percent_decode(uri));
             if files.is_file(&file) {
                 Some(file)
@@ -416,7 +427,15 @@ fn texture_file(
                 None
             }
         }
-        _ => {
+        Some((None, false)) | None => {
+            warnings.push(format!(
+                "{}: material '{material}' {what} texture: image {index} has neither a uri nor a \
+                 bufferView; ignored",
+                path.display()
+            ));
+            None
+        }
+        Some(_) => {
             warnings.push(format!(
                 "{}: material '{material}' {what} texture is embedded (not a file); ignored",
                 path.display()
@@ -440,15 +459,24 @@ fn load_materials(
                 .unwrap_or_else(|| format!("material{}", m.index().unwrap_or(0)));
             let pbr = m.pbr_metallic_roughness();
             let base_color_texture = pbr.base_color_texture().and_then(|t| {
-                texture_file(path, files, t.texture(), "base-colour", &name, warnings)
+                texture_file(
+                    path,
+                    files,
+                    doc,
+                    t.texture(),
+                    "base-colour",
+                    &name,
+                    warnings,
+                )
             });
-            let normal_texture = m
-                .normal_texture()
-                .and_then(|t| texture_file(path, files, t.texture(), "normal", &name, warnings));
+            let normal_texture = m.normal_texture().and_then(|t| {
+                texture_file(path, files, doc, t.texture(), "normal", &name, warnings)
+            });
             let metallic_roughness_texture = pbr.metallic_roughness_texture().and_then(|t| {
                 texture_file(
                     path,
                     files,
+                    doc,
                     t.texture(),
                     "metallic-roughness",
                     &name,
