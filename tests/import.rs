@@ -819,7 +819,13 @@ fn gltf_hierarchy_strip_fan_mirror_and_split() {
     assert_eq!(r.vertices_welded, 8);
 
     // One mesh per node, named after the node.
-    let import = load_ok(&path, &ImportOptions { split_nodes: true });
+    let import = load_ok(
+        &path,
+        &ImportOptions {
+            split_nodes: true,
+            ..Default::default()
+        },
+    );
     let names: Vec<&str> = import.meshes.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(names, ["Child", "Mirror", "Tri"]);
     let counts: Vec<usize> = import.meshes.iter().map(Mesh::triangle_count).collect();

@@ -7,9 +7,10 @@ use rayon::prelude::*;
 use super::cluster::cluster_triangles as metis_cluster_triangles;
 use super::group::group_clusters as metis_group_clusters;
 use super::quantize::{
-    decode_position, encode_normal, encode_position, encode_uv, make_quantization,
+    decode_normal, decode_position, decode_uv, encode_normal, encode_position, encode_uv,
+    make_quantization,
 };
-use super::simplify::{Mode, simplify};
+use super::simplify::{Attributes, Mode, simplify};
 use super::{
     BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
     LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
@@ -90,6 +91,14 @@ fn check_options(o: &BuildOptions) -> Result<(), BuildError> {
     }
     if !(o.keep_percent > 0.0 && o.keep_percent <= 100.0) {
         return bad(format!("keep_percent {} not in (0, 100]", o.keep_percent));
+    }
+    for (name, w) in [
+        ("normal_weight", o.normal_weight),
+        ("uv_weight", o.uv_weight),
+    ] {
+        if !(w >= 0.0 && w.is_finite()) {
+            return bad(format!("{name} {w} must be finite and >= 0"));
+        }
     }
     if !(o.trim_error >= 0.0 && o.trim_error.is_finite()) {
         return bad(format!(
@@ -598,6 +607,15 @@ fn build_inner(
     let min_error = (extent * 1e-6).max(1e-30);
     let max_tris = opts.max_cluster_triangles as usize;
     let max_verts = MAX_CLUSTER_VERTICES as usize;
+    // The attributes the simplifier weighs (decoded from what the file stores): the normal, and
+    // the UV when the mesh has UVs.
+    let (attr_values, attr_weights) = vertex_attributes(&vertices, &quant, mesh.has_uvs, opts);
+    let attrs = Attributes {
+        values: &attr_values,
+        stride: attr_weights.len(),
+        weights: &attr_weights,
+    };
+    let attrs = Some(&attrs);
 
     // Optional trimming of the input (UE Nanite's "Trim Relative Error" and "Keep Triangle
     // Percent"): first every detail whose removal costs less than `trim_error` x the bounding-box
@@ -610,6 +628,7 @@ fn build_inner(
         let (mut t, e) = simplify(
             &tris,
             &positions,
+            attrs,
             &|_| false,
             0,
             opts.trim_error * diag,
@@ -628,6 +647,7 @@ fn build_inner(
             let (mut t, e) = simplify(
                 &tris,
                 &positions,
+                attrs,
                 &|_| false,
                 target,
                 f32::MAX,
@@ -780,6 +800,7 @@ fn build_inner(
             parter,
             clusters: &clusters,
             positions: &positions,
+            attrs,
             pid: &pid,
             owner: &owner,
             opts,
@@ -840,6 +861,7 @@ fn build_inner(
             parter,
             clusters: &clusters,
             positions: &positions,
+            attrs,
             pid: &pid,
             owner: &owner,
             opts,
@@ -897,6 +919,41 @@ fn build_inner(
     ))
 }
 
+/// Per vertex, the attribute floats the simplifier weighs and their weights: the decoded normal
+/// (weight [`BuildOptions::normal_weight`]) and, for meshes with UVs, the decoded UV
+/// ([`BuildOptions::uv_weight`]). Empty when every weight is 0 (position-only error).
+fn vertex_attributes(
+    vertices: &[PackedVertex],
+    quant: &super::Quantization,
+    has_uvs: bool,
+    opts: &BuildOptions,
+) -> (Vec<f32>, Vec<f32>) {
+    let mut weights = Vec::new();
+    if opts.normal_weight > 0.0 {
+        weights.extend([opts.normal_weight; 3]);
+    }
+    let uvs = has_uvs && opts.uv_weight > 0.0;
+    if uvs {
+        weights.extend([opts.uv_weight; 2]);
+    }
+    if weights.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
+    let values = vertices
+        .par_iter()
+        .flat_map_iter(|v| {
+            let n = decode_normal(v.normal);
+            let t = decode_uv(quant, v.uv);
+            let normal = (opts.normal_weight > 0.0)
+                .then_some(n)
+                .into_iter()
+                .flatten();
+            normal.chain(uvs.then_some(t).into_iter().flatten())
+        })
+        .collect();
+    (values, weights)
+}
+
 fn stuck(mesh: &Mesh, iteration: u32, working: &[u32], clusters: &[WCluster]) -> BuildError {
     BuildError::Stuck {
         name: mesh.name.clone(),
@@ -943,6 +1000,7 @@ struct GroupCtx<'a> {
     parter: Parter<'a>,
     clusters: &'a [WCluster],
     positions: &'a [[f32; 3]],
+    attrs: Option<&'a Attributes<'a>>,
     pid: &'a [u32],
     owner: &'a [u32],
     opts: &'a BuildOptions,
@@ -985,6 +1043,8 @@ impl GroupCtx<'_> {
             (Mode::Locked, false, target),
             (Mode::Locked, true, target),
             (Mode::LockedPrune, true, target),
+            // Seams (normal creases, UV and material borders) may block every collapse.
+            (Mode::Permissive, true, target),
         ];
         if self.single {
             attempts.push((Mode::Locked, true, n * 3 / 4));
@@ -1024,7 +1084,15 @@ impl GroupCtx<'_> {
             } else {
                 &lock_extra
             };
-            let (mut t, e) = simplify(&tris, self.positions, lock, goal, f32::MAX, mode);
+            let (mut t, e) = simplify(
+                &tris,
+                self.positions,
+                self.attrs,
+                lock,
+                goal,
+                f32::MAX,
+                mode,
+            );
             drop_degenerate(&mut t, self.pid);
             // No overlap (verify's rule): an edge used more than once in one direction must be
             // balanced by the other direction or be used exactly as in the input; otherwise it
