@@ -49,6 +49,19 @@ pub struct BuildArgs {
     /// Build each node / mesh of a multi-mesh file separately (`OUT` becomes a prefix).
     #[arg(long = "split-nodes")]
     pub split_nodes: bool,
+    /// Crease angle (degrees) of the normals generated for meshes that have none: faces meeting
+    /// at a sharper angle are shaded flat apart (their vertices split, and the split kept at every
+    /// level of detail); 180 shades smoothly everywhere.
+    #[arg(long = "crease-deg", default_value_t = crate::mesh::normals::DEFAULT_CREASE_DEG)]
+    pub crease_deg: f32,
+    /// Weight of the vertex normal in the simplification error (0: position only): a normal
+    /// turning by A radians across a region of size S counts like moving the surface by
+    /// WEIGHT * A * S, so shading that would visibly change is refined like geometry.
+    #[arg(long = "normal-weight", default_value_t = builder::DEFAULT_NORMAL_WEIGHT)]
+    pub normal_weight: f32,
+    /// Weight of the UV in the simplification error (meshes with UVs; 0: ignore UVs).
+    #[arg(long = "uv-weight", default_value_t = builder::DEFAULT_UV_WEIGHT)]
+    pub uv_weight: f32,
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long = "threads")]
     pub threads: Option<usize>,
@@ -76,8 +89,11 @@ pub struct VerifyArgs {
 
 /// Loads the meshes of `path` with the importer: one per glTF node with `split_nodes`, else one.
 /// Import warnings are printed to stderr.
-pub fn load_input(path: &Path, split_nodes: bool) -> anyhow::Result<Vec<Mesh>> {
-    let import = crate::mesh::load(path, &crate::mesh::ImportOptions { split_nodes })?;
+pub fn load_input(path: &Path, opts: &crate::mesh::ImportOptions) -> anyhow::Result<Vec<Mesh>> {
+    if !(opts.crease_deg >= 0.0 && opts.crease_deg <= 180.0) {
+        anyhow::bail!("--crease-deg {} is not in 0..=180", opts.crease_deg);
+    }
+    let import = crate::mesh::load(path, opts)?;
     for w in &import.report.warnings {
         eprintln!("warning: {w}");
     }
@@ -86,7 +102,13 @@ pub fn load_input(path: &Path, split_nodes: bool) -> anyhow::Result<Vec<Mesh>> {
 
 /// Runs `vgeo build`.
 pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
-    let meshes = load_input(&a.input, a.split_nodes)?;
+    let meshes = load_input(
+        &a.input,
+        &crate::mesh::ImportOptions {
+            split_nodes: a.split_nodes,
+            crease_deg: a.crease_deg,
+        },
+    )?;
     let mut meshes = if a.split_nodes {
         meshes
     } else {
@@ -101,6 +123,8 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         trim_error: a.trim_error,
         fallback_triangles: a.fallback_triangles,
         root_triangles: a.root_triangles,
+        normal_weight: a.normal_weight,
+        uv_weight: a.uv_weight,
         threads: a.threads,
         partitioner: match a.partitioner.as_str() {
             "metis" => builder::Partitioner::Metis,

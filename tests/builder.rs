@@ -480,8 +480,8 @@ fn asset_files(sub: &str) -> Vec<std::path::PathBuf> {
 /// triangle).
 fn build_file_and_verify(path: &std::path::Path, views: usize) -> (usize, f64) {
     let name = path.display().to_string();
-    let meshes =
-        vgeo::cmd_build::load_input(path, false).unwrap_or_else(|e| panic!("{name}: {e:#}"));
+    let meshes = vgeo::cmd_build::load_input(path, &Default::default())
+        .unwrap_or_else(|e| panic!("{name}: {e:#}"));
     let mesh = vgeo::mesh::merge(meshes);
     let t0 = std::time::Instant::now();
     let built =
@@ -577,7 +577,8 @@ fn real_hard_meshes() {
 #[test]
 fn deterministic_real_mesh() {
     let path = assets_dir().join("scanned/bunny.ply");
-    let mesh = vgeo::mesh::merge(vgeo::cmd_build::load_input(&path, false).expect("bunny"));
+    let mesh =
+        vgeo::mesh::merge(vgeo::cmd_build::load_input(&path, &Default::default()).expect("bunny"));
     let build = |threads| {
         let b = builder::build(
             &mesh,

@@ -7,9 +7,10 @@ use rayon::prelude::*;
 use super::cluster::cluster_triangles as metis_cluster_triangles;
 use super::group::group_clusters as metis_group_clusters;
 use super::quantize::{
-    decode_position, encode_normal, encode_position, encode_uv, make_quantization,
+    decode_normal, decode_position, decode_uv, encode_normal, encode_position, encode_uv,
+    make_quantization,
 };
-use super::simplify::{Mode, simplify};
+use super::simplify::{Attributes, Mode, simplify};
 use super::{
     BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
     LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
@@ -90,6 +91,14 @@ fn check_options(o: &BuildOptions) -> Result<(), BuildError> {
     }
     if !(o.keep_percent > 0.0 && o.keep_percent <= 100.0) {
         return bad(format!("keep_percent {} not in (0, 100]", o.keep_percent));
+    }
+    for (name, w) in [
+        ("normal_weight", o.normal_weight),
+        ("uv_weight", o.uv_weight),
+    ] {
+        if !(w >= 0.0 && w.is_finite()) {
+            return bad(format!("{name} {w} must be finite and >= 0"));
+        }
     }
     if !(o.trim_error >= 0.0 && o.trim_error.is_finite()) {
         return bad(format!(
@@ -598,6 +607,23 @@ fn build_inner(
     let min_error = (extent * 1e-6).max(1e-30);
     let max_tris = opts.max_cluster_triangles as usize;
     let max_verts = MAX_CLUSTER_VERTICES as usize;
+    // The attributes the simplifier weighs (decoded from what the file stores): the normal, and
+    // the UV when the mesh has UVs.
+    let decode_uv_of = |v: usize| decode_uv(&quant, vertices[v].uv);
+    let (attr_values, attr_weights) = super::simplify::attribute_values(
+        vertices.len(),
+        &|v| decode_normal(vertices[v].normal),
+        mesh.has_uvs
+            .then_some(&decode_uv_of as &(dyn Fn(usize) -> [f32; 2] + Sync)),
+        opts.normal_weight,
+        opts.uv_weight,
+    );
+    let attrs = Attributes {
+        values: &attr_values,
+        stride: attr_weights.len(),
+        weights: &attr_weights,
+    };
+    let attrs = Some(&attrs);
 
     // Optional trimming of the input (UE Nanite's "Trim Relative Error" and "Keep Triangle
     // Percent"): first every detail whose removal costs less than `trim_error` x the bounding-box
@@ -610,6 +636,7 @@ fn build_inner(
         let (mut t, e) = simplify(
             &tris,
             &positions,
+            attrs,
             &|_| false,
             0,
             opts.trim_error * diag,
@@ -628,6 +655,7 @@ fn build_inner(
             let (mut t, e) = simplify(
                 &tris,
                 &positions,
+                attrs,
                 &|_| false,
                 target,
                 f32::MAX,
@@ -780,6 +808,7 @@ fn build_inner(
             parter,
             clusters: &clusters,
             positions: &positions,
+            attrs,
             pid: &pid,
             owner: &owner,
             opts,
@@ -840,6 +869,7 @@ fn build_inner(
             parter,
             clusters: &clusters,
             positions: &positions,
+            attrs,
             pid: &pid,
             owner: &owner,
             opts,
@@ -943,6 +973,7 @@ struct GroupCtx<'a> {
     parter: Parter<'a>,
     clusters: &'a [WCluster],
     positions: &'a [[f32; 3]],
+    attrs: Option<&'a Attributes<'a>>,
     pid: &'a [u32],
     owner: &'a [u32],
     opts: &'a BuildOptions,
@@ -985,6 +1016,8 @@ impl GroupCtx<'_> {
             (Mode::Locked, false, target),
             (Mode::Locked, true, target),
             (Mode::LockedPrune, true, target),
+            // Seams (normal creases, UV and material borders) may block every collapse.
+            (Mode::Permissive, true, target),
         ];
         if self.single {
             attempts.push((Mode::Locked, true, n * 3 / 4));
@@ -1024,7 +1057,15 @@ impl GroupCtx<'_> {
             } else {
                 &lock_extra
             };
-            let (mut t, e) = simplify(&tris, self.positions, lock, goal, f32::MAX, mode);
+            let (mut t, e) = simplify(
+                &tris,
+                self.positions,
+                self.attrs,
+                lock,
+                goal,
+                f32::MAX,
+                mode,
+            );
             drop_degenerate(&mut t, self.pid);
             // No overlap (verify's rule): an edge used more than once in one direction must be
             // balanced by the other direction or be used exactly as in the input; otherwise it
