@@ -766,7 +766,7 @@ fn glb() -> Vec<u8> {
 /// A GLB file: header, the JSON chunk (space-padded to 4 bytes), the BIN chunk if any.
 fn glb_container(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     let mut json = json.to_vec();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let total = 12 + 8 + json.len() + bin.map_or(0, |b| 8 + b.len());
@@ -1589,6 +1589,55 @@ fn gltf_huge_accessor_without_buffer_view_is_refused() {
         Err(e) => assert_msg(&e, &["zeros.gltf", "all 2 triangles are degenerate"]),
         Ok(_) => panic!("only degenerate triangles"),
     }
+}
+
+/// Regression (cargo fuzz, import_obj): tobj turned a relative reference past the start into an
+/// index near `usize::MAX` and multiplied it (overflow panic, tobj-4.0.5 src/lib.rs:860), and took a
+/// `0` texture-coordinate or normal reference for none. Every reference is now checked first; a
+/// forward reference within the file stays allowed, as tobj allows it.
+#[test]
+fn obj_references_past_either_end_or_zero_are_errors_not_panics() {
+    let load = |obj: &str| {
+        mesh::load_bytes(
+            obj.as_bytes(),
+            mesh::Format::Obj,
+            "refs.obj",
+            &ImportOptions::default(),
+        )
+    };
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+    for (face, line, needle) in [
+        (
+            "f 1/1/-2 2/1/1 3/1/1",
+            6,
+            "bad normal reference '-2' (1 defined so far)",
+        ),
+        (
+            "f 1/-9223372036854775807 2 3",
+            6,
+            "bad texture coordinate reference",
+        ),
+        (
+            "f -4 -3 -2",
+            6,
+            "bad vertex reference '-4' (3 defined so far)",
+        ),
+        (
+            "f 1/0 2/1 3/1",
+            6,
+            "bad texture coordinate reference '0' (1 defined)",
+        ),
+        ("f 1//0 2//1 3//1", 6, "bad normal reference '0'"),
+        ("f 1 2 4", 6, "bad vertex reference '4' (3 defined)"),
+    ] {
+        match load(&format!("{tri}{face}\n")) {
+            Err(e) => assert_msg(&e, &["refs.obj", &format!("line {line}"), needle]),
+            Ok(_) => panic!("{face} should be refused"),
+        }
+    }
+    // A face may refer forward to a vertex defined later in the file.
+    let import = load("v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n").expect("forward reference");
+    assert_eq!(import.report.source_triangles, 1);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -20,6 +20,9 @@ pub(super) fn load(
     files: Siblings,
     warnings: &mut Vec<String>,
 ) -> Result<Mesh, ImportError> {
+    if let Some(bad) = bad_reference(bytes) {
+        return Err(ImportError::parse(path, format!("OBJ parse error: {bad}")));
+    }
     let (skipped, filtered) = non_surface_elements(bytes);
     let mut reader = filtered.as_deref().unwrap_or(bytes);
     let options = tobj::LoadOptions {
@@ -227,6 +230,60 @@ fn non_surface_elements(bytes: &[u8]) -> (NonSurface, Option<Vec<u8>>) {
         copy
     });
     (found, filtered)
+}
+
+/// Finds the first face corner referring to no vertex, texture coordinate or normal, checked
+/// before tobj reads the file: tobj turns a relative (negative) reference past the start into an
+/// index near `usize::MAX` and `0` into its "missing" marker, then multiplies (an overflow panic
+/// with overflow checks, a wrong element without; tobj-4.0.5 src/lib.rs:860) or silently drops
+/// the texture coordinate or normal. A positive reference may point forward (tobj allows it) but
+/// not past the last element of the file; a relative one counts back from the line it is on.
+fn bad_reference(bytes: &[u8]) -> Option<String> {
+    let text = String::from_utf8_lossy(bytes);
+    let keyword = |line: &str| line.split_whitespace().next().map(str::to_owned);
+    let mut totals = [0i64; 3];
+    for line in text.lines() {
+        match keyword(line).as_deref() {
+            Some("v") => totals[0] += 1,
+            Some("vt") => totals[1] += 1,
+            Some("vn") => totals[2] += 1,
+            _ => {}
+        }
+    }
+    let mut so_far = [0i64; 3];
+    for (i, line) in text.lines().enumerate() {
+        let mut toks = line.split_whitespace();
+        match toks.next() {
+            Some("v") => so_far[0] += 1,
+            Some("vt") => so_far[1] += 1,
+            Some("vn") => so_far[2] += 1,
+            Some("f") => {
+                for tok in toks {
+                    // tobj refuses a corner of more than three parts itself.
+                    for (k, part) in tok.split('/').enumerate().take(3) {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        let (ok, defined) = match part.parse::<i64>() {
+                            Ok(x) if x > 0 => (x <= totals[k], totals[k]),
+                            Ok(x) if x < 0 => (x >= -so_far[k], so_far[k]),
+                            _ => (false, totals[k]),
+                        };
+                        if !ok {
+                            let kind = ["vertex", "texture coordinate", "normal"][k];
+                            let when = if part.starts_with('-') { " so far" } else { "" };
+                            return Some(format!(
+                                "line {}: bad {kind} reference '{part}' ({defined} defined{when})",
+                                i + 1
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    None
 }
 
 /// Finds the first face line with a bad vertex reference, to point at it after tobj fails.
