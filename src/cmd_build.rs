@@ -72,6 +72,10 @@ pub struct VerifyArgs {
     /// Seed of the views.
     #[arg(long = "seed", default_value_t = 1)]
     pub seed: u64,
+    /// Check with the slow reference verifier (the oracle the fast one is tested against; same
+    /// report, for comparisons and timing).
+    #[arg(long = "reference", hide = true)]
+    pub reference: bool,
 }
 
 /// Loads the meshes of `path` with the importer: one per glTF node with `split_nodes`, else one.
@@ -211,14 +215,16 @@ pub fn describe(m: &builder::BuiltMesh, file_len: usize) -> String {
 pub fn run_verify(a: &VerifyArgs) -> anyhow::Result<bool> {
     let bytes = std::fs::read(&a.file).with_context(|| format!("reading {}", a.file.display()))?;
     let m = crate::format::load(&bytes).with_context(|| format!("loading {}", a.file.display()))?;
-    let report = builder::verify(
-        &m,
-        &VerifyOptions {
-            views: a.views,
-            seed: a.seed,
-            ..Default::default()
-        },
-    );
+    let opts = VerifyOptions {
+        views: a.views,
+        seed: a.seed,
+        ..Default::default()
+    };
+    let report = if a.reference {
+        builder::verify::verify_reference(&m, &opts)
+    } else {
+        builder::verify(&m, &opts)
+    };
     println!("{}: {report}", a.file.display());
     Ok(report.ok())
 }
