@@ -79,6 +79,34 @@ impl Camera {
         self.projection(width as f32 / height.max(1) as f32) * self.view_rotation()
     }
 
+    /// The projection of the sub-rectangle `[x0, x0 + width) x [y0, y0 + height)` (pixels) of a
+    /// `full_width` x `full_height` image, onto a `width` x `height` target: the same rays as
+    /// [`Camera::view_proj`] of the full image, the rectangle's pixels mapped one to one (an
+    /// off-centre projection). Renders a large image in tiles; depth is unchanged.
+    pub fn view_proj_window(
+        &self,
+        (full_width, full_height): (u32, u32),
+        (x0, y0): (u32, u32),
+        (width, height): (u32, u32),
+    ) -> Mat4 {
+        // Full-image NDC to the rectangle's NDC: ndc' = s ndc + o per axis, in clip space
+        // x' = s x + o w (w unchanged, so depth is too).
+        let axis = |full: u32, start: u32, size: u32| {
+            let s = full as f64 / size.max(1) as f64;
+            let o = (full as f64 - 2.0 * start as f64) / size.max(1) as f64 - 1.0;
+            (s as f32, o as f32)
+        };
+        let (sx, ox) = axis(full_width, x0, width);
+        let (sy, oy) = axis(full_height, y0, height);
+        let window = Mat4::from_cols(
+            Vec4::new(sx, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, sy, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, 1.0, 0.0),
+            Vec4::new(ox, oy, 0.0, 1.0),
+        );
+        window * self.view_proj(full_width, full_height)
+    }
+
     /// `model` made camera-relative (translation minus the camera position, in f64), as f32.
     pub fn relative_model(&self, model: &DMat4) -> Mat4 {
         let rel = DMat4::from_translation(-self.position) * *model;

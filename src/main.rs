@@ -9,7 +9,7 @@ use vgeo::frame::VgeoRenderer;
 use vgeo::gpu::{Context, ContextOptions};
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
-use vgeo::render::LoadedScene;
+use vgeo::scene::load::LoadedScene;
 
 /// vgeo renders triangle scenes of any size at pixel-scale detail (Nanite-style cluster DAGs) on Vulkan.
 ///
@@ -207,7 +207,7 @@ fn render(a: &RenderArgs) -> Result<()> {
         return lod_strip(a, flags);
     }
     let t0 = std::time::Instant::now();
-    let mut loaded = LoadedScene::load(&a.input)?;
+    let loaded = LoadedScene::load(&a.input)?;
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
     }
@@ -268,7 +268,7 @@ fn render(a: &RenderArgs) -> Result<()> {
     let frame = match a.mode.as_str() {
         "lod" => {
             let opts = vgeo::baseline::lod::LodOptions::default();
-            let lod = vgeo::baseline::lod::Lod::new(&ctx, &l.meshes, &opts)?;
+            let lod = vgeo::baseline::lod::Lod::new(&ctx, &l.meshes(), &opts)?;
             lod.warnings()
                 .iter()
                 .for_each(|w| eprintln!("warning: {w}"));
@@ -276,7 +276,7 @@ fn render(a: &RenderArgs) -> Result<()> {
             lod.render_view(&l.placements, c, &l.light, size, a.error_px, shade)?
         }
         _ => {
-            let brute = vgeo::baseline::brute::Brute::new(&ctx, &l.meshes)?;
+            let brute = vgeo::baseline::brute::Brute::new(&ctx, &l.meshes())?;
             brute
                 .warnings()
                 .iter()
@@ -333,7 +333,7 @@ fn finish(
     println!("resolution: {}x{}", a.width, a.height);
     println!(
         "scene:      {} meshes, {} instances (loaded in {load_s:.2} s)",
-        loaded.meshes.len(),
+        loaded.prepared.len(),
         loaded.placements.len()
     );
     println!("triangles:  {}", frame.triangles);

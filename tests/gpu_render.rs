@@ -6,7 +6,8 @@ mod common;
 use common::{assert_no_validation_errors, assets, gpu, shared_assets};
 use vgeo::baseline::brute::Brute;
 use vgeo::reference::{RasterTarget, mesh_triangles, rasterize};
-use vgeo::render::{Frame, LoadedScene};
+use vgeo::render::Frame;
+use vgeo::scene::load::LoadedScene;
 
 /// Renders `scene` with brute on the GPU and with the reference on the CPU; returns (coverage
 /// agreement, depth agreement among pixels both cover, covered pixels).
@@ -14,7 +15,7 @@ fn compare_with_reference(path: &std::path::Path, w: u32, h: u32) -> (f64, f64, 
     let scene = LoadedScene::load(path).expect("scene loads");
     let camera = scene.camera(w, h);
     let ctx = gpu();
-    let brute = Brute::new(&ctx, &scene.meshes).expect("brute renderer");
+    let brute = Brute::new(&ctx, &scene.meshes()).expect("brute renderer");
     let frame = brute
         .render(&scene.placements, &camera, &scene.light, w, h)
         .expect("render");
@@ -24,7 +25,7 @@ fn compare_with_reference(path: &std::path::Path, w: u32, h: u32) -> (f64, f64, 
     let mut target = RasterTarget::new(w, h);
     for (i, p) in scene.placements.iter().enumerate() {
         let model = camera.relative_model(&p.transform);
-        let tris = mesh_triangles(&scene.meshes[p.mesh as usize], &model, (i as u32) << 20);
+        let tris = mesh_triangles(scene.mesh(p.mesh), &model, (i as u32) << 20);
         rasterize(&mut target, &vp, tris);
     }
     let n = (w * h) as usize;
@@ -108,7 +109,7 @@ fn demo_scene_renders_and_matches_reference() {
 fn timestamps_report_the_brute_pass() {
     let ctx = gpu();
     let scene = LoadedScene::load(&assets().join("spot.obj")).expect("spot loads");
-    let brute = Brute::new(&ctx, &scene.meshes).expect("brute");
+    let brute = Brute::new(&ctx, &scene.meshes()).expect("brute");
     let frame = brute
         .render(
             &scene.placements,
