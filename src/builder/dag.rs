@@ -609,7 +609,15 @@ fn build_inner(
     let max_verts = MAX_CLUSTER_VERTICES as usize;
     // The attributes the simplifier weighs (decoded from what the file stores): the normal, and
     // the UV when the mesh has UVs.
-    let (attr_values, attr_weights) = vertex_attributes(&vertices, &quant, mesh.has_uvs, opts);
+    let decode_uv_of = |v: usize| decode_uv(&quant, vertices[v].uv);
+    let (attr_values, attr_weights) = super::simplify::attribute_values(
+        vertices.len(),
+        &|v| decode_normal(vertices[v].normal),
+        mesh.has_uvs
+            .then_some(&decode_uv_of as &(dyn Fn(usize) -> [f32; 2] + Sync)),
+        opts.normal_weight,
+        opts.uv_weight,
+    );
     let attrs = Attributes {
         values: &attr_values,
         stride: attr_weights.len(),
@@ -917,41 +925,6 @@ fn build_inner(
     Ok(assemble(
         mesh, quant, vertices, vmat, &positions, clusters, groups, stats,
     ))
-}
-
-/// Per vertex, the attribute floats the simplifier weighs and their weights: the decoded normal
-/// (weight [`BuildOptions::normal_weight`]) and, for meshes with UVs, the decoded UV
-/// ([`BuildOptions::uv_weight`]). Empty when every weight is 0 (position-only error).
-fn vertex_attributes(
-    vertices: &[PackedVertex],
-    quant: &super::Quantization,
-    has_uvs: bool,
-    opts: &BuildOptions,
-) -> (Vec<f32>, Vec<f32>) {
-    let mut weights = Vec::new();
-    if opts.normal_weight > 0.0 {
-        weights.extend([opts.normal_weight; 3]);
-    }
-    let uvs = has_uvs && opts.uv_weight > 0.0;
-    if uvs {
-        weights.extend([opts.uv_weight; 2]);
-    }
-    if weights.is_empty() {
-        return (Vec::new(), Vec::new());
-    }
-    let values = vertices
-        .par_iter()
-        .flat_map_iter(|v| {
-            let n = decode_normal(v.normal);
-            let t = decode_uv(quant, v.uv);
-            let normal = (opts.normal_weight > 0.0)
-                .then_some(n)
-                .into_iter()
-                .flatten();
-            normal.chain(uvs.then_some(t).into_iter().flatten())
-        })
-        .collect();
-    (values, weights)
 }
 
 fn stuck(mesh: &Mesh, iteration: u32, working: &[u32], clusters: &[WCluster]) -> BuildError {

@@ -57,6 +57,40 @@ pub(crate) fn compact(tris: &[[u32; 3]], vertex_count: usize) -> (Vec<u32>, Vec<
     })
 }
 
+/// Per vertex, the attribute floats the simplifier weighs and their weights: the normal
+/// (weight `normal_weight`) and, when `uv` is given, the UV (`uv_weight`). Empty when no weight
+/// is positive (position-only error). The builder and the `lod` baseline both use it, so their
+/// errors mean the same.
+pub(crate) fn attribute_values(
+    count: usize,
+    normal: &(dyn Fn(usize) -> [f32; 3] + Sync),
+    uv: Option<&(dyn Fn(usize) -> [f32; 2] + Sync)>,
+    normal_weight: f32,
+    uv_weight: f32,
+) -> (Vec<f32>, Vec<f32>) {
+    use rayon::prelude::*;
+    let normals = normal_weight > 0.0;
+    let uv = uv.filter(|_| uv_weight > 0.0);
+    let mut weights = Vec::new();
+    if normals {
+        weights.extend([normal_weight; 3]);
+    }
+    if uv.is_some() {
+        weights.extend([uv_weight; 2]);
+    }
+    if weights.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
+    let values = (0..count)
+        .into_par_iter()
+        .flat_map_iter(|v| {
+            let n = normals.then(|| normal(v)).into_iter().flatten();
+            n.chain(uv.map(|f| f(v)).into_iter().flatten())
+        })
+        .collect();
+    (values, weights)
+}
+
 /// How to simplify.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Mode {

@@ -215,7 +215,7 @@ mod tests {
         flat.validate().expect("valid");
         // Every corner's normal is its face's normal.
         for tri in flat.indices.chunks_exact(3) {
-            let p = [tri[0], tri[1], tri[2]].map(|i| flat.positions[i as usize]);
+            let p: [[f32; 3]; 3] = std::array::from_fn(|k| flat.positions[tri[k] as usize]);
             let fnormal = normalized(cross(sub(p[1], p[0]), sub(p[2], p[0]))).expect("area");
             for &i in tri {
                 let nn = flat.normals[i as usize].map(f64::from);
