@@ -46,7 +46,7 @@ use crate::passes::emit_gbuffer::EmitPath;
 use crate::passes::view::FrameSettings;
 use crate::render::{Frame, Light, Placement};
 use crate::scene::Scene;
-use crate::scene::load::{LoadedScene, MeshCache, PreparedMesh, triangles_of};
+use crate::scene::load::{LoadedScene, MeshCache, PreparedMesh, thin, triangles_of};
 
 /// The benchmark scenes with a scene file of their own, in run order (`stress` comes last).
 pub const SCENES: [&str; 4] = ["outdoor", "indoor", "foliage", "drawcalls"];
@@ -206,9 +206,11 @@ pub struct BenchArgs {
     /// of tile quads per material against the material depth, DESIGN.md's form).
     #[arg(long)]
     pub emit: Option<String>,
-    /// Samples per pixel of the reference image errors are measured against: a square N = n x n
-    /// (brute at n times the resolution, box-filtered n x n; rendered in tiles). Default 16 (4x4);
-    /// 1: brute's own frame (the floor is then 0 by definition).
+    /// Samples per pixel of the reference every mode's image error (PSNR of the lit image,
+    /// surface difference %) is measured against: a square N = n x n, brute rendered at n times
+    /// the resolution (in tiles) and box-filtered n x n back. Default 16 (4x4). Brute at 1 sample
+    /// per pixel is measured against it too: its error is the floor any mode can reach, reported
+    /// per scene. 1: the reference is brute's own frame (floor 0: exact equality).
     #[arg(long)]
     pub reference_spp: Option<u32>,
     /// "At equal error": per scene and mode, the cheapest threshold whose PSNR is at most this
@@ -515,17 +517,6 @@ impl BenchScene {
     }
 }
 
-/// Keeps every k-th placement (the smallest k) so that at most `cap` triangles remain.
-fn thin(placements: Vec<Placement>, meshes: &[&Mesh], cap: Option<u64>) -> Vec<Placement> {
-    let tris = triangles_of(&placements, meshes);
-    let Some(cap) = cap else { return placements };
-    if tris <= cap || placements.len() <= 1 {
-        return placements;
-    }
-    let k = tris.div_ceil(cap.max(1)) as usize;
-    placements.into_iter().step_by(k).collect()
-}
-
 fn load_scene(
     cache: &mut MeshCache,
     file: &Path,
@@ -540,9 +531,7 @@ fn load_scene(
     let aspect = settings.width as f32 / settings.height as f32;
     let (placements, cameras) = match stress_n {
         None => {
-            let cameras = loaded
-                .scene
-                .path_cameras(&bounds, aspect, settings.frames);
+            let cameras = loaded.scene.path_cameras(&bounds, aspect, settings.frames);
             (loaded.placements.clone(), cameras)
         }
         Some(n) => stress_grid(&loaded.scene, &bounds, n, settings.frames)?,
@@ -1051,7 +1040,9 @@ fn save_example(
         return;
     }
     if mode == "brute" {
-        report.images.push((format!("{scene}_brute"), frame.clone()));
+        report
+            .images
+            .push((format!("{scene}_brute"), frame.clone()));
         if let Some(r) = reference {
             let stem = format!("{scene}_reference_{}spp", r.spp());
             report.images.push((stem, r.to_frame()));
@@ -1276,7 +1267,10 @@ pub fn write_outputs(report: &BenchReport, out: &Path) -> Result<()> {
             (ErrorAxis::Psnr, "speed_psnr"),
         ] {
             let series = speed_series(report, &s.name, axis);
-            if series.iter().any(|(m, pts)| m != "brute" && !pts.is_empty()) {
+            if series
+                .iter()
+                .any(|(m, pts)| m != "brute" && !pts.is_empty())
+            {
                 let path = out.join(format!("{stem}_{}.svg", s.name));
                 plot_speed_error(&path, report, &s.name, &series, axis)?;
             }
@@ -1336,7 +1330,11 @@ fn speed_series(report: &BenchReport, scene: &str, axis: ErrorAxis) -> SpeedSeri
                 .iter()
                 .filter(|s| s.scene == scene && s.mode == *mode)
                 .collect();
-            rows.sort_by(|a, b| a.error_px.unwrap_or(0.0).total_cmp(&b.error_px.unwrap_or(0.0)));
+            rows.sort_by(|a, b| {
+                a.error_px
+                    .unwrap_or(0.0)
+                    .total_cmp(&b.error_px.unwrap_or(0.0))
+            });
             let pts = rows
                 .iter()
                 .filter_map(|s| {
@@ -1803,10 +1801,17 @@ mod tests {
         report.settings.psnr_margin_db = 7.0;
         report.equal_error = equal_error(&report);
         assert_eq!(pick(&report, "vgeo").error_px, Some(0.5));
-        assert_eq!(pick(&report, "lod").error_px, Some(2.0), "cheaper, 4.8 dB below");
+        assert_eq!(
+            pick(&report, "lod").error_px,
+            Some(2.0),
+            "cheaper, 4.8 dB below"
+        );
         // The Markdown says what was picked.
         let md = markdown(&report);
-        assert!(md.contains("At equal error") && md.contains("| vgeo | 0.5 |"), "{md}");
+        assert!(
+            md.contains("At equal error") && md.contains("| vgeo | 0.5 |"),
+            "{md}"
+        );
     }
 
     #[test]
@@ -1830,7 +1835,15 @@ mod tests {
         assert!(s.validate().is_err());
         s.hw_threshold_px = 64.0;
         s.validate().unwrap();
-        for (spp, ok) in [(16, true), (1, true), (9, true), (256, true), (0, false), (8, false), (289, false)] {
+        for (spp, ok) in [
+            (16, true),
+            (1, true),
+            (9, true),
+            (256, true),
+            (0, false),
+            (8, false),
+            (289, false),
+        ] {
             s.reference_spp = spp;
             assert_eq!(s.validate().is_ok(), ok, "reference spp {spp}");
         }

@@ -128,3 +128,41 @@ pub fn project_to_pixel(view_proj: &Mat4, p: Vec3, width: u32, height: u32) -> O
         c.w,
     ])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point lands in a tile's projection at its full-image pixel minus the tile's corner, with
+    /// the same depth; the whole image as its own tile is the plain projection.
+    #[test]
+    fn window_projection_maps_pixels_of_the_rectangle() {
+        let cam = Camera::look_at(
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::ZERO,
+            Vec3::Y,
+            50f32.to_radians(),
+            0.01,
+        );
+        let full = (640, 360);
+        assert_eq!(
+            cam.view_proj_window(full, (0, 0), full),
+            cam.view_proj(full.0, full.1)
+        );
+        let vp = cam.view_proj(full.0, full.1);
+        for (corner, size) in [
+            ((0, 0), (256, 256)),
+            ((384, 256), (256, 104)),
+            ((100, 7), (33, 20)),
+        ] {
+            let win = cam.view_proj_window(full, corner, size);
+            for p in [Vec3::new(-1.0, -2.0, -3.0), Vec3::new(-0.7, -1.5, -3.2)] {
+                let a = project_to_pixel(&vp, p, full.0, full.1).unwrap();
+                let b = project_to_pixel(&win, p, size.0, size.1).unwrap();
+                assert!((a[0] - corner.0 as f32 - b[0]).abs() < 1e-3, "{a:?} {b:?}");
+                assert!((a[1] - corner.1 as f32 - b[1]).abs() < 1e-3, "{a:?} {b:?}");
+                assert!((a[2] - b[2]).abs() <= 1e-7 * a[2].abs() && a[3] == b[3]);
+            }
+        }
+    }
+}

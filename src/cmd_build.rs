@@ -204,7 +204,10 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         }
     };
     if a.fallback_out.is_some() && jobs.len() > 1 {
-        anyhow::bail!("--fallback-out takes one mesh; this input has {}", jobs.len());
+        anyhow::bail!(
+            "--fallback-out takes one mesh; this input has {}",
+            jobs.len()
+        );
     }
     let mut reports = Vec::new();
     let mut failed = Vec::new();
@@ -277,12 +280,19 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
 /// `vgeo build SCENE.toml`: every mesh of the scene with the scene's options (each distinct
 /// path and options once), to `OUT/NAME.vgeo` (`OUT`: `-o`, default `SCENE-vgeo` beside the
 /// scene file). Meshes given as `.vgeo` files are built already and skipped.
-fn scene_jobs(a: &BuildArgs, import: ImportOptions, opts: BuildOptions) -> anyhow::Result<Vec<Job>> {
+fn scene_jobs(
+    a: &BuildArgs,
+    import: ImportOptions,
+    opts: BuildOptions,
+) -> anyhow::Result<Vec<Job>> {
     if a.split_nodes {
         anyhow::bail!("--split-nodes applies to a mesh file, not a scene");
     }
     let dir = a.out.clone().unwrap_or_else(|| {
-        let stem = a.input.file_stem().map_or("scene".into(), |s| s.to_string_lossy());
+        let stem = a
+            .input
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy());
         a.input.with_file_name(format!("{stem}-vgeo"))
     });
     let mut cache = MeshCache::new(import, opts);

@@ -390,7 +390,8 @@ mod tests {
     fn tiles_fill_their_rectangle() {
         // A 2x1-pixel reference of 2x2 samples from two 2x2-sample tiles.
         let mut r = Reference::new(2, 1, 2);
-        r.add_tile(1, 0, &frame(2, vec![0.4; 4], vec![200; 16])).unwrap();
+        r.add_tile(1, 0, &frame(2, vec![0.4; 4], vec![200; 16]))
+            .unwrap();
         r.add_tile(0, 0, &frame(2, vec![0.0, 0.2, 0.0, 0.0], vec![40; 16]))
             .unwrap();
         assert_eq!(r.covered, vec![1, 4]);
@@ -398,8 +399,14 @@ mod tests {
         assert_eq!(&r.color[..4], &[40; 4]);
         assert_eq!(&r.color[4..], &[200; 4]);
         // Out of bounds, or not a whole number of pixels.
-        assert!(r.add_tile(1, 1, &frame(2, vec![0.4; 4], vec![0; 16])).is_err());
-        assert!(r.add_tile(0, 0, &frame(3, vec![0.4; 3], vec![0; 12])).is_err());
+        assert!(
+            r.add_tile(1, 1, &frame(2, vec![0.4; 4], vec![0; 16]))
+                .is_err()
+        );
+        assert!(
+            r.add_tile(0, 0, &frame(3, vec![0.4; 3], vec![0; 12]))
+                .is_err()
+        );
         assert_eq!(r.to_frame().depth, vec![0.2, 0.4]);
     }
 }

@@ -28,9 +28,11 @@ struct Cli {
 enum Command {
     /// Render a mesh (auto-framed) or a scene file (.toml) to a PNG.
     Render(RenderArgs),
-    /// Build a mesh's cluster DAG into a .vgeo file.
+    /// Build a mesh's cluster DAG into a .vgeo file, or every mesh of a scene file (.toml) with
+    /// the scene's options.
     Build(vgeo::cmd_build::BuildArgs),
-    /// Benchmark the scenes in the three modes (brute, lod, vgeo): speed, image error, scaling.
+    /// Benchmark the scenes in the three modes (brute, lod, vgeo): speed, image error against a
+    /// supersampled brute reference (--reference-spp), speed at equal error, scaling.
     Bench(vgeo::bench::BenchArgs),
     /// Check a .vgeo file: DAG invariants and crack-free cuts for many views (non-zero exit on failure).
     Verify(vgeo::cmd_build::VerifyArgs),

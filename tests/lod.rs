@@ -244,7 +244,11 @@ fn selection_is_the_cut_formula_with_the_instance_scale() {
     let mut picked = [0u32; LOD_COUNT];
     for i in 0..400 {
         let f = i as f64;
-        let scale = DVec3::new(0.5 + (f * 0.37).sin().abs() * 3.0, 1.0 + (f * 0.11).cos(), 0.7);
+        let scale = DVec3::new(
+            0.5 + (f * 0.37).sin().abs() * 3.0,
+            1.0 + (f * 0.11).cos(),
+            0.7,
+        );
         let rot = glam::DQuat::from_euler(glam::EulerRot::YXZ, f * 0.3, f * 0.17, f * 0.05);
         let pos = cam.position + DVec3::new((f * 0.7).sin() * 2.0, 0.3, -0.2 - f * 0.05);
         let t = DMat4::from_scale_rotation_translation(scale, rot, pos);

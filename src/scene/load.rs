@@ -64,15 +64,17 @@ impl PreparedMesh {
             generated::generated_mesh(name).with_context(|| {
                 format!(
                     "unknown generated mesh `{text}` (available: {})",
-                    generated::NAMES.map(|n| format!("{GENERATED_PREFIX}{n}")).join(", ")
+                    generated::NAMES
+                        .map(|n| format!("{GENERATED_PREFIX}{n}"))
+                        .join(", ")
                 )
             })?
         } else if path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("vgeo"))
         {
-            let bytes = std::fs::read(path)
-                .with_context(|| format!("cannot read {}", path.display()))?;
+            let bytes =
+                std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
             let b = crate::format::load(&bytes)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
             let mesh = b.level_mesh(0);
@@ -328,6 +330,19 @@ pub fn triangles_of(placements: &[Placement], meshes: &[&Mesh]) -> u64 {
         .sum()
 }
 
+/// Keeps every k-th of `placements` (the smallest k) so that at most `cap` full-detail triangles
+/// remain (all of them when `cap` is `None`, and always at least one placement): how the quick
+/// benchmark suite and the tests make large scenes small while keeping their spread.
+pub fn thin(placements: Vec<Placement>, meshes: &[&Mesh], cap: Option<u64>) -> Vec<Placement> {
+    let Some(cap) = cap else { return placements };
+    let tris = triangles_of(&placements, meshes);
+    if tris <= cap || placements.len() <= 1 {
+        return placements;
+    }
+    let k = tris.div_ceil(cap.max(1)) as usize;
+    placements.into_iter().step_by(k).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -363,7 +378,12 @@ mod tests {
             .unwrap();
         assert_eq!(built.len(), 3);
         assert!(std::ptr::eq(built[0], built[1]));
-        assert_eq!(lines.lock().unwrap().len(), 2, "{:?}", lines.lock().unwrap());
+        assert_eq!(
+            lines.lock().unwrap().len(),
+            2,
+            "{:?}",
+            lines.lock().unwrap()
+        );
         assert!(std::ptr::eq(
             loaded.prepared[2].built_if_ready().unwrap(),
             built[2]
