@@ -22,8 +22,34 @@ if [ ${#missing[@]} -eq 0 ]; then
   exit 0
 fi
 
+# The mirror that serves bookworm on this machine (one-line .list or deb822 .sources), reused for
+# bookworm-backports: this script names no mirror host of its own.
+debian_mirror() {
+  local f
+  for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
+    [ -f "$f" ] || continue
+    awk '$1 == "deb" && $0 ~ / bookworm( |$)/ { for (i = 2; i <= NF; i++) if ($i ~ /^[a-z]+:\/\//) { print $i; exit } }' "$f"
+  done
+  for f in /etc/apt/sources.list.d/*.sources; do
+    [ -f "$f" ] || continue
+    awk 'BEGIN { RS = ""; FS = "\n" } {
+           uri = ""; ok = 0
+           for (i = 1; i <= NF; i++) {
+             if ($i ~ /^URIs:/) { split($i, a, " "); uri = a[2] }
+             if ($i ~ /^Suites:/ && $i ~ / bookworm( |$)/) ok = 1
+           }
+           if (ok && uri != "") print uri
+         }' "$f"
+  done
+}
 if ! grep -rqs "bookworm-backports" /etc/apt/sources.list /etc/apt/sources.list.d/; then
-  echo "deb http://deb.debian.org/debian bookworm-backports main" | $SUDO tee /etc/apt/sources.list.d/bookworm-backports.list >/dev/null
+  mirror=$(debian_mirror | head -n 1)
+  if [ -z "$mirror" ]; then
+    echo "setup: no apt source for bookworm found; add bookworm-backports to the apt sources by hand" >&2
+    exit 1
+  fi
+  echo "deb $mirror bookworm-backports main" | $SUDO tee /etc/apt/sources.list.d/bookworm-backports.list >/dev/null
+  echo "setup: added bookworm-backports from $mirror"
 fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q

@@ -2,7 +2,8 @@
 //!
 //! Per mesh, [`LOD_COUNT`] levels made with meshoptimizer's simplifier (the one the builder uses):
 //! [`LOD_FRACTIONS`] of the triangles, each simplified from the full mesh, with the object-space
-//! error meshoptimizer reports (absolute). All levels of a mesh share one vertex buffer and one index
+//! error meshoptimizer reports (absolute; position and attributes with the builder's weights, so
+//! a level's error is measured as a DAG cluster's is). All levels of a mesh share one vertex buffer and one index
 //! buffer (per-level index ranges). Per instance and frame, on the CPU, the coarsest level whose
 //! error projected at the instance's bounding sphere ([`lod_error_px`], the cut's formula) stays
 //! within `error_px * lod_bias` pixels is drawn (instances outside the frustum are skipped,
@@ -78,32 +79,40 @@ impl LodChain {
         let mut indices: Vec<u32> = full.clone();
         let mut ranges = [(0u32, full.len() as u32); LOD_COUNT];
         let mut errors = [0.0f32; LOD_COUNT];
-        let positions: &[u8] = bytemuck::cast_slice(&mesh.positions);
-        let adapter = meshopt::VertexDataAdapter::new(positions, 12, 0);
+        // The builder's simplifier and error (position and attributes, same weights), so that a
+        // level's error means what a DAG cluster's does and `--error-px 1` compares.
+        let defaults = crate::builder::BuildOptions::default();
+        let uv_of = |v: usize| mesh.uvs[v];
+        let (values, weights) = crate::builder::simplify::attribute_values(
+            mesh.positions.len(),
+            &|v| mesh.normals[v],
+            mesh.has_uvs
+                .then_some(&uv_of as &(dyn Fn(usize) -> [f32; 2] + Sync)),
+            defaults.normal_weight,
+            defaults.uv_weight,
+        );
+        let attrs = crate::builder::simplify::Attributes {
+            values: &values,
+            stride: weights.len(),
+            weights: &weights,
+        };
+        let tris: Vec<[u32; 3]> = full.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
         for k in 1..LOD_COUNT {
             let prev = ranges[k - 1];
             let tri_target = (full.len() / 3) as f32 * LOD_FRACTIONS[k];
-            let target = (tri_target.round() as usize).max(1) * 3;
-            let lod = match &adapter {
-                Ok(vertices) if !full.is_empty() => {
-                    let mut err = 0.0f32;
-                    let out = meshopt::simplify(
-                        full,
-                        vertices,
-                        target,
-                        f32::MAX,
-                        meshopt::SimplifyOptions::ErrorAbsolute,
-                        Some(&mut err),
-                    );
-                    let err = if err.is_finite() {
-                        err.max(0.0)
-                    } else {
-                        f32::MAX
-                    };
-                    Some((out, err))
-                }
-                _ => None,
-            };
+            let target = (tri_target.round() as usize).max(1);
+            let lod = (!tris.is_empty()).then(|| {
+                let (out, err) = crate::builder::simplify::simplify(
+                    &tris,
+                    &mesh.positions,
+                    Some(&attrs),
+                    &|_| false,
+                    target,
+                    f32::MAX,
+                    crate::builder::simplify::Mode::Locked,
+                );
+                (out.into_iter().flatten().collect::<Vec<u32>>(), err)
+            });
             match lod {
                 // Smaller but not empty: meshoptimizer may collapse a tiny closed mesh to nothing,
                 // and an instance must never vanish because it is far.
@@ -163,12 +172,7 @@ fn world_sphere(sphere: &[f32; 4], transform: &DMat4, camera_pos: DVec3) -> (Vec
         sphere[1] as f64,
         sphere[2] as f64,
     ));
-    let scale = transform
-        .x_axis
-        .truncate()
-        .length()
-        .max(transform.y_axis.truncate().length())
-        .max(transform.z_axis.truncate().length()) as f32;
+    let scale = crate::render::max_axis_scale(transform);
     ((center - camera_pos).as_vec3(), sphere[3] * scale, scale)
 }
 
@@ -250,8 +254,16 @@ impl Lod {
     /// Splits every mesh's vertices per material (material borders become seams the simplifier
     /// keeps), simplifies it into its levels (in parallel), uploads them with the scene's
     /// materials and creates the pipelines.
-    pub fn new(ctx: &Context, meshes: &[Mesh], opts: &LodOptions) -> GpuResult<Self> {
-        let split: Vec<ClassicMesh> = meshes.par_iter().map(ClassicMesh::new).collect();
+    /// `meshes` may hold the meshes or references to them (anything that borrows as one).
+    pub fn new<M: std::borrow::Borrow<Mesh> + Sync>(
+        ctx: &Context,
+        meshes: &[M],
+        opts: &LodOptions,
+    ) -> GpuResult<Self> {
+        let split: Vec<ClassicMesh> = meshes
+            .par_iter()
+            .map(|m| ClassicMesh::new(m.borrow()))
+            .collect();
         let chains: Vec<LodChain> = split.par_iter().map(|m| LodChain::build(&m.mesh)).collect();
         let indices: Vec<Option<&[u32]>> = chains.iter().map(|c| Some(&c.indices[..])).collect();
         let classic = Classic::new(ctx, "lod", &split, &indices)?;
@@ -471,6 +483,7 @@ impl Lod {
             instances,
             draws,
             camera: *camera,
+            view_proj: None,
         })
     }
 }

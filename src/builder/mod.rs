@@ -58,6 +58,12 @@ pub struct BuildOptions {
     /// some: the root gets small, so a far instance (drawn as its root alone) costs a few
     /// triangles. 0 or at least `max_cluster_triangles`: stop at the first single cluster.
     pub root_triangles: u32,
+    /// Weight of the vertex normal in the simplifier's error (0: position only). A normal that
+    /// turns by `a` radians across a region of size `s` counts about as much as moving the surface
+    /// by `normal_weight * a * s` (see docs/architecture.md, "Shading-aware error").
+    pub normal_weight: f32,
+    /// Weight of the UV (meshes with UVs) in the simplifier's error, as `normal_weight`.
+    pub uv_weight: f32,
     /// Worker threads (`None`: rayon's default). The output does not depend on it.
     pub threads: Option<usize>,
     /// Graph partitioner for clusters and groups.
@@ -79,6 +85,11 @@ pub enum Partitioner {
     Metis,
 }
 
+/// Default [`BuildOptions::normal_weight`].
+pub const DEFAULT_NORMAL_WEIGHT: f32 = 0.5;
+/// Default [`BuildOptions::uv_weight`].
+pub const DEFAULT_UV_WEIGHT: f32 = 0.5;
+
 impl Default for BuildOptions {
     fn default() -> Self {
         Self {
@@ -90,6 +101,8 @@ impl Default for BuildOptions {
             trim_error: 0.0,
             fallback_triangles: 2000,
             root_triangles: 16,
+            normal_weight: DEFAULT_NORMAL_WEIGHT,
+            uv_weight: DEFAULT_UV_WEIGHT,
             threads: None,
             partitioner: Partitioner::default(),
         }

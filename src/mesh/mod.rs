@@ -8,6 +8,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 mod gltf_loader;
+pub mod normals;
 mod obj;
 mod off;
 mod ply;
@@ -141,11 +142,25 @@ impl Mesh {
 }
 
 /// Options for [`load`].
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct ImportOptions {
     /// glTF only: return one [`Mesh`] per node that has a mesh (named after the node) instead of
     /// merging the whole scene into one. Other formats always give one mesh.
     pub split_nodes: bool,
+    /// Crease angle in degrees for vertices without a source normal (see
+    /// [`normals::crease_normals`]): faces meeting at a sharper angle are shaded apart and their
+    /// shared vertices split. Default [`normals::DEFAULT_CREASE_DEG`]; 180 shades smoothly
+    /// everywhere.
+    pub crease_deg: f32,
+}
+
+impl Default for ImportOptions {
+    fn default() -> Self {
+        Self {
+            split_nodes: false,
+            crease_deg: normals::DEFAULT_CREASE_DEG,
+        }
+    }
 }
 
 /// What an import did to the source data, summed over all returned meshes.
@@ -159,6 +174,9 @@ pub struct ImportReport {
     pub vertices_welded: usize,
     /// Vertices removed because no kept triangle referenced them (see [`remove_unreferenced`]).
     pub unreferenced_removed: usize,
+    /// Vertices added by splitting at creases when normals were generated
+    /// ([`normals::crease_normals`]).
+    pub crease_splits: usize,
     /// Human-readable notes on what was tolerated (missing textures, skipped primitives, ...).
     pub warnings: Vec<String>,
 }
@@ -323,7 +341,8 @@ impl Format {
 /// Every importer: rejects NaN/Inf positions ([`ImportError::NonFinite`]) and out-of-range indices
 /// ([`ImportError::IndexOutOfRange`]); triangulates polygons (ear clipping on the best-fit plane);
 /// then [`drop_degenerate`] (counted, with a warning), [`remove_unreferenced`], [`weld`], and
-/// area-weighted normals for vertices without a (usable) source normal. UVs are zero where the
+/// crease-angle normals for vertices without a (usable) source normal
+/// ([`normals::crease_normals`], [`ImportOptions::crease_deg`]). UVs are zero where the
 /// source has none and follow the glTF convention (origin top-left; OBJ/PLY `v` is flipped).
 /// A file with no triangle left is an error, never an empty mesh.
 pub fn load(path: &Path, opts: &ImportOptions) -> Result<Import, ImportError> {
@@ -347,7 +366,7 @@ pub fn load(path: &Path, opts: &ImportOptions) -> Result<Import, ImportError> {
     for raw in raws {
         let name = raw.name.clone();
         let tris = raw.triangle_count();
-        match finish(path, raw, &mut report)? {
+        match finish(path, raw, opts, &mut report)? {
             Some(mesh) => meshes.push(mesh),
             None => empty.push(format!("'{name}' ({tris} triangles)")),
         }
@@ -722,6 +741,7 @@ fn compact_materials(mesh: &mut Mesh) {
 fn finish(
     path: &Path,
     mut mesh: Mesh,
+    opts: &ImportOptions,
     report: &mut ImportReport,
 ) -> Result<Option<Mesh>, ImportError> {
     report.source_triangles += mesh.triangle_count();
@@ -775,7 +795,7 @@ fn finish(
         return Ok(None);
     }
     report.vertices_welded += weld(&mut mesh);
-    fill_missing_normals(&mut mesh);
+    report.crease_splits += normals::crease_normals(&mut mesh, opts.crease_deg);
     compact_materials(&mut mesh);
     mesh.validate().map_err(|message| ImportError::Invalid {
         path: path.to_path_buf(),

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod cad;
+
 use std::path::PathBuf;
 
 use vgeo::gpu::{Context, ContextOptions};
