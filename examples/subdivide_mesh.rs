@@ -97,7 +97,13 @@ fn main() -> anyhow::Result<()> {
     let [input, output] = files.as_slice() else {
         anyhow::bail!(usage);
     };
-    let meshes = vgeo::cmd_build::load_input(std::path::Path::new(input), false)?;
+    // No crease splitting (180 degrees): a vertex split at a crease would get two different
+    // midpoints on its edges, opening cracks.
+    let import = vgeo::mesh::ImportOptions {
+        crease_deg: 180.0,
+        ..Default::default()
+    };
+    let meshes = vgeo::cmd_build::load_input(std::path::Path::new(input), &import)?;
     let mesh = vgeo::mesh::merge(meshes);
     let mut p = mesh.positions.clone();
     let mut idx = mesh.indices.clone();
