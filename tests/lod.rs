@@ -402,11 +402,11 @@ fn far_bunny_stays_close_to_brute() {
     );
     eprintln!("{msg}");
     assert!(b.covered() > 2000, "{msg}");
-    // Measured on lavapipe: coverage 0.9992, depth 0.863 (level 3, 8,681 triangles; 0.951 with
-    // position-only simplification: weighing normals moves some vertices more, within the same
-    // projected error bound, since the error is the combined one).
+    // Measured on lavapipe: coverage 0.9991, depth 0.798 (level 3, 8,680 triangles; 0.951 with
+    // position-only simplification, 0.863 with normal weight 0.5: weighing normals moves some
+    // vertices more, within the same projected error bound, since the error is the combined one).
     assert!(cover >= 0.995, "{msg}");
-    assert!(depth >= 0.83, "{msg}");
+    assert!(depth >= 0.77, "{msg}");
     assert_no_validation_errors(&ctx);
 }
 

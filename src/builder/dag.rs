@@ -1213,6 +1213,9 @@ impl GroupCtx<'_> {
         if self.single {
             attempts.push((Mode::Locked, true, n * 3 / 4));
             attempts.push((Mode::Locked, true, n * 9 / 10));
+            // Sloppy with the open borders locked first: holes and open parts keep their
+            // borders, so the result stays crack-free where an unlocked one would not.
+            attempts.push((Mode::Sloppy, true, target));
             attempts.push((Mode::Sloppy, false, target));
         }
         let in_edges = Edges::of(&tris, self.pid);
@@ -1244,6 +1247,11 @@ impl GroupCtx<'_> {
             let (mode, lock_border, goal) = attempts[i];
             if mode == Mode::Sloppy && candidate.is_some() {
                 break;
+            }
+            if mode == Mode::Sloppy && attempt_rounds == 0 {
+                // Vertex clustering starts from the group's own locks: the points locked by the
+                // edge-collapse attempts' folds would leave it nothing to cluster.
+                extra.clear();
             }
             let lock = |v: u32| {
                 locked(v)
@@ -1285,7 +1293,7 @@ impl GroupCtx<'_> {
                 if candidate.is_none() && lenient(&t) {
                     candidate = Some((t, e, i > 0 || rounds > 0));
                 }
-            } else if mode != Mode::Sloppy && attempt_rounds < 8 {
+            } else if attempt_rounds < 8 {
                 // Lock the fold's vertices and their input neighbours, and retry.
                 folded.sort_unstable();
                 folded.dedup();
