@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod cad;
+pub mod shapes;
 
 use std::path::PathBuf;
 
