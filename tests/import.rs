@@ -760,11 +760,16 @@ fn gltf_with_data_uri() -> String {
 
 fn glb() -> Vec<u8> {
     let (bin, json) = gltf_scene("");
-    let mut json = json.replace("BUFFER_URI", "").into_bytes();
-    while json.len() % 4 != 0 {
+    glb_container(json.replace("BUFFER_URI", "").as_bytes(), Some(&bin))
+}
+
+/// A GLB file: header, the JSON chunk (space-padded to 4 bytes), the BIN chunk if any.
+fn glb_container(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
+    let mut json = json.to_vec();
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let total = 12 + 8 + json.len() + bin.map_or(0, |b| 8 + b.len());
     let mut out = Vec::new();
     out.extend_from_slice(b"glTF");
     out.extend_from_slice(&2u32.to_le_bytes());
@@ -772,9 +777,11 @@ fn glb() -> Vec<u8> {
     out.extend_from_slice(&(json.len() as u32).to_le_bytes());
     out.extend_from_slice(b"JSON");
     out.extend_from_slice(&json);
-    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
+    if let Some(bin) = bin {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(bin);
+    }
     out
 }
 
@@ -1071,6 +1078,84 @@ fn stl_binary_with_solid_header_and_off_ngons() {
 }
 
 #[test]
+fn in_memory_import_equals_file_import_and_has_no_external_files() {
+    let dir = scratch("in-memory");
+    let cases: Vec<(&str, mesh::Format, Vec<u8>)> = vec![
+        ("scene.glb", mesh::Format::Gltf, glb()),
+        (
+            "scene.gltf",
+            mesh::Format::Gltf,
+            gltf_with_data_uri().into_bytes(),
+        ),
+        ("bin.ply", mesh::Format::Ply, binary_ply()),
+        ("ascii.ply", mesh::Format::Ply, ascii_ply().into_bytes()),
+        ("square.stl", mesh::Format::Stl, binary_stl()),
+        (
+            "arrow.off",
+            mesh::Format::Off,
+            b"OFF 5 1 0\n0 0 0\n2 1 0\n0 2 0\n1 1 0\n-1 1 0\n5 0 1 2 3 4\n".to_vec(),
+        ),
+        (
+            "quad.obj",
+            mesh::Format::Obj,
+            b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n".to_vec(),
+        ),
+    ];
+    for (name, format, bytes) in &cases {
+        let path = write(&dir, name, bytes);
+        let from_file = load_ok(&path, &ImportOptions::default());
+        let from_memory = mesh::load_bytes(bytes, *format, name, &ImportOptions::default())
+            .unwrap_or_else(|e| panic!("{name} from memory: {e}"));
+        assert_eq!(from_memory.report, {
+            let mut r = from_file.report.clone();
+            let prefix = format!("{}: ", path.display());
+            for w in &mut r.warnings {
+                *w = w.replace(&prefix, &format!("{name}: "));
+            }
+            r
+        });
+        assert_eq!(from_memory.meshes.len(), from_file.meshes.len());
+        for (a, b) in from_memory.meshes.iter().zip(&from_file.meshes) {
+            assert_eq!(a.name, b.name);
+            assert_eq!(
+                (&a.positions, &a.normals, &a.uvs, &a.indices),
+                (&b.positions, &b.normals, &b.uvs, &b.indices)
+            );
+        }
+    }
+    // Nothing is read from disk: an external buffer is missing (the file import of the same JSON
+    // finds it), a material library is a warning.
+    let (bin, json) = gltf_scene("");
+    write(&dir, "ext.bin", &bin);
+    let json = json.replace("BUFFER_URI", r#", "uri": "ext.bin""#);
+    load_ok(&write(&dir, "ext.gltf", &json), &ImportOptions::default());
+    match mesh::load_bytes(
+        json.as_bytes(),
+        mesh::Format::Gltf,
+        "ext.gltf",
+        &ImportOptions::default(),
+    ) {
+        Err(e @ ImportError::MissingBuffer { .. }) => {
+            assert_msg(&e, &["ext.gltf", "ext.bin", "missing"])
+        }
+        other => panic!("expected a missing buffer, got {other:?}"),
+    }
+    let obj = b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
+    let import = mesh::load_bytes(obj, mesh::Format::Obj, "m.obj", &ImportOptions::default())
+        .expect("obj without its mtl");
+    assert!(
+        import
+            .report
+            .warnings
+            .iter()
+            .any(|w| w.contains("m.obj") && w.contains("m.mtl")),
+        "{:?}",
+        import.report.warnings
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn weld_and_drop_degenerate_semantics() {
     let mut m = Mesh {
         name: "t".into(),
@@ -1106,6 +1191,453 @@ fn weld_and_drop_degenerate_semantics() {
     assert_eq!(mesh::remove_unreferenced(&mut m), 1); // the former vertex 4 at (2, 0, 0)
     assert_eq!(m.positions.len(), 4);
     m.validate().expect("valid");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Nothing dropped without a word: counts that make no triangle, skipped elements, trailing data.
+
+/// The warnings of `import` that contain every needle.
+fn warnings_with<'a>(import: &'a mesh::Import, needles: &[&str]) -> Vec<&'a String> {
+    import
+        .report
+        .warnings
+        .iter()
+        .filter(|w| needles.iter().all(|n| w.contains(n)))
+        .collect()
+}
+
+/// A glTF whose primitives have counts that are not a multiple of 3 (or too short for a strip):
+/// mesh "leftovers": 0 = non-indexed TRIANGLES over 4 vertices, 1 = TRIANGLES with 5 indices,
+/// 2 = TRIANGLE_STRIP with 2 indices, 3 = TRIANGLE_FAN with 4 indices (complete); mesh "whole": a
+/// non-indexed triangle over the first 3 vertices. Node 0 instances "leftovers" twice (nodes 0 and
+/// 1), so that a warning per primitive, not per instance, is checked.
+fn gltf_leftovers() -> String {
+    let mut b = Vec::new();
+    for c in [
+        0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0,
+    ] {
+        b.extend_from_slice(&c.to_le_bytes()); // 0..48: 4 positions
+    }
+    for i in [0u16, 1, 2, 1, 3, 0, 1, 0, 1, 2, 3, 0] {
+        b.extend_from_slice(&i.to_le_bytes()); // 48..58 list, 58..60 pad, 60..64 strip, 64..72 fan
+    }
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scenes": [{{"nodes": [0, 1, 2]}}],
+  "nodes": [{{"mesh": 0}}, {{"mesh": 0, "translation": [5, 0, 0]}}, {{"mesh": 1}}],
+  "meshes": [
+    {{"name": "leftovers", "primitives": [
+      {{"attributes": {{"POSITION": 0}}}},
+      {{"attributes": {{"POSITION": 0}}, "indices": 1}},
+      {{"attributes": {{"POSITION": 0}}, "indices": 2, "mode": 5}},
+      {{"attributes": {{"POSITION": 0}}, "indices": 3, "mode": 6}}]}},
+    {{"name": "whole", "primitives": [{{"attributes": {{"POSITION": 4}}}}]}}],
+  "accessors": [
+    {{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3"}},
+    {{"bufferView": 1, "componentType": 5123, "count": 5, "type": "SCALAR"}},
+    {{"bufferView": 2, "componentType": 5123, "count": 2, "type": "SCALAR"}},
+    {{"bufferView": 3, "componentType": 5123, "count": 4, "type": "SCALAR"}},
+    {{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}}],
+  "bufferViews": [
+    {{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
+    {{"buffer": 0, "byteOffset": 48, "byteLength": 10}},
+    {{"buffer": 0, "byteOffset": 60, "byteLength": 4}},
+    {{"buffer": 0, "byteOffset": 64, "byteLength": 8}}],
+  "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}]}}"#,
+        b.len(),
+        base64(&b)
+    )
+}
+
+#[test]
+fn gltf_counts_not_a_multiple_of_3_are_warned_with_what_was_dropped() {
+    let dir = scratch("gltf-leftovers");
+    let path = write(&dir, "leftovers.gltf", gltf_leftovers());
+    let import = load_ok(&path, &ImportOptions::default());
+    // Per instance of "leftovers": 1 (4 vertices) + 1 (5 indices) + 0 (strip of 2) + 2 (fan of 4);
+    // two instances, plus "whole".
+    assert_eq!(import.report.source_triangles, 2 * (1 + 1 + 2) + 1);
+    let w = |needles: &[&str]| warnings_with(&import, needles).len();
+    let all = ["leftovers.gltf", "mesh 'leftovers'"];
+    assert_eq!(
+        w(&[
+            &all[..],
+            &[
+                "primitive 0",
+                "TRIANGLES",
+                "vertex count (non-indexed) 4 is not a multiple of 3",
+                "the last 1 vertices dropped"
+            ]
+        ]
+        .concat()),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    assert_eq!(
+        w(&[
+            &all[..],
+            &[
+                "primitive 1",
+                "index count 5 is not a multiple of 3",
+                "the last 2 indices dropped"
+            ]
+        ]
+        .concat()),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    assert_eq!(
+        w(&[
+            &all[..],
+            &[
+                "primitive 2",
+                "TRIANGLE_STRIP",
+                "index count 2 is less than 3",
+                "the last 2 indices dropped"
+            ]
+        ]
+        .concat()),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    // The complete fan and the complete triangle are not mentioned; nothing else dropped.
+    assert_eq!(w(&["dropped"]), 3, "{:?}", import.report.warnings);
+    assert_eq!(w(&["primitive 3"]), 0);
+    assert_eq!(w(&["mesh 'whole'"]), 0);
+
+    // The same from memory names the given file name.
+    let import = mesh::load_bytes(
+        gltf_leftovers().as_bytes(),
+        mesh::Format::Gltf,
+        "in-memory.gltf",
+        &ImportOptions::default(),
+    )
+    .expect("loads from memory");
+    assert_eq!(
+        warnings_with(&import, &["in-memory.gltf", "mesh 'leftovers'", "dropped"]).len(),
+        3
+    );
+    // A file with complete primitives warns about no dropped corners.
+    let clean = load_ok(
+        &write(&dir, "clean.gltf", gltf_with_data_uri()),
+        &ImportOptions::default(),
+    );
+    assert!(warnings_with(&clean, &["dropped"]).is_empty());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn obj_ply_off_stl_warn_about_what_they_skip() {
+    let dir = scratch("skips");
+    // OBJ: a point, a polyline of 3 points (tobj would make it a triangle), a 2-vertex face, and
+    // one real triangle.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\np 4\nl 1 2 3\nf 1 4\nf 1 2 3\n";
+    let import = load_ok(&write(&dir, "skips.obj", obj), &ImportOptions::default());
+    assert_eq!(import.report.source_triangles, 1, "the polyline is no face");
+    for needles in [
+        &["skips.obj", "skipped 1 point elements ('p')"][..],
+        &["skips.obj", "skipped 1 polyline elements ('l')"],
+        &["skips.obj", "skipped 1 faces with fewer than 3 vertices"],
+    ] {
+        assert_eq!(
+            warnings_with(&import, needles).len(),
+            1,
+            "{needles:?} in {:?}",
+            import.report.warnings
+        );
+    }
+    let plain = load_ok(
+        &write(&dir, "plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        &ImportOptions::default(),
+    );
+    assert!(
+        plain.report.warnings.is_empty(),
+        "{:?}",
+        plain.report.warnings
+    );
+
+    // PLY: faces beyond the declared count (ASCII) and bytes after the last element (binary).
+    let ascii = ascii_ply() + "3 0 1 2\n";
+    let import = load_ok(&write(&dir, "extra.ply", ascii), &ImportOptions::default());
+    assert_eq!(import.report.source_triangles, 3);
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "extra.ply",
+                "data (from line 23) after the declared elements ignored"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    let mut bin = binary_ply();
+    bin.extend_from_slice(&[0u8; 7]);
+    let import = load_ok(
+        &write(&dir, "extra_bin.ply", bin),
+        &ImportOptions::default(),
+    );
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "extra_bin.ply",
+                "7 bytes after the declared elements ignored"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    let clean = load_ok(
+        &write(&dir, "clean.ply", ascii_ply()),
+        &ImportOptions::default(),
+    );
+    assert!(
+        clean.report.warnings.is_empty(),
+        "{:?}",
+        clean.report.warnings
+    );
+
+    // OFF: two lines past the declared faces (a face count that undercounts), and a 2-corner face.
+    let off = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n2 0 1\n3 1 3 2\n3 0 2 3\n";
+    let import = load_ok(&write(&dir, "extra.off", off), &ImportOptions::default());
+    assert_eq!(import.report.source_triangles, 1);
+    for needles in [
+        &[
+            "extra.off",
+            "2 line(s) after the 2 declared faces ignored (from line 9)",
+        ][..],
+        &["extra.off", "skipped 1 faces with fewer than 3 vertices"],
+    ] {
+        assert_eq!(
+            warnings_with(&import, needles).len(),
+            1,
+            "{needles:?} in {:?}",
+            import.report.warnings
+        );
+    }
+
+    // STL: a facet with 2 vertices (ASCII), bytes past the declared triangles (binary).
+    let stl = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n\
+               facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid s\n";
+    let import = load_ok(&write(&dir, "short.stl", stl), &ImportOptions::default());
+    assert_eq!(import.report.source_triangles, 1);
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "short.stl",
+                "skipped 1 of 2 facets with fewer than 3 vertices"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    let mut bin = binary_stl();
+    bin.extend_from_slice(&[0u8; 30]);
+    let import = load_ok(&write(&dir, "long.stl", bin), &ImportOptions::default());
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "long.stl",
+                "30 bytes after the 2 declared triangles ignored"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hostile glTF: documents the gltf crate's validation passes but its accessors unwrap on.
+
+/// The GLB test scene with a material whose base-colour texture shows image `image` (JSON).
+fn glb_with_image(image: &str) -> Vec<u8> {
+    let (bin, json) = gltf_scene(&format!(
+        r#""materials": [{{"name": "m", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}}}}}],
+  "textures": [{{"source": 0}}], "images": [{image}],"#
+    ));
+    glb_container(json.replace("BUFFER_URI", "").as_bytes(), Some(&bin))
+}
+
+/// Regression (found by a mutation fuzzer): an image with neither `uri` nor `bufferView` made
+/// `gltf::Image::source` panic (gltf-1.4.1 src/image.rs:128, `uri.unwrap()`).
+#[test]
+fn gltf_image_without_uri_or_buffer_view_is_a_warning_not_a_panic() {
+    let bytes = glb_with_image("{}");
+    let import = mesh::load_bytes(
+        &bytes,
+        mesh::Format::Gltf,
+        "noimage.glb",
+        &ImportOptions::default(),
+    )
+    .expect("the mesh loads without its texture");
+    assert_eq!(import.report.source_triangles, 9);
+    assert_eq!(
+        warnings_with(
+            &import,
+            &[
+                "noimage.glb",
+                "material 'm'",
+                "base-colour",
+                "image 0",
+                "neither"
+            ]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+    assert_eq!(import.meshes[0].materials[0].base_color_texture, None);
+}
+
+/// Regression: an image with a `bufferView` but no `mimeType` made `gltf::Image::source` panic
+/// (gltf-1.4.1 src/image.rs:125, `mime_type.unwrap()`).
+#[test]
+fn gltf_image_in_a_buffer_view_without_mime_type_is_a_warning_not_a_panic() {
+    let bytes = glb_with_image(r#"{"bufferView": 0}"#);
+    let import = mesh::load_bytes(
+        &bytes,
+        mesh::Format::Gltf,
+        "nomime.glb",
+        &ImportOptions::default(),
+    )
+    .expect("the mesh loads without its texture");
+    assert_eq!(
+        warnings_with(&import, &["nomime.glb", "material 'm'", "embedded"]).len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+}
+
+/// Regression: a GLB whose JSON chunk is itself a GLB header with a length under 12 made the gltf
+/// crate's GLB parser subtract with overflow (gltf-1.4.1 src/binary.rs:252), a panic in debug
+/// builds. The JSON chunk is now parsed as JSON only.
+#[test]
+fn gltf_nested_glb_header_in_the_json_chunk_is_an_error_not_a_panic() {
+    let mut inner = b"glTF".to_vec();
+    inner.extend_from_slice(&2u32.to_le_bytes());
+    inner.extend_from_slice(&4u32.to_le_bytes());
+    let bytes = glb_container(&inner, None);
+    match mesh::load_bytes(
+        &bytes,
+        mesh::Format::Gltf,
+        "nested.glb",
+        &ImportOptions::default(),
+    ) {
+        Err(e) => assert_msg(&e, &["nested.glb", "invalid glTF"]),
+        Ok(_) => panic!("a GLB header is no JSON document"),
+    }
+}
+
+/// A few bytes of JSON must not ask for gigabytes: an accessor without a buffer view (zeros plus
+/// sparse substitutions) of more than 2^20 elements is refused.
+#[test]
+fn gltf_huge_accessor_without_buffer_view_is_refused() {
+    let gltf = |count: usize| {
+        let mut b = Vec::new();
+        b.extend_from_slice(&1u32.to_le_bytes());
+        for c in [1.0f32, 0.0, 0.0] {
+            b.extend_from_slice(&c.to_le_bytes());
+        }
+        format!(
+            r#"{{"asset": {{"version": "2.0"}}, "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}],
+  "accessors": [{{"componentType": 5126, "count": {count}, "type": "VEC3",
+    "sparse": {{"count": 1, "indices": {{"bufferView": 0, "componentType": 5125}}, "values": {{"bufferView": 1}}}}}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 4}}, {{"buffer": 0, "byteOffset": 4, "byteLength": 12}}],
+  "buffers": [{{"byteLength": 16, "uri": "data:application/octet-stream;base64,{}"}}]}}"#,
+            base64(&b)
+        )
+    };
+    let load = |count| {
+        mesh::load_bytes(
+            gltf(count).as_bytes(),
+            mesh::Format::Gltf,
+            "zeros.gltf",
+            &ImportOptions::default(),
+        )
+    };
+    match load((1 << 20) + 1) {
+        Err(e) => assert_msg(
+            &e,
+            &[
+                "zeros.gltf",
+                "POSITION accessor 0",
+                "1048577 elements without a buffer view",
+            ],
+        ),
+        Ok(_) => panic!("2^20 + 1 zero vertices should be refused"),
+    }
+    // Within the limit the accessor is read: zeros with vertex 1 moved, so the only triangle
+    // (0, 1, 2) is degenerate.
+    match load(6) {
+        Err(e) => assert_msg(&e, &["zeros.gltf", "all 2 triangles are degenerate"]),
+        Ok(_) => panic!("only degenerate triangles"),
+    }
+}
+
+/// Regression (cargo fuzz, import_obj): tobj turned a relative reference past the start into an
+/// index near `usize::MAX` and multiplied it (overflow panic, tobj-4.0.5 src/lib.rs:860), and took a
+/// `0` texture-coordinate or normal reference for none. Every reference is now checked first; a
+/// forward reference within the file stays allowed, as tobj allows it.
+#[test]
+fn obj_references_past_either_end_or_zero_are_errors_not_panics() {
+    let load = |obj: &str| {
+        mesh::load_bytes(
+            obj.as_bytes(),
+            mesh::Format::Obj,
+            "refs.obj",
+            &ImportOptions::default(),
+        )
+    };
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+    for (face, line, needle) in [
+        (
+            "f 1/1/-2 2/1/1 3/1/1",
+            6,
+            "bad normal reference '-2' (1 defined so far)",
+        ),
+        (
+            "f 1/-9223372036854775807 2 3",
+            6,
+            "bad texture coordinate reference",
+        ),
+        (
+            "f -4 -3 -2",
+            6,
+            "bad vertex reference '-4' (3 defined so far)",
+        ),
+        (
+            "f 1/0 2/1 3/1",
+            6,
+            "bad texture coordinate reference '0' (1 defined)",
+        ),
+        ("f 1//0 2//1 3//1", 6, "bad normal reference '0'"),
+        ("f 1 2 4", 6, "bad vertex reference '4' (3 defined)"),
+    ] {
+        match load(&format!("{tri}{face}\n")) {
+            Err(e) => assert_msg(&e, &["refs.obj", &format!("line {line}"), needle]),
+            Ok(_) => panic!("{face} should be refused"),
+        }
+    }
+    // A face may refer forward to a vertex defined later in the file.
+    let import = load("v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n").expect("forward reference");
+    assert_eq!(import.report.source_triangles, 1);
 }
 
 // ---------------------------------------------------------------------------------------------

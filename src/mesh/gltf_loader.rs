@@ -15,32 +15,36 @@ use std::path::{Path, PathBuf};
 use glam::{DMat3, DMat4, DVec3, Mat4};
 use gltf::mesh::Mode;
 
-use super::{ImportError, ImportOptions, Material, Mesh};
+use super::{ImportError, ImportOptions, Material, Mesh, Siblings};
 
-/// Accessors larger than this many elements without a buffer view are refused (they would be
-/// materialized as zeros).
-const MAX_VIEWLESS_ELEMENTS: usize = 1 << 26;
+/// Accessors larger than this many elements without a buffer view are refused: they are zeros
+/// (plus sparse substitutions) that cost memory (about 100 bytes per vertex through the import)
+/// without taking room in the file, so a few bytes of JSON could ask for gigabytes.
+const MAX_VIEWLESS_ELEMENTS: usize = 1 << 20;
 
 /// Reads a glTF file into unprocessed meshes: one, or one per node with a mesh.
 pub(super) fn load(
     path: &Path,
+    bytes: &[u8],
+    files: Siblings,
     opts: &ImportOptions,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Mesh>, ImportError> {
-    let bytes = std::fs::read(path).map_err(|e| ImportError::io(path, path, e))?;
     let (json_bytes, blob) = if bytes.starts_with(b"glTF") {
-        split_glb(path, &bytes)?
+        split_glb(path, bytes)?
     } else {
-        (&bytes[..], None)
+        (bytes, None)
     };
     check_draco(path, json_bytes)?;
-    let gltf = gltf::Gltf::from_slice_without_validation(json_bytes)
+    // The JSON is parsed as JSON only: `gltf::Gltf::from_slice*` would take a JSON chunk starting
+    // with "glTF" for a nested GLB and subtract with overflow on its length (gltf-1.4.1
+    // src/binary.rs:252).
+    let root: gltf::json::Root = gltf::json::deserialize::from_slice(json_bytes)
         .map_err(|e| ImportError::parse(path, format!("invalid glTF: {e}")))?;
-    let doc = &gltf.document;
+    let doc = &gltf::Document::from_json_without_validation(root);
     validate(path, doc)?;
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let buffers = load_buffers(path, &dir, doc, blob)?;
-    let materials = load_materials(path, &dir, doc, warnings);
+    let buffers = load_buffers(path, files, doc, blob)?;
+    let materials = load_materials(path, files, doc, warnings);
     let default_material = materials.len() as u32;
     let mut all_materials = materials;
     all_materials.push(Material::default());
@@ -51,6 +55,7 @@ pub(super) fn load(
         cache: HashMap::new(),
         skipped_modes: 0,
         default_material,
+        notes: Vec::new(),
     };
 
     // Roots to walk.
@@ -117,6 +122,7 @@ pub(super) fn load(
             stack.push((child, world));
         }
     }
+    warnings.append(&mut ctx.notes);
     if ctx.skipped_modes > 0 {
         warnings.push(format!(
             "{}: skipped {} primitive instance(s) that are points or lines",
@@ -326,14 +332,9 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
     Some(out)
 }
 
-/// Resolves a relative (percent-encoded) URI against the document's folder.
-fn resolve_uri(dir: &Path, uri: &str) -> PathBuf {
-    dir.join(percent_decode(uri))
-}
-
 fn load_buffers(
     path: &Path,
-    dir: &Path,
+    files: Siblings,
     doc: &gltf::Document,
     blob: Option<&[u8]>,
 ) -> Result<Vec<Vec<u8>>, ImportError> {
@@ -367,8 +368,8 @@ fn load_buffers(
                 })?
             }
             gltf::buffer::Source::Uri(uri) => {
-                let file = resolve_uri(dir, uri);
-                match std::fs::read(&file) {
+                let file = files.resolve(percent_decode(uri));
+                match files.read(&file) {
                     Ok(d) => d,
                     Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
                         return Err(ImportError::MissingBuffer {
@@ -397,18 +398,25 @@ fn load_buffers(
 }
 
 /// A texture's file, if it is an existing file next to the document; otherwise a warning.
+///
+/// The image's JSON is read directly: `gltf::Image::source` unwraps a missing `uri` (an image with
+/// neither `uri` nor `bufferView`) and a missing `mimeType` of a `bufferView` image, neither of
+/// which the crate's validation reports.
 fn texture_file(
     path: &Path,
-    dir: &Path,
+    files: Siblings,
+    doc: &gltf::Document,
     texture: gltf::Texture,
     what: &str,
     material: &str,
     warnings: &mut Vec<String>,
 ) -> Option<PathBuf> {
-    match texture.source().source() {
-        gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => {
-            let file = resolve_uri(dir, uri);
-            if file.is_file() {
+    let index = texture.source().index();
+    let image = doc.as_json().images.get(index);
+    match image.map(|i| (i.uri.as_deref(), i.buffer_view.is_some())) {
+        Some((Some(uri), false)) if !uri.starts_with("data:") => {
+            let file = files.resolve(percent_decode(uri));
+            if files.is_file(&file) {
                 Some(file)
             } else {
                 warnings.push(format!(
@@ -419,7 +427,15 @@ fn texture_file(
                 None
             }
         }
-        _ => {
+        Some((None, false)) | None => {
+            warnings.push(format!(
+                "{}: material '{material}' {what} texture: image {index} has neither a uri nor a \
+                 bufferView; ignored",
+                path.display()
+            ));
+            None
+        }
+        Some(_) => {
             warnings.push(format!(
                 "{}: material '{material}' {what} texture is embedded (not a file); ignored",
                 path.display()
@@ -431,7 +447,7 @@ fn texture_file(
 
 fn load_materials(
     path: &Path,
-    dir: &Path,
+    files: Siblings,
     doc: &gltf::Document,
     warnings: &mut Vec<String>,
 ) -> Vec<Material> {
@@ -442,16 +458,25 @@ fn load_materials(
                 .map(str::to_owned)
                 .unwrap_or_else(|| format!("material{}", m.index().unwrap_or(0)));
             let pbr = m.pbr_metallic_roughness();
-            let base_color_texture = pbr
-                .base_color_texture()
-                .and_then(|t| texture_file(path, dir, t.texture(), "base-colour", &name, warnings));
-            let normal_texture = m
-                .normal_texture()
-                .and_then(|t| texture_file(path, dir, t.texture(), "normal", &name, warnings));
+            let base_color_texture = pbr.base_color_texture().and_then(|t| {
+                texture_file(
+                    path,
+                    files,
+                    doc,
+                    t.texture(),
+                    "base-colour",
+                    &name,
+                    warnings,
+                )
+            });
+            let normal_texture = m.normal_texture().and_then(|t| {
+                texture_file(path, files, doc, t.texture(), "normal", &name, warnings)
+            });
             let metallic_roughness_texture = pbr.metallic_roughness_texture().and_then(|t| {
                 texture_file(
                     path,
-                    dir,
+                    files,
+                    doc,
                     t.texture(),
                     "metallic-roughness",
                     &name,
@@ -488,6 +513,8 @@ struct Ctx<'a> {
     cache: HashMap<(usize, usize), Option<std::rc::Rc<Prim>>>,
     skipped_modes: usize,
     default_material: u32,
+    /// Warnings from reading primitives (once per primitive, however many nodes instance it).
+    notes: Vec<String>,
 }
 
 impl Ctx<'_> {
@@ -557,7 +584,7 @@ impl Ctx<'_> {
     }
 
     fn read_primitive(
-        &self,
+        &mut self,
         gmesh: &gltf::Mesh,
         prim: &gltf::Primitive,
     ) -> Result<Option<Prim>, ImportError> {
@@ -666,6 +693,34 @@ impl Ctx<'_> {
             None => (0..nv as u32).collect(),
         };
         let n = indices.len();
+        // Corners that make no triangle: a TRIANGLES list's remainder past a multiple of 3, a
+        // strip or fan too short for one triangle.
+        let unused = match mode {
+            Mode::Triangles => n % 3,
+            _ if n < 3 => n,
+            _ => 0,
+        };
+        if unused > 0 {
+            let (what_count, unit) = if prim.indices().is_some() {
+                ("index count", "indices")
+            } else {
+                ("vertex count (non-indexed)", "vertices")
+            };
+            let kind = match mode {
+                Mode::Triangles => "TRIANGLES",
+                Mode::TriangleStrip => "TRIANGLE_STRIP",
+                _ => "TRIANGLE_FAN",
+            };
+            let why = if mode == Mode::Triangles {
+                "is not a multiple of 3"
+            } else {
+                "is less than 3"
+            };
+            self.notes.push(format!(
+                "{}: {what} ({kind}): {what_count} {n} {why}; the last {unused} {unit} dropped",
+                self.path.display()
+            ));
+        }
         let mut triangles = Vec::new();
         match mode {
             Mode::Triangles => {

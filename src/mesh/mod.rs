@@ -336,6 +336,50 @@ impl Format {
     }
 }
 
+/// Where an importer finds the files a mesh file names (glTF buffers and images, OBJ material
+/// libraries and their textures): the folder next to the file on disk, or nowhere for a file held
+/// in memory ([`load_bytes`]), where every such file is simply missing.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Siblings<'a> {
+    dir: Option<&'a Path>,
+}
+
+impl<'a> Siblings<'a> {
+    /// Files relative to `dir`.
+    pub(crate) fn dir(dir: &'a Path) -> Self {
+        Self { dir: Some(dir) }
+    }
+
+    /// No external files at all.
+    pub(crate) fn none() -> Self {
+        Self { dir: None }
+    }
+
+    /// The path of `relative` (already percent-decoded) as error messages and [`Material`] name it.
+    pub(crate) fn resolve(&self, relative: impl AsRef<Path>) -> PathBuf {
+        match self.dir {
+            Some(d) => d.join(relative),
+            None => relative.as_ref().to_path_buf(),
+        }
+    }
+
+    /// Reads a file returned by [`Siblings::resolve`]; `NotFound` for an in-memory import.
+    pub(crate) fn read(&self, file: &Path) -> std::io::Result<Vec<u8>> {
+        match self.dir {
+            Some(_) => std::fs::read(file),
+            None => Err(std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "an in-memory import has no external files",
+            )),
+        }
+    }
+
+    /// Whether `file` (from [`Siblings::resolve`]) exists as a file.
+    pub(crate) fn is_file(&self, file: &Path) -> bool {
+        self.dir.is_some() && file.is_file()
+    }
+}
+
 /// Loads a mesh file (format by extension) into validated meshes.
 ///
 /// Every importer: rejects NaN/Inf positions ([`ImportError::NonFinite`]) and out-of-range indices
@@ -344,7 +388,8 @@ impl Format {
 /// crease-angle normals for vertices without a (usable) source normal
 /// ([`normals::crease_normals`], [`ImportOptions::crease_deg`]). UVs are zero where the
 /// source has none and follow the glTF convention (origin top-left; OBJ/PLY `v` is flipped).
-/// A file with no triangle left is an error, never an empty mesh.
+/// A file with no triangle left is an error, never an empty mesh. Files the mesh file names
+/// (glTF buffers and textures, OBJ `.mtl` libraries) are read from its folder.
 pub fn load(path: &Path, opts: &ImportOptions) -> Result<Import, ImportError> {
     let format = Format::from_path(path).ok_or_else(|| ImportError::UnknownFormat {
         path: path.to_path_buf(),
@@ -353,13 +398,41 @@ pub fn load(path: &Path, opts: &ImportOptions) -> Result<Import, ImportError> {
             .map(|e| e.to_string_lossy().into_owned())
             .unwrap_or_default(),
     })?;
+    let bytes = std::fs::read(path).map_err(|e| ImportError::io(path, path, e))?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    import(path, &bytes, format, Siblings::dir(dir), opts)
+}
+
+/// Imports a mesh file held in memory, exactly as [`load`] imports a file on disk except that
+/// every file it names (glTF buffers and images, OBJ `.mtl` libraries) is missing: a glTF needing
+/// an external buffer fails with [`ImportError::MissingBuffer`], missing textures and material
+/// libraries are warnings. `name` stands for the file's path in errors and warnings and names the
+/// mesh (its stem), as a path would.
+pub fn load_bytes(
+    bytes: &[u8],
+    format: Format,
+    name: &str,
+    opts: &ImportOptions,
+) -> Result<Import, ImportError> {
+    import(Path::new(name), bytes, format, Siblings::none(), opts)
+}
+
+/// The one import path of [`load`] and [`load_bytes`].
+fn import(
+    path: &Path,
+    bytes: &[u8],
+    format: Format,
+    files: Siblings,
+    opts: &ImportOptions,
+) -> Result<Import, ImportError> {
     let mut report = ImportReport::default();
+    let w = &mut report.warnings;
     let raws = match format {
-        Format::Gltf => gltf_loader::load(path, opts, &mut report.warnings)?,
-        Format::Obj => vec![obj::load(path, &mut report.warnings)?],
-        Format::Ply => vec![ply::load(path, &mut report.warnings)?],
-        Format::Stl => vec![stl::load(path, &mut report.warnings)?],
-        Format::Off => vec![off::load(path, &mut report.warnings)?],
+        Format::Gltf => gltf_loader::load(path, bytes, files, opts, w)?,
+        Format::Obj => vec![obj::load(path, bytes, files, w)?],
+        Format::Ply => vec![ply::load(path, bytes, w)?],
+        Format::Stl => vec![stl::load(path, bytes, w)?],
+        Format::Off => vec![off::load(path, bytes, w)?],
     };
     let mut meshes = Vec::with_capacity(raws.len());
     let mut empty = Vec::new();

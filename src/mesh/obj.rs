@@ -3,21 +3,28 @@
 //! files named by `mtllib`, parsed here (tobj's MTL parser panics on short `Kd` lines): `Kd` is the
 //! base colour, `d`/`Tr` its alpha, `Pm`/`Pr` metallic/roughness when present, `map_Kd` and
 //! `norm`/`map_Bump`/`bump` the textures. A missing `.mtl` is a warning; faces then get the default
-//! material.
+//! material. Points (`p`), polylines (`l`) and faces of fewer than three vertices are skipped with a
+//! counted warning.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
 use super::off::file_stem;
-use super::{ImportError, Material, Mesh, polygon};
+use super::{ImportError, Material, Mesh, Siblings, polygon};
 
 /// Reads an OBJ file into an unprocessed [`Mesh`] (see [`super::load`] for the processing).
-pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, ImportError> {
-    let file = std::fs::File::open(path).map_err(|e| ImportError::io(path, path, e))?;
-    let mut reader = BufReader::new(file);
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+pub(super) fn load(
+    path: &Path,
+    bytes: &[u8],
+    files: Siblings,
+    warnings: &mut Vec<String>,
+) -> Result<Mesh, ImportError> {
+    if let Some(bad) = bad_reference(bytes) {
+        return Err(ImportError::parse(path, format!("OBJ parse error: {bad}")));
+    }
+    let (skipped, filtered) = non_surface_elements(bytes);
+    let mut reader = filtered.as_deref().unwrap_or(bytes);
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: false,
@@ -28,12 +35,13 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
     let parsed: RefCell<Vec<Material>> = RefCell::new(Vec::new());
     let mtl_warnings: RefCell<Vec<String>> = RefCell::new(Vec::new());
     let loaded = tobj::load_obj_buf(&mut reader, &options, |mtl_path| {
-        let full = dir.join(mtl_path);
-        match std::fs::read(&full) {
+        let full = files.resolve(mtl_path);
+        match files.read(&full) {
             Ok(bytes) => {
                 let mats = parse_mtl(
                     &String::from_utf8_lossy(&bytes),
-                    full.parent().unwrap_or(&dir),
+                    full.parent().unwrap_or(Path::new("")),
+                    files,
                     &mtl_warnings,
                     &full,
                 );
@@ -62,7 +70,7 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
     });
     warnings.extend(mtl_warnings.into_inner());
     let (models, _) = loaded.map_err(|e| {
-        let located = locate_error(path)
+        let located = locate_error(bytes)
             .map(|l| format!(" ({l})"))
             .unwrap_or_default();
         ImportError::parse(path, format!("OBJ parse error: {e}{located}"))
@@ -156,6 +164,15 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
                 .extend(std::iter::repeat_n(material, tris.len() - before));
         }
     }
+    for (n, what) in [
+        (skipped.points, "point elements ('p')"),
+        (skipped.lines, "polyline elements ('l')"),
+        (skipped.short_faces, "faces with fewer than 3 vertices"),
+    ] {
+        if n > 0 {
+            warnings.push(format!("{}: skipped {n} {what}", path.display()));
+        }
+    }
     if unknown_material {
         warnings.push(format!(
             "{}: faces use a material not found in any .mtl; using the default",
@@ -172,10 +189,106 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
     Ok(mesh)
 }
 
+/// Elements of an OBJ file that are not surfaces, counted.
+#[derive(Default)]
+struct NonSurface {
+    points: usize,
+    lines: usize,
+    short_faces: usize,
+}
+
+/// Counts what tobj would skip without a word (`p` points, `f` with one or two vertices) or read
+/// wrongly (an `l` polyline of three or more points becomes a polygon), and returns a copy of the
+/// file with the `l` statements commented out when there are any (line numbers unchanged).
+fn non_surface_elements(bytes: &[u8]) -> (NonSurface, Option<Vec<u8>>) {
+    let mut found = NonSurface::default();
+    let mut polylines = Vec::new();
+    let mut start = 0usize;
+    for line in bytes.split(|&b| b == b'\n') {
+        let mut toks = line
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|t| !t.is_empty());
+        match toks.next() {
+            Some(b"p") => found.points += 1,
+            Some(b"l") => {
+                found.lines += 1;
+                let at = line.iter().position(|b| !b.is_ascii_whitespace());
+                polylines.extend(at.map(|a| start + a));
+            }
+            Some(b"f") if toks.count() < 3 => found.short_faces += 1,
+            _ => {}
+        }
+        start += line.len() + 1;
+    }
+    let filtered = (!polylines.is_empty()).then(|| {
+        let mut copy = bytes.to_vec();
+        for at in polylines {
+            if let Some(b) = copy.get_mut(at) {
+                *b = b'#';
+            }
+        }
+        copy
+    });
+    (found, filtered)
+}
+
+/// Finds the first face corner referring to no vertex, texture coordinate or normal, checked
+/// before tobj reads the file: tobj turns a relative (negative) reference past the start into an
+/// index near `usize::MAX` and `0` into its "missing" marker, then multiplies (an overflow panic
+/// with overflow checks, a wrong element without; tobj-4.0.5 src/lib.rs:860) or silently drops
+/// the texture coordinate or normal. A positive reference may point forward (tobj allows it) but
+/// not past the last element of the file; a relative one counts back from the line it is on.
+fn bad_reference(bytes: &[u8]) -> Option<String> {
+    let text = String::from_utf8_lossy(bytes);
+    let keyword = |line: &str| line.split_whitespace().next().map(str::to_owned);
+    let mut totals = [0i64; 3];
+    for line in text.lines() {
+        match keyword(line).as_deref() {
+            Some("v") => totals[0] += 1,
+            Some("vt") => totals[1] += 1,
+            Some("vn") => totals[2] += 1,
+            _ => {}
+        }
+    }
+    let mut so_far = [0i64; 3];
+    for (i, line) in text.lines().enumerate() {
+        let mut toks = line.split_whitespace();
+        match toks.next() {
+            Some("v") => so_far[0] += 1,
+            Some("vt") => so_far[1] += 1,
+            Some("vn") => so_far[2] += 1,
+            Some("f") => {
+                for tok in toks {
+                    // tobj refuses a corner of more than three parts itself.
+                    for (k, part) in tok.split('/').enumerate().take(3) {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        let (ok, defined) = match part.parse::<i64>() {
+                            Ok(x) if x > 0 => (x <= totals[k], totals[k]),
+                            Ok(x) if x < 0 => (x >= -so_far[k], so_far[k]),
+                            _ => (false, totals[k]),
+                        };
+                        if !ok {
+                            let kind = ["vertex", "texture coordinate", "normal"][k];
+                            let when = if part.starts_with('-') { " so far" } else { "" };
+                            return Some(format!(
+                                "line {}: bad {kind} reference '{part}' ({defined} defined{when})",
+                                i + 1
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
 /// Finds the first face line with a bad vertex reference, to point at it after tobj fails.
-fn locate_error(path: &Path) -> Option<String> {
-    let bytes = std::fs::read(path).ok()?;
-    let text = String::from_utf8_lossy(&bytes);
+fn locate_error(bytes: &[u8]) -> Option<String> {
+    let text = String::from_utf8_lossy(bytes);
     let (mut v, mut vt, mut vn) = (0i64, 0i64, 0i64);
     for (i, line) in text.lines().enumerate() {
         let mut toks = line.split_whitespace();
@@ -223,6 +336,7 @@ fn locate_error(path: &Path) -> Option<String> {
 fn parse_mtl(
     text: &str,
     dir: &Path,
+    files: Siblings,
     warnings: &RefCell<Vec<String>>,
     file: &Path,
 ) -> Vec<Material> {
@@ -231,7 +345,7 @@ fn parse_mtl(
         // Options such as "-bm 1.0" precede the file name; the name is the last token.
         let name = rest.last()?;
         let p = dir.join(name.replace('\\', "/"));
-        if p.is_file() {
+        if files.is_file(&p) {
             Some(p)
         } else {
             warnings.borrow_mut().push(format!(

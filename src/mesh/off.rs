@@ -9,10 +9,12 @@ use std::path::Path;
 use super::{ImportError, Material, Mesh, polygon};
 
 /// Reads an OFF file into an unprocessed [`Mesh`] (see [`super::load`] for the processing).
-pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, ImportError> {
-    let bytes = std::fs::read(path).map_err(|e| ImportError::io(path, path, e))?;
-    let text = String::from_utf8_lossy(&bytes);
-    parse(path, &text, warnings)
+pub(super) fn load(
+    path: &Path,
+    bytes: &[u8],
+    warnings: &mut Vec<String>,
+) -> Result<Mesh, ImportError> {
+    parse(path, &String::from_utf8_lossy(bytes), warnings)
 }
 
 fn parse(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<Mesh, ImportError> {
@@ -158,6 +160,13 @@ fn parse(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<Mesh, Im
             continue;
         }
         polygon::triangulate(&mesh.positions, &corners, &mut tris);
+    }
+    if let Some((first, _)) = lines.next() {
+        warnings.push(format!(
+            "{}: {} line(s) after the {nf} declared faces ignored (from line {first})",
+            path.display(),
+            1 + lines.count()
+        ));
     }
     polygon::set_triangles(&mut mesh, &tris, skipped, path, warnings);
     Ok(mesh)

@@ -4,7 +4,6 @@
 //! are read past and ignored. Faces with more than three corners are triangulated with
 //! [`super::polygon::triangulate`].
 
-use std::io::{BufReader, Read};
 use std::path::Path;
 
 use ply_rs::parser::Parser;
@@ -98,8 +97,8 @@ impl PropertyAccess for Ignore {
 /// Where element payloads come from: ply-rs for binary files; for ASCII our own tokenizer, because
 /// ply-rs's grammar rejects valid numbers such as `.5`, `nan` and `inf` (the latter must become a
 /// clear non-finite error, not a syntax error) and reports lines relative to the element.
-enum Payload<'a> {
-    Binary(&'a mut BufReader<std::fs::File>),
+enum Payload<'a, 'b> {
+    Binary(&'a mut &'b [u8]),
     Ascii(AsciiTokens),
 }
 
@@ -202,12 +201,8 @@ enum Value {
 
 /// ply-rs's header grammar panics (`unwrap`) on a number that does not fit in u64; refuse such
 /// headers first. Comment and obj_info lines are free text and not checked.
-fn check_header_numbers(path: &Path) -> Result<(), ImportError> {
-    let file = std::fs::File::open(path).map_err(|e| ImportError::io(path, path, e))?;
-    let mut head = Vec::new();
-    file.take(1 << 20)
-        .read_to_end(&mut head)
-        .map_err(|e| ImportError::io(path, path, e))?;
+fn check_header_numbers(path: &Path, bytes: &[u8]) -> Result<(), ImportError> {
+    let head = &bytes[..bytes.len().min(1 << 20)];
     for (i, line) in head.split(|&b| b == b'\n').enumerate() {
         let line = String::from_utf8_lossy(line);
         let first = line.split_whitespace().next().unwrap_or("");
@@ -233,10 +228,13 @@ fn check_header_numbers(path: &Path) -> Result<(), ImportError> {
 }
 
 /// Reads a PLY file into an unprocessed [`Mesh`] (see [`super::load`] for the processing).
-pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, ImportError> {
-    let file = std::fs::File::open(path).map_err(|e| ImportError::io(path, path, e))?;
-    let mut reader = BufReader::new(file);
-    check_header_numbers(path)?;
+pub(super) fn load(
+    path: &Path,
+    bytes: &[u8],
+    warnings: &mut Vec<String>,
+) -> Result<Mesh, ImportError> {
+    let mut reader = bytes;
+    check_header_numbers(path, bytes)?;
     let perr = |what: &str, e: std::io::Error| ImportError::parse(path, format!("{what}: {e}"));
     let header = Parser::<Ignore>::new()
         .read_header(&mut reader)
@@ -244,10 +242,7 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
     let has =
         |def: &ElementDef, names: &[&str]| names.iter().any(|n| def.properties.contains_key(*n));
     let mut payload = if header.encoding == Encoding::Ascii {
-        let mut rest = Vec::new();
-        reader
-            .read_to_end(&mut rest)
-            .map_err(|e| ImportError::io(path, path, e))?;
+        let rest = reader;
         let header_lines = 3
             + header.comments.len()
             + header.obj_infos.len()
@@ -257,7 +252,7 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
                 .map(|e| 1 + e.properties.len())
                 .sum::<usize>();
         Payload::Ascii(AsciiTokens::new(
-            String::from_utf8_lossy(&rest).into_owned(),
+            String::from_utf8_lossy(rest).into_owned(),
             header_lines + 1,
         ))
     } else {
@@ -376,6 +371,19 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
     }
     if !vertex_seen {
         return Err(ImportError::parse(path, "no 'vertex' element"));
+    }
+    // Data past the declared elements (a header that undercounts them, say) is not read.
+    let trailing = match &mut payload {
+        Payload::Binary(r) => (!r.is_empty()).then(|| format!("{} bytes", r.len())),
+        Payload::Ascii(t) => t
+            .next_token()
+            .map(|(line, _)| format!("data (from line {line})")),
+    };
+    if let Some(what) = trailing {
+        warnings.push(format!(
+            "{}: {what} after the declared elements ignored",
+            path.display()
+        ));
     }
     let Some(faces) = faces else {
         return Err(ImportError::NoTriangles {

@@ -10,8 +10,11 @@ use super::off::file_stem;
 use super::{ImportError, Material, Mesh, polygon};
 
 /// Reads an STL file into an unprocessed [`Mesh`] (a triangle soup; [`super::load`] welds it).
-pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, ImportError> {
-    let bytes = std::fs::read(path).map_err(|e| ImportError::io(path, path, e))?;
+pub(super) fn load(
+    path: &Path,
+    bytes: &[u8],
+    warnings: &mut Vec<String>,
+) -> Result<Mesh, ImportError> {
     let mut mesh = Mesh {
         name: file_stem(path),
         materials: vec![Material::default()],
@@ -31,9 +34,9 @@ pub(super) fn load(path: &Path, warnings: &mut Vec<String>) -> Result<Mesh, Impo
                 .starts_with("solid")
     };
     if !exact_binary && starts_solid {
-        parse_ascii(path, &String::from_utf8_lossy(&bytes), &mut mesh, warnings)?;
+        parse_ascii(path, &String::from_utf8_lossy(bytes), &mut mesh, warnings)?;
     } else {
-        parse_binary(path, &bytes, &mut mesh, warnings)?;
+        parse_binary(path, bytes, &mut mesh, warnings)?;
     }
     let tris = mesh.indices.len() / 3;
     mesh.normals = vec![[0.0; 3]; mesh.positions.len()];
