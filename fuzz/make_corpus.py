@@ -3,7 +3,9 @@
 
 Seeds are small (at most a few KB): the small asset files as they are, cuts of the large ones (a
 few faces with the vertices they use, renumbered), and the hand-made files of tests/import.rs.
-The .vgeo seeds are built from small meshes by the vgeo binary.
+The .vgeo seeds are built from small meshes by the vgeo binary. Only files whose licence lets
+them live in this repository are used (see README.md); the CGAL OFF files of the shared assets
+(GPL) are replaced by hand-made files with the same traits.
 
 usage: fuzz/make_corpus.py ASSETS_DIR SHARED_ASSETS_DIR VGEO_BINARY
   e.g. fuzz/make_corpus.py assets /work/shared/assets target/debug/vgeo
@@ -174,17 +176,48 @@ def ascii_stl_cut(text, facets):
 
 # --- OFF ---------------------------------------------------------------------------------------
 
-def off_cut(text, faces):
-    lines = [l for l in text.splitlines() if l.strip() and not l.startswith("#")]
-    nv, nf = map(int, lines[1].split()[:2])
-    verts = lines[2 : 2 + nv]
-    m, out_f = {}, []
-    for l in lines[2 + nv : 2 + nv + faces]:
-        t = l.split()
-        idx = [m.setdefault(int(i), len(m)) for i in t[1 : 1 + int(t[0])]]
-        out_f.append(" ".join([t[0]] + [str(i) for i in idx]))
-    out_v = [verts[old] for old, _ in sorted(m.items(), key=lambda kv: kv[1])]
-    return "OFF\n%d %d 0\n" % (len(out_v), len(out_f)) + "\n".join(out_v + out_f) + "\n"
+def off_sphere(rings=6, segments=8, holes=(3, 17, 18)):
+    """A UV sphere of quads (triangles at the poles) with a few faces left out: holes."""
+    import math
+    verts = [(0.0, 0.0, 1.0)]
+    for r in range(1, rings):
+        t = math.pi * r / rings
+        for k in range(segments):
+            p = 2 * math.pi * k / segments
+            verts.append((math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)))
+    verts.append((0.0, 0.0, -1.0))
+    ring = lambda r, k: 1 + (r - 1) * segments + k % segments
+    faces = [(0, ring(1, k), ring(1, k + 1)) for k in range(segments)]
+    for r in range(1, rings - 1):
+        for k in range(segments):
+            faces.append((ring(r, k), ring(r + 1, k), ring(r + 1, k + 1), ring(r, k + 1)))
+    last = len(verts) - 1
+    faces += [(ring(rings - 1, k + 1), ring(rings - 1, k), last) for k in range(segments)]
+    faces = [f for i, f in enumerate(faces) if i not in holes]
+    out = ["OFF", "%d %d 0" % (len(verts), len(faces))]
+    out += ["%.6g %.6g %.6g" % v for v in verts]
+    out += [" ".join([str(len(f))] + [str(i) for i in f]) for f in faces]
+    return "\n".join(out) + "\n"
+
+
+def off_own():
+    """Small hand-made OFF files with the traits of the CGAL test files the import tests read
+    (those are GPL and stay out of the repository)."""
+    return {
+        # An open strip folded back over itself.
+        "folded_strip.off": "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 2 0\n1 2 0\n"
+        "0 1 0.01\n1 1 0.01\n3 0 1 3\n3 0 3 2\n3 2 3 5\n3 2 5 4\n3 4 5 7\n3 4 7 6\n",
+        # Two rows of quads whose shared edge has coincident but distinct vertices.
+        "quads_unstitched.off": "OFF\n12 4 0\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0\n"
+        "0 1 0\n1 1 0\n2 1 0\n0 2 0\n1 2 0\n2 2 0\n4 0 1 4 3\n4 1 2 5 4\n4 6 7 10 9\n"
+        "4 7 8 11 10\n",
+        # Collinear (zero-area) triangles among good ones.
+        "collinear.off": "OFF\n6 4 0\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n1 1 0\n2 1 0\n"
+        "3 0 1 2\n3 1 2 3\n3 0 1 4\n3 1 5 4\n",
+        # A tetrahedron and a separate triangle cutting through it.
+        "tetra_and_triangle.off": "OFF\n7 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n-1 0.2 0.2\n"
+        "2 0.2 0.2\n0.2 2 0.2\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 4 5 6\n",
+    }
 
 
 def off_variants():
@@ -360,11 +393,9 @@ def main():
         ascii_stl_cut(read(os.path.join(hard, "sphereWithHole.stl")).decode(), 8))
 
     # OFF
-    for n in ["fold.off", "quads_to_stitch.off", "degtri_sliding.off",
-              "tetra_intersected_by_triangle.off"]:
-        put("import_off", n, read(os.path.join(hard, n)))
-    put("import_off", "elephant_cut.off",
-        off_cut(read(os.path.join(hard, "elephant-with-holes.off")).decode(), 32))
+    for n, text in off_own().items():
+        put("import_off", n, text)
+    put("import_off", "sphere_with_holes.off", off_sphere())
     for n, text in off_variants().items():
         put("import_off", n, text)
 
@@ -392,12 +423,17 @@ def main():
 
     # .vgeo: small meshes built with default options, and one with several levels.
     with tempfile.TemporaryDirectory() as tmp:
+        own = {"sphere_with_holes.off": off_sphere(), "u_shape.obj": u_shape_obj()}
+        own.update(off_own())
+        for n, text in own.items():
+            with open(os.path.join(tmp, n), "w") as f:
+                f.write(text)
         builds = [
-            ("fold.vgeo", os.path.join(hard, "fold.off"), []),
-            ("tetra.vgeo", os.path.join(hard, "tetra_intersected_by_triangle.off"), []),
-            ("concave_polygon.vgeo", os.path.join(hard, "concave_polygon.obj"), []),
-            ("sphere_levels.vgeo", os.path.join(hard, "sphereWithHole.stl"),
-             ["--max-triangles", "32", "--group-min", "2", "--group-max", "4",
+            ("tetra_and_triangle.vgeo", os.path.join(tmp, "tetra_and_triangle.off"), []),
+            ("quads_unstitched.vgeo", os.path.join(tmp, "quads_unstitched.off"), []),
+            ("u_shape.vgeo", os.path.join(tmp, "u_shape.obj"), []),
+            ("sphere_levels.vgeo", os.path.join(tmp, "sphere_with_holes.off"),
+             ["--max-triangles", "16", "--group-min", "2", "--group-max", "4",
               "--root-triangles", "0"]),
         ]
         textured = os.path.join(tmp, "textured.gltf")

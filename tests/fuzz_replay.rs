@@ -45,6 +45,26 @@ const REGRESSIONS: &[(&str, &str, Expect)] = &[
         "relative_normal_reference_past_start.obj",
         Expect::Refused(&["line 14", "bad normal reference '-13' (1 defined so far)"]),
     ),
+    // 2.5 KB naming one 2^20-vertex accessor (zeros and a sparse substitution) from 64
+    // primitives or 64 nodes asked for gigabytes (out of memory under the fuzzer's 2 GB limit).
+    (
+        "import_gltf",
+        "one_accessor_in_64_primitives.gltf",
+        Expect::Refused(&[
+            "expands",
+            "8388608 vertices and triangle corners",
+            "hostile",
+        ]),
+    ),
+    (
+        "import_gltf",
+        "one_accessor_in_64_nodes.gltf",
+        Expect::Refused(&[
+            "expands",
+            "8388608 vertices and triangle corners",
+            "hostile",
+        ]),
+    ),
     // gltf-1.4.1 `Image::source` unwrapped the missing uri (src/image.rs:128).
     (
         "import_glb",

@@ -1640,6 +1640,50 @@ fn obj_references_past_either_end_or_zero_are_errors_not_panics() {
     assert_eq!(import.report.source_triangles, 1);
 }
 
+/// Regression: ear clipping a self-intersecting n-gon cost O(n^3) (a 2,000-corner star polygon
+/// took 9 s to import, a 20,000-corner one hours); its work is bounded now, the rest fanned with a
+/// warning.
+#[test]
+fn self_intersecting_polygon_imports_in_bounded_time_with_a_warning() {
+    let n = 3001usize;
+    let k = n / 2 - 1;
+    let mut off = format!("OFF\n{n} 1 0\n");
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        let r = 1.0 + 0.3 * (i % 3) as f64;
+        off += &format!("{:.5} {:.5} 0\n", r * a.cos(), r * a.sin());
+    }
+    off += &n.to_string();
+    for i in 0..n {
+        off += &format!(" {}", (i * k) % n);
+    }
+    off += "\n";
+    let start = std::time::Instant::now();
+    let import = mesh::load_bytes(
+        off.as_bytes(),
+        mesh::Format::Off,
+        "star.off",
+        &ImportOptions::default(),
+    )
+    .expect("the star loads");
+    assert!(
+        start.elapsed().as_secs_f64() < 10.0,
+        "{:?}",
+        start.elapsed()
+    );
+    assert_eq!(import.report.source_triangles, n - 2);
+    assert_eq!(
+        warnings_with(
+            &import,
+            &["star.off", "1 polygon(s) too costly to ear-clip"]
+        )
+        .len(),
+        1,
+        "{:?}",
+        import.report.warnings
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // Fuzz: truncations and byte flips never panic; whatever loads is valid.
 

@@ -22,6 +22,15 @@ use super::{ImportError, ImportOptions, Material, Mesh, Siblings};
 /// without taking room in the file, so a few bytes of JSON could ask for gigabytes.
 const MAX_VIEWLESS_ELEMENTS: usize = 1 << 20;
 
+/// The scene may expand (nodes instancing meshes, primitives sharing accessors) to at most this
+/// many vertices plus triangle corners per byte of input (the file and its buffers), but always to
+/// `MIN_EXPANSION_BUDGET`: a few KB of JSON naming one large accessor from many nodes or
+/// primitives would otherwise ask for gigabytes (about 100 bytes a vertex through the import).
+/// With `split_nodes` every node's mesh copies all materials, each copy charged as a vertex.
+const EXPANSION_PER_BYTE: usize = 64;
+/// See [`EXPANSION_PER_BYTE`]: 8 M vertices and corners (or material copies), under 1 GB.
+const MIN_EXPANSION_BUDGET: usize = 1 << 23;
+
 /// Reads a glTF file into unprocessed meshes: one, or one per node with a mesh.
 pub(super) fn load(
     path: &Path,
@@ -49,9 +58,16 @@ pub(super) fn load(
     let mut all_materials = materials;
     all_materials.push(Material::default());
 
+    let input_bytes = bytes.len() + buffers.iter().map(Vec::len).sum::<usize>();
+    let budget = input_bytes
+        .saturating_mul(EXPANSION_PER_BYTE)
+        .max(MIN_EXPANSION_BUDGET);
     let mut ctx = Ctx {
         path,
         buffers: &buffers,
+        budget,
+        budget_left: budget,
+        input_bytes,
         cache: HashMap::new(),
         skipped_modes: 0,
         default_material,
@@ -105,6 +121,8 @@ pub(super) fn load(
                     .name()
                     .map(str::to_owned)
                     .unwrap_or_else(|| format!("node{}", node.index()));
+                // Each node's mesh has a copy of every material: charged like as many vertices.
+                ctx.charge(all_materials.len())?;
                 let mut m = Mesh {
                     name,
                     materials: all_materials.clone(),
@@ -509,6 +527,11 @@ struct Prim {
 struct Ctx<'a> {
     path: &'a Path,
     buffers: &'a [Vec<u8>],
+    /// Vertices plus triangle corners the scene may expand to (see [`EXPANSION_PER_BYTE`]), and
+    /// what is left of them, and the input size it was computed from.
+    budget: usize,
+    budget_left: usize,
+    input_bytes: usize,
     /// Keyed by (mesh index, primitive index); `None` for skipped (points/lines) primitives.
     cache: HashMap<(usize, usize), Option<std::rc::Rc<Prim>>>,
     skipped_modes: usize,
@@ -518,6 +541,22 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
+    /// Takes `cost` vertices and triangle corners (or materials copied) from the budget.
+    fn charge(&mut self, cost: usize) -> Result<(), ImportError> {
+        self.budget_left = self.budget_left.checked_sub(cost).ok_or_else(|| {
+            ImportError::parse(
+                self.path,
+                format!(
+                    "the scene expands (nodes instancing meshes, primitives sharing accessors) \
+                     to more than {} vertices and triangle corners, the limit for {} bytes of \
+                     input; refused as a likely hostile file",
+                    self.budget, self.input_bytes
+                ),
+            )
+        })?;
+        Ok(())
+    }
+
     fn append_mesh(
         &mut self,
         gmesh: &gltf::Mesh,
@@ -546,6 +585,7 @@ impl Ctx<'_> {
                 self.skipped_modes += 1;
                 continue;
             };
+            self.charge(data.positions.len() + 3 * data.triangles.len())?;
             let base = out.positions.len() as u32;
             for p in &data.positions {
                 let w = world.transform_point3(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));

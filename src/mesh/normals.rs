@@ -16,6 +16,12 @@ use super::Mesh;
 /// Default crease angle in degrees (faces meeting at a sharper angle are shaded apart).
 pub const DEFAULT_CREASE_DEG: f32 = 60.0;
 
+/// A position with more triangle corners than this is shaded flat (each corner its face's normal):
+/// comparing every corner with every face around it costs the square of their number, and a
+/// hostile file of one fan of 10^5 triangles took minutes. Real meshes stay far below (a UV
+/// sphere's pole has as many corners as the sphere has segments).
+pub const MAX_CREASE_FAN: usize = 1024;
+
 fn sub(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
     [
         a[0] as f64 - b[0] as f64,
@@ -52,7 +58,8 @@ fn usable(n: [f32; 3]) -> bool {
 /// faces around the corner's *position* (any vertex there, so UV or material splits do not matter)
 /// that lie within `crease_deg` degrees of the corner's own face, and a vertex whose corners get
 /// different normals is split (new vertices appended, indices updated). `crease_deg >= 180` shades
-/// smoothly everywhere, `0` flat per face. Deterministic. Returns how many vertices were added.
+/// smoothly everywhere, `0` flat per face. Positions with more than [`MAX_CREASE_FAN`] corners
+/// are shaded flat. Deterministic. Returns how many vertices were added.
 pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
     let n = mesh.positions.len();
     mesh.normals.resize(n, [0.0; 3]);
@@ -137,7 +144,13 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
         let own = face_n[t];
         let p = pid[v] as usize;
         let mut acc = [0.0f64; 3];
-        for &(f, k) in &around[start[p] as usize..start[p + 1] as usize] {
+        let fan = &around[start[p] as usize..start[p + 1] as usize];
+        let fan = if fan.len() > MAX_CREASE_FAN {
+            &[][..] // flat: `own` below
+        } else {
+            fan
+        };
+        for &(f, k) in fan {
             let nf = face_n[f as usize];
             if f as usize == t || dot(own, nf) >= cos_crease {
                 let w = angles[f as usize][k as usize];
@@ -236,5 +249,40 @@ mod tests {
         m.normals = vec![[0.0, 0.0, 2.0]; 8];
         assert_eq!(crease_normals(&mut m, 60.0), 0);
         assert!(m.normals.iter().all(|n| *n == [0.0, 0.0, 1.0]));
+    }
+
+    /// Regression: a fan of many triangles around one position cost the square of their number
+    /// (80,000 took 15 s to import); past `MAX_CREASE_FAN` corners the position is shaded flat.
+    #[test]
+    fn a_huge_fan_is_shaded_flat_in_linear_time() {
+        let k = 20_000u32;
+        let mut m = Mesh {
+            name: "cone".into(),
+            materials: vec![super::super::Material::default()],
+            ..Default::default()
+        };
+        m.positions.push([0.0, 0.0, 1.0]);
+        for i in 0..k {
+            let a = std::f32::consts::TAU * i as f32 / k as f32;
+            m.positions.push([a.cos(), a.sin(), 0.0]);
+        }
+        for i in 0..k {
+            m.indices.extend([0, 1 + i, 1 + (i + 1) % k]);
+            m.material_ids.push(0);
+        }
+        m.normals = vec![[0.0; 3]; m.positions.len()];
+        m.uvs = vec![[0.0; 2]; m.positions.len()];
+        let start = std::time::Instant::now();
+        let added = crease_normals(&mut m, 180.0);
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{:?}", start.elapsed());
+        m.validate().expect("valid");
+        // The apex is split per distinct face normal (flat), the rim shaded smoothly.
+        assert!(added > k as usize / 2, "{added}");
+        for tri in m.indices.chunks_exact(3) {
+            let p: [[f32; 3]; 3] = std::array::from_fn(|c| m.positions[tri[c] as usize]);
+            let fnormal = normalized(cross(sub(p[1], p[0]), sub(p[2], p[0]))).expect("area");
+            let apex = m.normals[tri[0] as usize].map(f64::from);
+            assert!(dot(apex, fnormal) > 0.9999, "{apex:?} vs {fnormal:?}");
+        }
     }
 }

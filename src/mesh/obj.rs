@@ -89,6 +89,7 @@ pub(super) fn load(
     let mut tris: Vec<[u32; 3]> = Vec::new();
     let mut corners: Vec<u32> = Vec::new();
     let mut unknown_material = false;
+    let mut fanned = 0;
     for model in &models {
         let m = &model.mesh;
         let base = mesh.positions.len() as u32;
@@ -159,7 +160,9 @@ pub(super) fn load(
                 corners.push(base + i);
             }
             let before = tris.len();
-            polygon::triangulate(&mesh.positions, &corners, &mut tris);
+            if !polygon::triangulate(&mesh.positions, &corners, &mut tris) {
+                fanned += 1;
+            }
             mesh.material_ids
                 .extend(std::iter::repeat_n(material, tris.len() - before));
         }
@@ -173,6 +176,7 @@ pub(super) fn load(
             warnings.push(format!("{}: skipped {n} {what}", path.display()));
         }
     }
+    polygon::warn_fanned(fanned, path, warnings);
     if unknown_material {
         warnings.push(format!(
             "{}: faces use a material not found in any .mtl; using the default",

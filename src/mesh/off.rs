@@ -125,6 +125,7 @@ fn parse(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<Mesh, Im
     let mut tris = Vec::new();
     let mut corners = Vec::new();
     let mut skipped = 0usize;
+    let mut fanned = 0usize;
     for f in 0..nf {
         let Some((l, line)) = lines.next() else {
             return Err(ImportError::parse(
@@ -159,8 +160,11 @@ fn parse(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<Mesh, Im
             skipped += 1;
             continue;
         }
-        polygon::triangulate(&mesh.positions, &corners, &mut tris);
+        if !polygon::triangulate(&mesh.positions, &corners, &mut tris) {
+            fanned += 1;
+        }
     }
+    polygon::warn_fanned(fanned, path, warnings);
     if let Some((first, _)) = lines.next() {
         warnings.push(format!(
             "{}: {} line(s) after the {nf} declared faces ignored (from line {first})",

@@ -395,6 +395,7 @@ pub(super) fn load(
     let mut tris = Vec::with_capacity(faces.len());
     let mut corners = Vec::new();
     let mut skipped = 0usize;
+    let mut fanned = 0usize;
     for (fi, face) in faces.iter().enumerate() {
         if face.bad_type {
             return Err(ImportError::parse(
@@ -418,8 +419,11 @@ pub(super) fn load(
             skipped += 1;
             continue;
         }
-        polygon::triangulate(&mesh.positions, &corners, &mut tris);
+        if !polygon::triangulate(&mesh.positions, &corners, &mut tris) {
+            fanned += 1;
+        }
     }
+    polygon::warn_fanned(fanned, path, warnings);
     polygon::set_triangles(&mut mesh, &tris, skipped, path, warnings);
     if !mesh.has_normals {
         mesh.normals.iter_mut().for_each(|n| *n = [0.0; 3]);

@@ -7,18 +7,35 @@
 //! corners that coincide with an ear's corner are not counted as inside it, and an ear's diagonal
 //! must not cross any remaining edge. Always emits exactly `n - 2` triangles with the polygon's
 //! winding; if no proper ear exists (self-intersecting input), the most convex corner is clipped.
+//! The work is bounded (see [`ear_clip_budget`]): past it (a self-intersecting polygon, whose
+//! forced clips cost O(n^3) in all, or a concave one of many thousands of corners) the remaining
+//! corners are fanned, so that a hostile file cannot make the import take hours.
+
+/// Least and most ear-clipping work per corner (see [`ear_clip_budget`]).
+const EAR_CLIP_WORK_PER_CORNER: (usize, usize) = (2048, 8192);
+
+/// Ear-clipping work (corners visited by ear tests) allowed for an n-gon: `n * 4n`, between
+/// 2,048 and 8,192 per corner. A simple polygon needs about `1.5 n^2` (a concave spiral band of
+/// 4,000 corners: 24 M), so simple polygons of up to about 5,000 corners are clipped in full; a
+/// self-intersecting one (a 2,000-corner star took 9 s before the bound) stops there, at a cost
+/// linear in the file's size.
+pub fn ear_clip_budget(n: usize) -> usize {
+    let (least, most) = EAR_CLIP_WORK_PER_CORNER;
+    n.saturating_mul(n.saturating_mul(4).clamp(least, most))
+}
 
 /// Triangulates polygon `poly` (indices into `positions`), appending `n - 2` triangles to `out`.
 /// Fewer than three corners append nothing. Indices out of range of `positions` are treated as
-/// being at the origin (callers validate indices first).
-pub fn triangulate(positions: &[[f32; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
+/// being at the origin (callers validate indices first). Returns `false` when the ear clipping ran
+/// out of work ([`ear_clip_budget`]) and fanned the corners left (callers warn).
+pub fn triangulate(positions: &[[f32; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
     let n = poly.len();
     if n < 3 {
-        return;
+        return true;
     }
     if n == 3 {
         out.push([poly[0], poly[1], poly[2]]);
-        return;
+        return true;
     }
     let pos = |i: u32| -> [f64; 3] {
         let p = positions.get(i as usize).copied().unwrap_or([0.0; 3]);
@@ -30,7 +47,7 @@ pub fn triangulate(positions: &[[f32; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>
     if !(len.is_finite() && len > 0.0) {
         // Zero-area polygon: any triangulation is degenerate; keep the count right with a fan.
         fan(poly, out);
-        return;
+        return true;
     }
     let nz = [normal[0] / len, normal[1] / len, normal[2] / len];
     let (u, v) = plane_basis(nz);
@@ -38,9 +55,20 @@ pub fn triangulate(positions: &[[f32; 3]], poly: &[u32], out: &mut Vec<[u32; 3]>
     let p2: Vec<[f64; 2]> = p3.iter().map(|p| [dot(*p, u), dot(*p, v)]).collect();
     if is_convex(&p2) {
         fan(poly, out);
-        return;
+        return true;
     }
-    ear_clip(&p2, poly, out);
+    ear_clip(&p2, poly, out)
+}
+
+/// The warning for `faces` polygons that [`triangulate`] fanned in part, if any.
+pub fn warn_fanned(faces: usize, path: &std::path::Path, warnings: &mut Vec<String>) {
+    if faces > 0 {
+        warnings.push(format!(
+            "{}: {faces} polygon(s) too costly to ear-clip (self-intersecting, or concave with \
+             thousands of corners) were triangulated in part as a fan",
+            path.display()
+        ));
+    }
 }
 
 /// Stores triangulated faces as the mesh's triangles (material 0) and warns about the `skipped`
@@ -148,9 +176,12 @@ fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
         && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
 }
 
-/// Ear clipping over a doubly linked ring of the corners of a counter-clockwise polygon.
-fn ear_clip(p: &[[f64; 2]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
+/// Ear clipping over a doubly linked ring of the corners of a counter-clockwise polygon; `false`
+/// if it ran out of work and fanned the corners left.
+fn ear_clip(p: &[[f64; 2]], poly: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
     let n = p.len();
+    let budget = ear_clip_budget(n);
+    let mut work = 0usize;
     let mut prev: Vec<usize> = (0..n).map(|i| (i + n - 1) % n).collect();
     let mut next: Vec<usize> = (0..n).map(|i| (i + 1) % n).collect();
     let mut remaining = n;
@@ -159,7 +190,18 @@ fn ear_clip(p: &[[f64; 2]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
     // Strictness: 0 = proper ear, 1 = allow a straight corner (zero-area ear), 2 = forced.
     let mut level = 0;
     while remaining > 3 {
+        if work > budget {
+            // The ring from `cur` as a fan: n - 2 triangles in all, the winding kept.
+            let mut k = next[cur];
+            while next[k] != cur {
+                out.push([poly[cur], poly[k], poly[next[k]]]);
+                k = next[k];
+            }
+            return false;
+        }
         let (a, b, c) = (prev[cur], cur, next[cur]);
+        // An ear test walks the remaining ring twice.
+        work += if level < 2 { 2 * remaining } else { 1 };
         let ok = match level {
             0 => orient(p[a], p[b], p[c]) > 0.0 && is_ear(p, &next, a, b, c),
             1 => orient(p[a], p[b], p[c]) >= 0.0 && is_ear(p, &next, a, b, c),
@@ -185,6 +227,7 @@ fn ear_clip(p: &[[f64; 2]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
                 let mut best = cur;
                 let mut best_o = f64::NEG_INFINITY;
                 let mut k = cur;
+                work += remaining;
                 for _ in 0..remaining {
                     let o = orient(p[prev[k]], p[k], p[next[k]]);
                     if o > best_o {
@@ -199,6 +242,7 @@ fn ear_clip(p: &[[f64; 2]], poly: &[u32], out: &mut Vec<[u32; 3]>) {
     }
     let (a, b, c) = (prev[cur], cur, next[cur]);
     out.push([poly[a], poly[b], poly[c]]);
+    true
 }
 
 /// No other remaining corner inside (or on) triangle `abc`, and diagonal `ac` crosses no edge.
@@ -321,5 +365,52 @@ mod tests {
         let mut out = Vec::new();
         triangulate(&positions, &[0, 1, 2, 3, 4], &mut out);
         assert_eq!(out.len(), 3);
+    }
+
+    /// A star polygon `{n/k}` with jittered radii: self-intersecting everywhere.
+    fn star(n: usize) -> Vec<[f32; 3]> {
+        let k = n / 2 - 1;
+        (0..n)
+            .map(|i| {
+                let j = (i * k) % n;
+                let a = std::f32::consts::TAU * j as f32 / n as f32;
+                let r = 1.0 + 0.3 * (j % 3) as f32;
+                [r * a.cos(), r * a.sin(), 0.0]
+            })
+            .collect()
+    }
+
+    /// Regression: forced clips of a self-intersecting polygon cost O(n^3) (a 2,000-corner star
+    /// took 9 s, 20,000 corners would take hours); the work is now bounded and the rest fanned.
+    #[test]
+    fn self_intersecting_polygon_work_is_bounded() {
+        let n = 3001; // odd: {n/k} visits every corner
+        let positions = star(n);
+        let poly: Vec<u32> = (0..n as u32).collect();
+        let mut out = Vec::new();
+        let start = std::time::Instant::now();
+        assert!(!triangulate(&positions, &poly, &mut out), "ran out of work");
+        assert!(start.elapsed().as_secs_f64() < 5.0, "{:?}", start.elapsed());
+        assert_eq!(out.len(), n - 2);
+        // Every corner used, each triangle from the polygon's corners.
+        let mut used = vec![false; n];
+        out.iter().flatten().for_each(|&i| used[i as usize] = true);
+        assert!(used.iter().all(|&u| u));
+    }
+
+    /// A simple concave polygon of 4,000 corners (a spiral band) is still ear-clipped in full.
+    #[test]
+    fn large_simple_concave_polygon_is_ear_clipped_in_full() {
+        let m = 2000;
+        let arm = |i: usize, r: f32| {
+            let a = 0.02 * i as f32;
+            [(r + 0.1 * a) * a.cos(), (r + 0.1 * a) * a.sin(), 0.0]
+        };
+        let mut positions: Vec<[f32; 3]> = (0..m).map(|i| arm(i, 1.0)).collect();
+        positions.extend((0..m).rev().map(|i| arm(i, 1.05)));
+        let poly: Vec<u32> = (0..2 * m as u32).collect();
+        let mut out = Vec::new();
+        assert!(triangulate(&positions, &poly, &mut out));
+        assert_eq!(out.len(), 2 * m - 2);
     }
 }

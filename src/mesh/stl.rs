@@ -123,6 +123,7 @@ fn parse_ascii(
     let mut corners: Vec<u32> = Vec::new();
     let mut tris: Vec<[u32; 3]> = Vec::new();
     let mut skipped = 0usize;
+    let mut fanned = 0usize;
     for (i, line) in text.lines().enumerate() {
         let l = i + 1;
         let mut toks = line.split_whitespace();
@@ -162,8 +163,8 @@ fn parse_ascii(
                 in_loop = false;
                 if corners.len() < 3 {
                     skipped += 1;
-                } else {
-                    polygon::triangulate(&mesh.positions, &corners, &mut tris);
+                } else if !polygon::triangulate(&mesh.positions, &corners, &mut tris) {
+                    fanned += 1;
                 }
                 facet += 1;
             }
@@ -191,6 +192,7 @@ fn parse_ascii(
             path.display()
         ));
     }
+    polygon::warn_fanned(fanned, path, warnings);
     mesh.indices = tris.iter().flatten().copied().collect();
     Ok(())
 }
