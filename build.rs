@@ -207,10 +207,22 @@ fn build_commit(root: &Path) {
         commit.push_str("-dirty");
     }
     println!("cargo:rustc-env=VGEO_BUILD_COMMIT={commit}");
-    // Rerun when HEAD moves or the index changes (commits, checkouts, staging).
-    for f in [".git/HEAD", ".git/index"] {
-        if root.join(f).exists() {
-            println!("cargo:rerun-if-changed={f}");
-        }
+    // Rerun when HEAD moves or the index changes (commits, checkouts, staging): the git
+    // directory's HEAD and index and the branch's ref, found through git, since in a worktree
+    // `.git` is a file naming a directory elsewhere and refs live in the common directory.
+    let mut watch = Vec::new();
+    if let Some(dir) = git(&["rev-parse", "--absolute-git-dir"]) {
+        watch.push(Path::new(&dir).join("HEAD"));
+        watch.push(Path::new(&dir).join("index"));
+    }
+    if let (Some(common), Some(branch)) = (
+        git(&["rev-parse", "--path-format=absolute", "--git-common-dir"]),
+        git(&["symbolic-ref", "-q", "HEAD"]),
+    ) {
+        watch.push(Path::new(&common).join(branch));
+        watch.push(Path::new(&common).join("packed-refs"));
+    }
+    for f in watch.iter().filter(|f| f.exists()) {
+        println!("cargo:rerun-if-changed={}", f.display());
     }
 }

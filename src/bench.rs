@@ -1,19 +1,28 @@
 //! `vgeo bench`: the benchmark scenes in the three modes (`brute`, `lod`, `vgeo`), speed against
 //! image error, and scaling to billions of triangles (DESIGN.md, "Baselines" and "Measures").
 //!
-//! For every scene and every frame of its camera path, `brute` renders the full-detail reference;
-//! `lod` and `vgeo` render at every pixel threshold of the sweep, each threshold's whole path in
-//! order (so vgeo's occlusion culling sees the previous frame of the same run). Each path is run
-//! twice: first timed, the path's frames recorded back to back into one submission without
-//! read-back (GPU ms per pass from timestamps; CPU ms: the submission's wall time over its frames),
-//! so the GPU is busy as in an application with frames in flight rather than idled, clocks
-//! dropping, by waits and read-backs between frames; then again with read-back for the
-//! triangles, clusters and instances drawn and the comparison with brute's image of the same frame
-//! ([`image_error`]). Results go to `--out`: `bench.json`, `bench.md`, SVG plots and a few images.
+//! For every scene and every frame of its camera path, `brute` renders the reference: the frame at
+//! `--reference-spp` samples per pixel (default 16: 4x4), box-filtered
+//! ([`Brute::render_reference`], [`crate::imgerr`]), and the frame at one sample per pixel, whose
+//! error against the reference is the floor any one-sample renderer can reach. `lod` and `vgeo`
+//! render at every pixel threshold of the sweep, each threshold's whole path in order (so vgeo's
+//! occlusion culling sees the previous frame of the same run). Each path is run twice: first timed,
+//! the path's frames recorded back to back into one submission without read-back (GPU ms per pass
+//! from timestamps; CPU ms: the submission's wall time over its frames), so the GPU is busy as in
+//! an application with frames in flight rather than idled, clocks dropping, by waits and
+//! read-backs between frames; then again with read-back for the triangles, clusters and instances
+//! drawn and the image error against the reference ([`crate::imgerr::image_error`]: PSNR of the
+//! lit image, surface difference, depth error).
+//!
+//! "At equal error" ([`EqualError`]): per scene and mode, the cheapest threshold (GPU ms) whose
+//! PSNR is within `--psnr-margin` dB of brute's floor: thresholds are picked by measured error,
+//! not by equal numbers. Results go to `--out`: `bench.json`, `bench.md`, SVG plots and a few
+//! images.
 //!
 //! Scenes are the TOML files `outdoor`, `indoor`, `foliage`, `drawcalls` and `stress` under
-//! `assets/scenes`. `stress` is a template instance repeated on an N x N x N grid (N from the suite
-//! or `--stress-n`); its camera path is made from the grid's size.
+//! `assets/scenes`, loaded through [`crate::scene::load`] (the loader of `vgeo render`, every scene
+//! option applied) with one mesh cache for the run. `stress` is a template instance repeated on an
+//! N x N x N grid (N from the suite or `--stress-n`); its camera path is made from the grid's size.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -27,22 +36,26 @@ use serde::Serialize;
 
 use crate::baseline::brute::Brute;
 use crate::baseline::lod::{Lod, LodOptions};
-use crate::builder::BuiltMesh;
 use crate::camera::Camera;
 use crate::frame::VgeoRenderer;
 use crate::gpu::Context;
-use crate::mesh::{Material, Mesh};
+use crate::imgerr::{ImageError, Reference, image_error, psnr};
+use crate::mesh::Mesh;
 use crate::passes::debug_view::ViewMode;
 use crate::passes::emit_gbuffer::EmitPath;
 use crate::passes::view::FrameSettings;
 use crate::render::{Frame, Light, Placement};
-use crate::scene::{GENERATED_PREFIX, Scene};
+use crate::scene::Scene;
+use crate::scene::load::{LoadedScene, MeshCache, PreparedMesh, thin, triangles_of};
 
 /// The benchmark scenes with a scene file of their own, in run order (`stress` comes last).
 pub const SCENES: [&str; 4] = ["outdoor", "indoor", "foliage", "drawcalls"];
 
-/// Relative depth difference above which two pixels show different surfaces.
-pub const DEPTH_TOLERANCE: f32 = 1e-3;
+/// Default `--reference-spp`: 4 x 4 samples per pixel.
+pub const DEFAULT_REFERENCE_SPP: u32 = 16;
+
+/// Default `--psnr-margin` (dB): "equal error" is a PSNR at most this far below brute's floor.
+pub const DEFAULT_PSNR_MARGIN_DB: f64 = 1.0;
 
 /// A benchmark suite: sizes and sweeps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -83,6 +96,8 @@ impl Suite {
                 modes: MODES.iter().map(|s| s.to_string()).collect(),
                 hw_threshold_px: FrameSettings::default().hw_threshold_px,
                 emit: EmitPath::default(),
+                reference_spp: DEFAULT_REFERENCE_SPP,
+                psnr_margin_db: DEFAULT_PSNR_MARGIN_DB,
             },
             Suite::Full => BenchSettings {
                 suite: self,
@@ -99,6 +114,8 @@ impl Suite {
                 modes: MODES.iter().map(|s| s.to_string()).collect(),
                 hw_threshold_px: FrameSettings::default().hw_threshold_px,
                 emit: EmitPath::default(),
+                reference_spp: DEFAULT_REFERENCE_SPP,
+                psnr_margin_db: DEFAULT_PSNR_MARGIN_DB,
             },
         }
     }
@@ -134,6 +151,11 @@ pub struct BenchSettings {
     pub hw_threshold_px: f32,
     /// vgeo: how `emit_gbuffer` runs.
     pub emit: EmitPath,
+    /// Samples per pixel of the reference (a square: n x n on a regular grid, box-filtered).
+    pub reference_spp: u32,
+    /// "Equal error": a mode's threshold qualifies when its PSNR is at most this many dB below
+    /// brute's at one sample per pixel ([`EqualError`]).
+    pub psnr_margin_db: f64,
 }
 
 /// The rendering modes a benchmark compares.
@@ -184,6 +206,17 @@ pub struct BenchArgs {
     /// of tile quads per material against the material depth, DESIGN.md's form).
     #[arg(long)]
     pub emit: Option<String>,
+    /// Samples per pixel of the reference every mode's image error (PSNR of the lit image,
+    /// surface difference %) is measured against: a square N = n x n, brute rendered at n times
+    /// the resolution (in tiles) and box-filtered n x n back. Default 16 (4x4). Brute at 1 sample
+    /// per pixel is measured against it too: its error is the floor any mode can reach, reported
+    /// per scene. 1: the reference is brute's own frame (floor 0: exact equality).
+    #[arg(long)]
+    pub reference_spp: Option<u32>,
+    /// "At equal error": per scene and mode, the cheapest threshold whose PSNR is at most this
+    /// many dB below brute's at one sample per pixel (default 1.0).
+    #[arg(long)]
+    pub psnr_margin: Option<f64>,
 }
 
 impl BenchArgs {
@@ -238,13 +271,24 @@ impl BenchArgs {
             s.emit = EmitPath::parse(e)
                 .with_context(|| format!("unknown --emit `{e}` (available: compute, raster)"))?;
         }
+        if let Some(n) = self.reference_spp {
+            s.reference_spp = n;
+        }
+        if let Some(m) = self.psnr_margin {
+            s.psnr_margin_db = m;
+        }
         s.validate()?;
         Ok(s)
     }
 }
 
 impl BenchSettings {
-    /// Checks sizes, frame count, sweep values and grid sizes.
+    /// The reference's samples per pixel along each axis (`sqrt(reference_spp)`, rounded).
+    pub fn reference_samples_per_axis(&self) -> u32 {
+        (self.reference_spp as f64).sqrt().round() as u32
+    }
+
+    /// Checks sizes, frame count, sweep values, reference samples and grid sizes.
     pub fn validate(&self) -> Result<()> {
         if !(1..=16384).contains(&self.width) || !(1..=16384).contains(&self.height) {
             bail!("width and height must be between 1 and 16384");
@@ -263,6 +307,16 @@ impl BenchSettings {
         {
             bail!("the sweep needs at least one threshold, each finite and >= 0 (0: full detail)");
         }
+        let n = self.reference_samples_per_axis();
+        if n * n != self.reference_spp || !(1..=16).contains(&n) {
+            bail!(
+                "the reference's samples per pixel must be a square of 1 to 16 (1, 4, 9, ..., 256), not {}",
+                self.reference_spp
+            );
+        }
+        if !self.psnr_margin_db.is_finite() || self.psnr_margin_db < 0.0 {
+            bail!("the PSNR margin must be a finite number of dB >= 0");
+        }
         if self.stress && (self.stress_n.is_empty() || self.stress_n.contains(&0)) {
             bail!("stress grid sizes must be >= 1");
         }
@@ -275,99 +329,6 @@ impl BenchSettings {
         }
         Ok(())
     }
-}
-
-/// Image error of a frame against the reference (brute's full-detail image of the same view).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct ImageError {
-    /// Share of pixels whose visible surface differs: covered in one image only, or depths more
-    /// than [`DEPTH_TOLERANCE`] apart (relative).
-    pub surface_diff: f64,
-    /// Share of pixels covered in one image only.
-    pub coverage_diff: f64,
-    /// Relative depth error `|d - d_ref| / d_ref` over pixels covered in both: mean and max.
-    pub depth_err_mean: f64,
-    pub depth_err_max: f64,
-    /// Mean squared error of the lit RGB image (8-bit units).
-    pub mse: f64,
-    /// PSNR of the lit RGB image in dB; infinite (`null` in JSON) only when the images are equal.
-    #[serde(serialize_with = "finite_or_null")]
-    pub psnr_db: f64,
-}
-
-fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-    if v.is_finite() {
-        s.serialize_f64(*v)
-    } else {
-        s.serialize_none()
-    }
-}
-
-/// PSNR in dB of 8-bit images with mean squared error `mse` (infinite when 0).
-pub fn psnr(mse: f64) -> f64 {
-    if mse <= 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (255.0f64 * 255.0 / mse).log10()
-    }
-}
-
-/// Compares `test` with `reference` (same size): see [`ImageError`]. Depth 0 is "nothing drawn"
-/// (reverse-Z); the lit images are compared on RGB.
-pub fn image_error(reference: &Frame, test: &Frame) -> Result<ImageError> {
-    let n = (reference.width as usize) * (reference.height as usize);
-    if test.width != reference.width
-        || test.height != reference.height
-        || reference.depth.len() != n
-        || test.depth.len() != n
-        || reference.color.len() != 4 * n
-        || test.color.len() != 4 * n
-    {
-        bail!(
-            "cannot compare a {}x{} frame with a {}x{} reference",
-            test.width,
-            test.height,
-            reference.width,
-            reference.height
-        );
-    }
-    let (mut surface, mut coverage, mut both) = (0usize, 0usize, 0usize);
-    let (mut dsum, mut dmax) = (0.0f64, 0.0f64);
-    for (&a, &b) in reference.depth.iter().zip(&test.depth) {
-        let (ca, cb) = (a > 0.0, b > 0.0);
-        if ca != cb {
-            coverage += 1;
-            surface += 1;
-        } else if ca {
-            both += 1;
-            let rel = ((b - a).abs() / a) as f64;
-            dsum += rel;
-            dmax = dmax.max(rel);
-            if (b - a).abs() > DEPTH_TOLERANCE * a.max(b) {
-                surface += 1;
-            }
-        }
-    }
-    let mut sq = 0.0f64;
-    for (pa, pb) in reference
-        .color
-        .chunks_exact(4)
-        .zip(test.color.chunks_exact(4))
-    {
-        for k in 0..3 {
-            let d = pa[k] as f64 - pb[k] as f64;
-            sq += d * d;
-        }
-    }
-    let mse = sq / (3 * n.max(1)) as f64;
-    Ok(ImageError {
-        surface_diff: surface as f64 / n.max(1) as f64,
-        coverage_diff: coverage as f64 / n.max(1) as f64,
-        depth_err_mean: if both > 0 { dsum / both as f64 } else { 0.0 },
-        depth_err_max: dmax,
-        mse,
-        psnr_db: psnr(mse),
-    })
 }
 
 /// One measured render.
@@ -393,7 +354,8 @@ pub struct FrameRecord {
     /// Instances drawn: brute draws all; vgeo counts those passing frustum and occlusion culling;
     /// `None` for lod (its renderer does not report it).
     pub instances_visible: Option<u64>,
-    /// Against brute's image of the same frame; `None` when brute was skipped.
+    /// Against the supersampled reference of the same frame (brute's own: the floor); `None`
+    /// when brute was skipped (no reference).
     pub error: Option<ImageError>,
 }
 
@@ -423,8 +385,12 @@ pub struct SceneInfo {
     pub stored_triangles: u64,
     pub meshes: Vec<String>,
     pub frames: u32,
-    /// Seconds to import and build the meshes not cached yet.
+    /// Seconds to import the meshes not cached yet.
     pub prepare_s: f64,
+    /// Seconds to build the cluster DAGs not built yet (vgeo).
+    pub build_s: f64,
+    /// Seconds spent rendering the supersampled references of the path (0 without brute).
+    pub reference_s: f64,
 }
 
 /// Per scene, mode and threshold: means over the frames and memory.
@@ -447,9 +413,13 @@ pub struct Summary {
     pub surface_diff_max: Option<f64>,
     pub depth_err_mean: Option<f64>,
     pub depth_err_max: Option<f64>,
-    /// From the mean squared error over all frames; `null` when every frame was equal.
+    /// Against the reference, from the mean squared error over all frames; `null` when every
+    /// frame was equal to it.
     #[serde(serialize_with = "opt_finite_or_null")]
     pub psnr_db: Option<f64>,
+    /// Brute's PSNR at one sample per pixel (the floor) minus this one (brute: 0; `None`
+    /// without a reference).
+    pub psnr_below_floor_db: Option<f64>,
     /// GPU bytes of geometry (meshes, LOD chains or cluster DAGs) and of instance records.
     pub geometry_bytes: u64,
     pub instance_bytes: u64,
@@ -480,14 +450,41 @@ pub struct BenchReport {
     pub scenes: Vec<SceneInfo>,
     pub records: Vec<FrameRecord>,
     pub summary: Vec<Summary>,
+    /// Per scene and mode (lod, vgeo): the threshold picked "at equal error".
+    pub equal_error: Vec<EqualError>,
     pub skipped: Vec<Skipped>,
     /// GPU memory per scene and mode.
     pub memory: Vec<MemoryRecord>,
     pub wall_s: f64,
     /// Example images for the output folder (file stem, frame): the middle frame of each path,
-    /// brute and both other modes at the threshold nearest 1 px.
+    /// the reference, brute and both other modes at the threshold nearest 1 px.
     #[serde(skip)]
     pub images: Vec<(String, Frame)>,
+}
+
+/// A mode's threshold "at equal error": the cheapest (lowest mean GPU ms) of the sweep whose
+/// PSNR against the reference is at most `psnr_margin_db` below brute's at one sample per pixel.
+#[derive(Clone, Debug, Serialize)]
+pub struct EqualError {
+    pub scene: String,
+    /// `lod` or `vgeo`.
+    pub mode: String,
+    pub psnr_margin_db: f64,
+    /// Brute's PSNR at one sample per pixel.
+    #[serde(serialize_with = "finite_or_null")]
+    pub floor_psnr_db: f64,
+    /// The threshold picked; `None` when none of the sweep is within the margin.
+    pub error_px: Option<f32>,
+    /// Its figures (`None` with no threshold).
+    pub gpu_ms_mean: Option<f64>,
+    pub triangles_mean: Option<f64>,
+    #[serde(serialize_with = "opt_finite_or_null")]
+    pub psnr_db: Option<f64>,
+    pub surface_diff_mean: Option<f64>,
+}
+
+fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    opt_finite_or_null(&Some(*v), s)
 }
 
 /// GPU memory a mode holds for a scene.
@@ -502,201 +499,22 @@ pub struct MemoryRecord {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Generated meshes.
-
-/// A mesh made in code, named in scene files as `generated:NAME`: `grass` (a clump of 24 thin
-/// disconnected blades, 168 triangles, about 1 unit tall and wide, base at y = 0) or `box` (a
-/// unit cube centred at the origin, flat normals).
-pub fn generated_mesh(name: &str) -> Option<Mesh> {
-    let mut mesh = match name {
-        "grass" => grass_clump(24, 4, 7),
-        "box" => unit_box(),
-        _ => return None,
-    };
-    mesh.name = name.to_string();
-    mesh.material_ids = vec![0; mesh.indices.len() / 3];
-    mesh.materials = vec![Material::default()];
-    mesh.uvs = vec![[0.0; 2]; mesh.positions.len()];
-    mesh.has_uvs = false;
-    Some(mesh)
-}
-
-/// A grass clump: `blades` blades of `segments` quads and a tip triangle each.
-fn grass_clump(blades: u32, segments: u32, seed: u64) -> Mesh {
-    let mut rng = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    let mut unit = move || {
-        // xorshift64*: deterministic, good enough for placement.
-        rng ^= rng >> 12;
-        rng ^= rng << 25;
-        rng ^= rng >> 27;
-        (rng.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let mut m = Mesh::default();
-    for _ in 0..blades {
-        let angle = unit() * std::f64::consts::TAU;
-        let r = unit().sqrt() * 0.3;
-        let base = DVec3::new(r * angle.cos(), 0.0, r * angle.sin());
-        let facing = unit() * std::f64::consts::TAU;
-        let side = DVec3::new(facing.cos(), 0.0, facing.sin());
-        let lean = DVec3::new(-facing.sin(), 0.0, facing.cos()) * (0.2 + 0.4 * unit());
-        let height = 0.6 + 0.4 * unit();
-        let width = 0.04 + 0.03 * unit();
-        let first = m.positions.len() as u32;
-        for s in 0..segments {
-            let t = s as f64 / segments as f64;
-            let centre = base + DVec3::Y * (height * t) + lean * (t * t);
-            let w = width * (1.0 - t * 0.8);
-            for sign in [-1.0, 1.0] {
-                m.positions
-                    .push((centre + side * (w * 0.5 * sign)).as_vec3().into());
-            }
-        }
-        let tip = base + DVec3::Y * height + lean;
-        m.positions.push(tip.as_vec3().into());
-        for s in 0..segments - 1 {
-            let (a, b) = (first + 2 * s, first + 2 * s + 1);
-            m.indices.extend_from_slice(&[a, b, a + 2, b, b + 2, a + 2]);
-        }
-        let last = first + 2 * (segments - 1);
-        m.indices.extend_from_slice(&[last, last + 1, last + 2]);
-    }
-    m.normals = vec![[0.0; 3]; m.positions.len()];
-    crate::mesh::fill_missing_normals(&mut m);
-    m.has_normals = false;
-    m
-}
-
-/// A unit cube centred at the origin, 24 vertices (flat normals), 12 triangles.
-fn unit_box() -> Mesh {
-    let mut m = Mesh::default();
-    for axis in 0..3 {
-        for sign in [-1.0f32, 1.0] {
-            let mut n = Vec3::ZERO;
-            n[axis] = sign;
-            let u = n.any_orthonormal_pair().0;
-            let v = n.cross(u);
-            let first = m.positions.len() as u32;
-            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                m.positions.push((0.5 * (n + u * a + v * b)).into());
-                m.normals.push(n.into());
-            }
-            m.indices.extend_from_slice(&[
-                first,
-                first + 1,
-                first + 2,
-                first,
-                first + 2,
-                first + 3,
-            ]);
-        }
-    }
-    m.has_normals = true;
-    m
-}
-
-// ---------------------------------------------------------------------------------------------
 // Scene preparation.
 
-/// A mesh imported (or generated) and built, shared by the scenes that use it.
-struct Prepared {
-    mesh: Mesh,
-    built: BuiltMesh,
-}
-
-/// Meshes by path, kept across the scenes of a run.
-#[derive(Default)]
-struct MeshCache {
-    meshes: HashMap<PathBuf, Arc<Prepared>>,
-}
-
-impl MeshCache {
-    /// Imports and builds (in parallel) every mesh of `scene` not cached yet.
-    fn prepare(&mut self, scene: &Scene) -> Result<Vec<Arc<Prepared>>> {
-        use rayon::prelude::*;
-        let mut missing: Vec<PathBuf> = scene
-            .meshes
-            .iter()
-            .map(|m| m.path.clone())
-            .filter(|p| !self.meshes.contains_key(p))
-            .collect();
-        missing.sort();
-        missing.dedup();
-        let made: Vec<Result<(PathBuf, Prepared)>> = missing
-            .par_iter()
-            .map(|path| {
-                let text = path.to_string_lossy();
-                let mesh = match text.strip_prefix(GENERATED_PREFIX) {
-                    Some(name) => generated_mesh(name).with_context(|| {
-                        format!("unknown generated mesh `{text}` (available: generated:grass, generated:box)")
-                    })?,
-                    None => crate::mesh::load_mesh(path)?.0,
-                };
-                mesh.validate()
-                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-                let built = crate::builder::build(&mesh, &crate::builder::BuildOptions::default())
-                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-                Ok((path.clone(), Prepared { mesh, built }))
-            })
-            .collect();
-        for r in made {
-            let (path, p) = r?;
-            self.meshes.insert(path, Arc::new(p));
-        }
-        scene
-            .meshes
-            .iter()
-            .map(|m| {
-                self.meshes
-                    .get(&m.path)
-                    .cloned()
-                    .with_context(|| format!("{}: not prepared", m.path.display()))
-            })
-            .collect()
-    }
-}
-
-/// A scene ready to render: meshes, placements and the cameras of its path.
+/// A scene ready to render: meshes (prepared through the run's [`MeshCache`]), placements and
+/// the cameras of its path.
 struct BenchScene {
     info: SceneInfo,
-    meshes: Vec<Arc<Prepared>>,
+    meshes: Vec<Arc<PreparedMesh>>,
     placements: Vec<Placement>,
     cameras: Vec<Camera>,
     light: Light,
 }
 
 impl BenchScene {
-    fn mesh_list(&self) -> Vec<Mesh> {
-        self.meshes.iter().map(|p| p.mesh.clone()).collect()
+    fn mesh_list(&self) -> Vec<&Mesh> {
+        self.meshes.iter().map(|p| &p.mesh).collect()
     }
-
-    fn built_list(&self) -> Vec<BuiltMesh> {
-        self.meshes.iter().map(|p| p.built.clone()).collect()
-    }
-}
-
-fn mesh_bounds(meshes: &[Arc<Prepared>]) -> Vec<([f32; 3], [f32; 3])> {
-    meshes
-        .iter()
-        .map(|p| p.mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3])))
-        .collect()
-}
-
-fn triangles_of(placements: &[Placement], meshes: &[Arc<Prepared>]) -> u64 {
-    placements
-        .iter()
-        .map(|p| meshes[p.mesh as usize].mesh.triangle_count() as u64)
-        .sum()
-}
-
-/// Keeps every k-th placement (the smallest k) so that at most `cap` triangles remain.
-fn thin(placements: Vec<Placement>, meshes: &[Arc<Prepared>], cap: Option<u64>) -> Vec<Placement> {
-    let tris = triangles_of(&placements, meshes);
-    let Some(cap) = cap else { return placements };
-    if tris <= cap || placements.len() <= 1 {
-        return placements;
-    }
-    let k = tris.div_ceil(cap.max(1)) as usize;
-    placements.into_iter().step_by(k).collect()
 }
 
 fn load_scene(
@@ -707,30 +525,21 @@ fn load_scene(
     stress_n: Option<u32>,
 ) -> Result<BenchScene> {
     let t0 = Instant::now();
-    let scene = Scene::load(file)?;
-    let meshes = cache.prepare(&scene)?;
+    let loaded = LoadedScene::load_with(cache, file)?;
     let prepare_s = t0.elapsed().as_secs_f64();
-    let bounds = mesh_bounds(&meshes);
+    let bounds = loaded.mesh_bounds();
     let aspect = settings.width as f32 / settings.height as f32;
     let (placements, cameras) = match stress_n {
         None => {
-            let placements: Vec<Placement> = scene
-                .instances
-                .iter()
-                .map(|i| Placement {
-                    mesh: i.mesh,
-                    transform: i.transform,
-                    color: i.color,
-                })
-                .collect();
-            let cameras = scene.path_cameras(&bounds, aspect, settings.frames);
-            (placements, cameras)
+            let cameras = loaded.scene.path_cameras(&bounds, aspect, settings.frames);
+            (loaded.placements.clone(), cameras)
         }
-        Some(n) => stress_grid(&scene, &bounds, n, settings.frames)?,
+        Some(n) => stress_grid(&loaded.scene, &bounds, n, settings.frames)?,
     };
+    let meshes = loaded.meshes();
     let instances_in_scene = placements.len() as u64;
     let placements = thin(placements, &meshes, settings.max_scene_triangles);
-    let stored_triangles = meshes.iter().map(|p| p.mesh.triangle_count() as u64).sum();
+    let stored_triangles = meshes.iter().map(|m| m.triangle_count() as u64).sum();
     Ok(BenchScene {
         info: SceneInfo {
             name: name.to_string(),
@@ -740,16 +549,16 @@ fn load_scene(
             instances_in_scene,
             scene_triangles: triangles_of(&placements, &meshes),
             stored_triangles,
-            meshes: scene.meshes.iter().map(|m| m.name.clone()).collect(),
+            meshes: loaded.scene.meshes.iter().map(|m| m.name.clone()).collect(),
             frames: cameras.len() as u32,
             prepare_s,
+            build_s: 0.0,
+            reference_s: 0.0,
         },
-        meshes,
+        meshes: loaded.prepared.clone(),
         placements,
         cameras,
-        light: Light {
-            direction: scene.light_dir,
-        },
+        light: loaded.light,
     })
 }
 
@@ -870,6 +679,7 @@ pub fn run(
         scenes: Vec::new(),
         records: Vec::new(),
         summary: Vec::new(),
+        equal_error: Vec::new(),
         skipped: Vec::new(),
         memory: Vec::new(),
         wall_s: 0.0,
@@ -880,12 +690,17 @@ pub fn run(
         bar.set_message(format!("{name}: building meshes"));
         let scene = load_scene(&mut cache, file, name, settings, *stress_n)
             .with_context(|| format!("scene `{name}`"))?;
-        run_scene(ctx, settings, &scene, &mut report, &bar)
+        let times = run_scene(ctx, settings, &scene, &mut report, &bar)
             .with_context(|| format!("scene `{name}`"))?;
-        report.scenes.push(scene.info);
+        report.scenes.push(SceneInfo {
+            build_s: times.build_s,
+            reference_s: times.reference_s,
+            ..scene.info
+        });
     }
     bar.finish_and_clear();
     report.summary = summarize(&report);
+    report.equal_error = equal_error(&report);
     report.wall_s = t0.elapsed().as_secs_f64();
     Ok(report)
 }
@@ -946,13 +761,23 @@ fn time_path(
     Ok(out)
 }
 
+/// Seconds a scene spent outside the measured renders.
+#[derive(Default)]
+struct SceneTimes {
+    /// Building the cluster DAGs not built yet.
+    build_s: f64,
+    /// Rendering the supersampled references.
+    reference_s: f64,
+}
+
+/// Runs one scene in every mode.
 fn run_scene(
     ctx: &Context,
     settings: &BenchSettings,
     scene: &BenchScene,
     report: &mut BenchReport,
     bar: &ProgressBar,
-) -> Result<()> {
+) -> Result<SceneTimes> {
     let (w, h) = (settings.width, settings.height);
     let name = &scene.info.name;
     let frames = scene.cameras.len() as u64;
@@ -967,9 +792,10 @@ fn run_scene(
     };
     let mut memory: HashMap<&'static str, Memory> = HashMap::new();
 
-    // brute: the reference images.
+    // brute: the references (supersampled) and its own frames at one sample per pixel.
     bar.set_message(format!("{name}: brute"));
-    let mut reference: Vec<Option<Frame>> = vec![None; scene.cameras.len()];
+    let mut reference: Vec<Option<Reference>> = vec![None; scene.cameras.len()];
+    let mut times = SceneTimes::default();
     let meshes = scene.mesh_list();
     let runs = |mode: &str| settings.modes.iter().any(|m| m == mode);
     if !runs("brute") {
@@ -997,8 +823,12 @@ fn run_scene(
         let timed = time_path(settings.warmup, &scene.cameras, |_, cams| {
             Ok(brute.render_path_timed(&scene.placements, cams, &scene.light, w, h)?)
         })?;
+        let n = settings.reference_samples_per_axis();
         for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
             let frame = brute.render(&scene.placements, cam, &scene.light, w, h)?;
+            let t = Instant::now();
+            let r = brute.render_reference(&scene.placements, cam, &scene.light, (w, h), n)?;
+            times.reference_s += t.elapsed().as_secs_f64();
             report.records.push(FrameRecord {
                 scene: name.clone(),
                 mode: "brute".into(),
@@ -1010,9 +840,10 @@ fn run_scene(
                 triangles: frame.triangles,
                 clusters: None,
                 instances_visible: Some(scene.placements.len() as u64),
-                error: None,
+                error: Some(image_error(&r, &frame)?),
             });
-            reference[f] = Some(frame);
+            save_example(report, name, "brute", None, f, &frame, Some(&r));
+            reference[f] = Some(r);
             bar.inc(1);
         }
     }
@@ -1077,7 +908,7 @@ fn run_scene(
                     instances_visible: None,
                     error,
                 });
-                save_example(report, name, "lod", Some(e), f, &frame, &reference[f]);
+                save_example(report, name, "lod", Some(e), f, &frame, None);
                 bar.inc(1);
             }
         }
@@ -1086,19 +917,36 @@ fn run_scene(
 
     // vgeo, every threshold, each threshold's path from a fresh history.
     bar.set_message(format!("{name}: vgeo"));
-    let built = scene.built_list();
-    let mut vgeo = if !runs("vgeo") {
-        bar.inc(frames * sweep.len() as u64);
-        None
+    let t = Instant::now();
+    let built = if runs("vgeo") {
+        use rayon::prelude::*;
+        match (scene.meshes.par_iter())
+            .map(|p| p.built())
+            .collect::<Result<Vec<_>>>()
+        {
+            Ok(b) => Some(b),
+            Err(err) => {
+                skip(report, "vgeo", None, format!("build failed: {err:#}"));
+                None
+            }
+        }
     } else {
-        match VgeoRenderer::new(ctx, &built, &scene.placements) {
+        None
+    };
+    times.build_s = t.elapsed().as_secs_f64();
+    let mut vgeo = match &built {
+        None => {
+            bar.inc(frames * sweep.len() as u64);
+            None
+        }
+        Some(built) => match VgeoRenderer::new(ctx, built, &scene.placements) {
             Ok(r) => Some(r),
             Err(err) => {
                 skip(report, "vgeo", None, format!("failed: {err}"));
                 bar.inc(frames * sweep.len() as u64);
                 None
             }
-        }
+        },
     };
     if let Some(r) = vgeo.as_mut() {
         r.set_emit_path(settings.emit);
@@ -1158,7 +1006,7 @@ fn run_scene(
                     ),
                     error,
                 });
-                save_example(report, name, "vgeo", Some(e), f, &vf.frame, &reference[f]);
+                save_example(report, name, "vgeo", Some(e), f, &vf.frame, None);
                 bar.inc(1);
             }
         }
@@ -1173,10 +1021,11 @@ fn run_scene(
             });
         }
     }
-    Ok(())
+    Ok(times)
 }
 
-/// Keeps the middle frame's images at 1 px (and brute's) for the output folder.
+/// Keeps the middle frame's images for the output folder: brute's and its reference, lod's and
+/// vgeo's at the threshold nearest 1 px.
 fn save_example(
     report: &mut BenchReport,
     scene: &str,
@@ -1184,20 +1033,25 @@ fn save_example(
     e: Option<f32>,
     f: usize,
     frame: &Frame,
-    reference: &Option<Frame>,
+    reference: Option<&Reference>,
 ) {
     let mid = (report.settings.frames as usize - 1) / 2;
-    if f != mid || e != first_one_px(&report.settings.error_sweep) {
+    if f != mid {
         return;
     }
-    if let Some(r) = reference
-        && mode == "lod"
-    {
-        report.images.push((format!("{scene}_brute"), r.clone()));
+    if mode == "brute" {
+        report
+            .images
+            .push((format!("{scene}_brute"), frame.clone()));
+        if let Some(r) = reference {
+            let stem = format!("{scene}_reference_{}spp", r.spp());
+            report.images.push((stem, r.to_frame()));
+        }
+    } else if e == first_one_px(&report.settings.error_sweep) {
+        report
+            .images
+            .push((format!("{scene}_{mode}_1px"), frame.clone()));
     }
-    report
-        .images
-        .push((format!("{scene}_{mode}_1px"), frame.clone()));
 }
 
 /// The sweep's threshold closest to 1 px (the headline figure).
@@ -1225,7 +1079,8 @@ fn summarize(report: &BenchReport) -> Vec<Summary> {
             keys.push(k);
         }
     }
-    keys.into_iter()
+    let mut out: Vec<Summary> = keys
+        .into_iter()
         .map(|(scene, mode, e)| {
             let rs: Vec<&FrameRecord> = report
                 .records
@@ -1270,6 +1125,7 @@ fn summarize(report: &BenchReport) -> Vec<Summary> {
                 depth_err_mean: mean(errs.iter().map(|e| e.depth_err_mean)),
                 depth_err_max: errs.iter().map(|e| e.depth_err_max).reduce(f64::max),
                 psnr_db: mean(errs.iter().map(|e| e.mse)).map(psnr),
+                psnr_below_floor_db: None,
                 geometry_bytes,
                 instance_bytes,
                 bytes_per_stored_triangle: geometry_bytes as f64 / stored.max(1) as f64,
@@ -1278,7 +1134,67 @@ fn summarize(report: &BenchReport) -> Vec<Summary> {
                 error_px: e,
             }
         })
-        .collect()
+        .collect();
+    // How far each is from the floor: brute's PSNR at one sample per pixel.
+    let floors: Vec<(String, f64)> = out
+        .iter()
+        .filter(|s| s.mode == "brute")
+        .filter_map(|s| Some((s.scene.clone(), s.psnr_db?)))
+        .collect();
+    for s in &mut out {
+        let floor = floors.iter().find(|(n, _)| *n == s.scene).map(|f| f.1);
+        s.psnr_below_floor_db = match (floor, s.psnr_db) {
+            (Some(f), Some(p)) if f.is_finite() && p.is_finite() => Some(f - p),
+            (Some(f), Some(p)) if f == p => Some(0.0),
+            _ => None,
+        };
+    }
+    out
+}
+
+/// Per scene and mode (lod, vgeo): the cheapest threshold whose PSNR is within the margin of
+/// brute's floor ([`EqualError`]); scenes without a reference get none.
+fn equal_error(report: &BenchReport) -> Vec<EqualError> {
+    let margin = report.settings.psnr_margin_db;
+    let mut out = Vec::new();
+    for info in &report.scenes {
+        let Some(floor) = report
+            .summary
+            .iter()
+            .find(|s| s.scene == info.name && s.mode == "brute")
+            .and_then(|s| s.psnr_db)
+        else {
+            continue;
+        };
+        for mode in ["lod", "vgeo"] {
+            let best = report
+                .summary
+                .iter()
+                .filter(|s| s.scene == info.name && s.mode == mode)
+                .filter(|s| s.psnr_db.is_some_and(|p| p >= floor - margin))
+                .min_by(|a, b| a.gpu_ms_mean.total_cmp(&b.gpu_ms_mean));
+            if best.is_none()
+                && !report
+                    .summary
+                    .iter()
+                    .any(|s| s.scene == info.name && s.mode == mode)
+            {
+                continue;
+            }
+            out.push(EqualError {
+                scene: info.name.clone(),
+                mode: mode.into(),
+                psnr_margin_db: margin,
+                floor_psnr_db: floor,
+                error_px: best.and_then(|s| s.error_px),
+                gpu_ms_mean: best.map(|s| s.gpu_ms_mean),
+                triangles_mean: best.map(|s| s.triangles_mean),
+                psnr_db: best.and_then(|s| s.psnr_db),
+                surface_diff_mean: best.and_then(|s| s.surface_diff_mean),
+            });
+        }
+    }
+    out
 }
 
 fn git_commit() -> Option<String> {
@@ -1346,13 +1262,18 @@ pub fn write_outputs(report: &BenchReport, out: &Path) -> Result<()> {
     std::fs::write(&p, markdown(report))
         .with_context(|| format!("cannot write {}", p.display()))?;
     for s in &report.scenes {
-        let series = speed_error_series(report, &s.name);
-        if series.iter().any(|(_, pts)| !pts.is_empty()) {
-            plot_speed_error(
-                &out.join(format!("speed_error_{}.svg", s.name)),
-                &s.name,
-                &series,
-            )?;
+        for (axis, stem) in [
+            (ErrorAxis::SurfaceDiff, "speed_error"),
+            (ErrorAxis::Psnr, "speed_psnr"),
+        ] {
+            let series = speed_series(report, &s.name, axis);
+            if series
+                .iter()
+                .any(|(m, pts)| m != "brute" && !pts.is_empty())
+            {
+                let path = out.join(format!("{stem}_{}.svg", s.name));
+                plot_speed_error(&path, report, &s.name, &series, axis)?;
+            }
         }
     }
     let scaling = scaling_series(report);
@@ -1387,27 +1308,51 @@ pub fn write_outputs(report: &BenchReport, out: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Per mode (lod, vgeo): (surface-difference %, GPU ms, threshold) for each threshold.
-type SpeedSeries = Vec<(String, Vec<(f64, f64, f32)>)>;
+/// The error axis of a speed plot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ErrorAxis {
+    /// Pixels whose visible surface differs from the reference's (%).
+    SurfaceDiff,
+    /// PSNR of the lit image against the reference (dB).
+    Psnr,
+}
 
-fn speed_error_series(report: &BenchReport, scene: &str) -> SpeedSeries {
-    ["lod", "vgeo"]
+/// Per mode: (error, GPU ms, label) points; brute's one point (its frame at one sample per pixel,
+/// the floor) labelled `1 spp`, lod's and vgeo's one per threshold labelled with it.
+type SpeedSeries = Vec<(String, Vec<(f64, f64, String)>)>;
+
+fn speed_series(report: &BenchReport, scene: &str, axis: ErrorAxis) -> SpeedSeries {
+    MODES
         .iter()
         .map(|mode| {
-            let mut pts: Vec<(f64, f64, f32)> = report
+            let mut rows: Vec<&Summary> = report
                 .summary
                 .iter()
                 .filter(|s| s.scene == scene && s.mode == *mode)
-                .filter_map(|s| Some((s.surface_diff_mean? * 100.0, s.gpu_ms_mean, s.error_px?)))
                 .collect();
-            pts.sort_by(|a, b| a.2.total_cmp(&b.2));
+            rows.sort_by(|a, b| {
+                a.error_px
+                    .unwrap_or(0.0)
+                    .total_cmp(&b.error_px.unwrap_or(0.0))
+            });
+            let pts = rows
+                .iter()
+                .filter_map(|s| {
+                    let x = match axis {
+                        ErrorAxis::SurfaceDiff => s.surface_diff_mean? * 100.0,
+                        ErrorAxis::Psnr => s.psnr_db.filter(|p| p.is_finite())?,
+                    };
+                    let label = s.error_px.map_or("1 spp".into(), |e| format!("{e}"));
+                    Some((x, s.gpu_ms_mean, label))
+                })
+                .collect();
             (mode.to_string(), pts)
         })
         .collect()
 }
 
-/// Per mode: (scene triangles, GPU ms, MiB) for each stress grid, at the 1 px threshold.
-/// Per mode: (scene triangles, GPU ms, MiB) points.
+/// Per mode: (scene triangles, GPU ms, MiB) for each stress grid, at the sweep's threshold
+/// nearest 1 px (a fixed threshold, not equal error: the largest grids have no reference).
 type ScalingSeries = Vec<(String, Vec<(f64, f64, f64)>)>;
 
 fn scaling_series(report: &BenchReport) -> ScalingSeries {
@@ -1442,37 +1387,85 @@ fn color_of(mode: &str) -> plotters::style::RGBColor {
     }
 }
 
-fn plot_speed_error(path: &Path, scene: &str, series: &SpeedSeries) -> Result<()> {
+fn plot_speed_error(
+    path: &Path,
+    report: &BenchReport,
+    scene: &str,
+    series: &SpeedSeries,
+    axis: ErrorAxis,
+) -> Result<()> {
     use plotters::prelude::*;
+    let spp = report.settings.reference_spp;
     let pts = series.iter().flat_map(|(_, p)| p.iter());
-    let xmax = pts.clone().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.1;
-    let ymax = pts.map(|p| p.1).fold(0.0, f64::max).max(1e-3) * 1.1;
+    let ymax = pts.clone().map(|p| p.1).fold(0.0, f64::max).max(1e-3) * 1.1;
+    let (xlo, xhi) = pts
+        .map(|p| p.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    // The "equal error" limit: brute's floor minus the margin.
+    let floor = series
+        .iter()
+        .find(|(m, _)| m == "brute")
+        .and_then(|(_, p)| p.first())
+        .map(|p| p.0);
+    let limit = floor
+        .filter(|_| axis == ErrorAxis::Psnr)
+        .map(|f| f - report.settings.psnr_margin_db);
+    let (xmin, xmax, caption, x_desc) = match axis {
+        ErrorAxis::SurfaceDiff => (
+            0.0,
+            xhi.max(1e-3) * 1.1,
+            format!("{scene}: GPU time against surface difference (labels: px threshold)"),
+            format!("pixels whose visible surface is none the {spp}-spp reference sees there (%)"),
+        ),
+        ErrorAxis::Psnr => {
+            let (lo, hi) = (xlo.min(limit.unwrap_or(xlo)), xhi.max(xlo + 1.0));
+            (
+                lo - 0.05 * (hi - lo),
+                hi + 0.05 * (hi - lo),
+                format!("{scene}: GPU time against PSNR (labels: px threshold)"),
+                format!(
+                    "PSNR of the lit image against the {spp}-spp reference (dB; line: brute 1 spp - {} dB)",
+                    report.settings.psnr_margin_db
+                ),
+            )
+        }
+    };
     let root = SVGBackend::new(path, (800, 500)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("{scene}: GPU time against image error (labels: px threshold)"),
-            ("sans-serif", 18),
-        )
+        .caption(caption, ("sans-serif", 18))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(60)
-        .build_cartesian_2d(0f64..xmax, 0f64..ymax)?;
+        .build_cartesian_2d(xmin..xmax, 0f64..ymax)?;
     chart
         .configure_mesh()
-        .x_desc("pixels whose visible surface differs from brute (%)")
+        .x_desc(x_desc)
         .y_desc("GPU ms per frame (mean over the path)")
         .draw()?;
+    if let Some(x) = limit {
+        chart.draw_series(LineSeries::new(
+            [(x, 0.0), (x, ymax)],
+            RGBColor(160, 160, 160),
+        ))?;
+    }
     for (mode, pts) in series {
         let c = color_of(mode);
+        let label = if mode == "brute" {
+            "brute (1 spp: the floor)".to_string()
+        } else {
+            mode.clone()
+        };
         chart
             .draw_series(LineSeries::new(pts.iter().map(|p| (p.0, p.1)), c))?
-            .label(mode.as_str())
+            .label(label)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
         chart.draw_series(pts.iter().map(|p| Circle::new((p.0, p.1), 3, c.filled())))?;
         chart.draw_series(
             pts.iter()
-                .map(|p| Text::new(format!("{}", p.2), (p.0, p.1), ("sans-serif", 11))),
+                .map(|p| Text::new(p.2.clone(), (p.0, p.1), ("sans-serif", 11))),
         )?;
     }
     chart
@@ -1584,9 +1577,17 @@ pub fn markdown(report: &BenchReport) -> String {
         s.hw_threshold_px,
         s.emit
     );
+    let n = s.reference_samples_per_axis();
     let _ = writeln!(
         md,
-        "- image error against brute of the same frame: surface diff = pixels whose visible surface differs (coverage, or depth off by > {DEPTH_TOLERANCE} relative); depth error relative; PSNR of the lit image\n"
+        "- image error against the reference of the same frame: brute at {} samples per pixel ({n}x{n} on a regular grid, box-filtered; the brute row is brute at 1 sample per pixel against it, the floor); surface diff = pixels whose visible surface is none the reference's samples see there (coverage, or a depth outside their range by > {} relative); depth error: relative distance to that range; PSNR of the lit image; below floor = brute's PSNR minus the row's",
+        s.reference_spp,
+        crate::imgerr::DEPTH_TOLERANCE
+    );
+    let _ = writeln!(
+        md,
+        "- at equal error: per mode, the cheapest threshold (GPU ms) whose PSNR is at most {} dB below brute's at 1 sample per pixel\n",
+        s.psnr_margin_db
     );
     for info in &report.scenes {
         let _ = writeln!(
@@ -1603,12 +1604,12 @@ pub fn markdown(report: &BenchReport) -> String {
             info.stored_triangles,
             info.meshes.join(", ")
         );
-        md.push_str("| mode | px | GPU ms | CPU ms | triangles | clusters | instances | surface diff % | depth err mean / max | PSNR dB | geometry MiB | B/stored tri |\n");
-        md.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        md.push_str("| mode | px | GPU ms | CPU ms | triangles | clusters | instances | surface diff % | depth err mean / max | PSNR dB | below floor dB | geometry MiB | B/stored tri |\n");
+        md.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for r in report.summary.iter().filter(|r| r.scene == info.name) {
             let _ = writeln!(
                 md,
-                "| {} | {} | {:.3} | {:.1} | {:.0} | {} | {} | {} | {} | {} | {:.1} | {:.1} |",
+                "| {} | {} | {:.3} | {:.1} | {:.0} | {} | {} | {} | {} | {} | {} | {:.1} | {:.1} |",
                 r.mode,
                 r.error_px.map_or("-".into(), |e| e.to_string()),
                 r.gpu_ms_mean,
@@ -1621,11 +1622,12 @@ pub fn markdown(report: &BenchReport) -> String {
                     (Some(a), Some(b)) => format!("{a:.1e} / {b:.1e}"),
                     _ => "-".into(),
                 },
-                match (r.psnr_db, r.surface_diff_mean) {
-                    (Some(p), _) if p.is_finite() => format!("{p:.1}"),
-                    (Some(_), _) => "inf (equal)".into(),
-                    (None, _) => "-".into(),
+                match r.psnr_db {
+                    Some(p) if p.is_finite() => format!("{p:.2}"),
+                    Some(_) => "inf (equal)".into(),
+                    None => "-".into(),
                 },
+                fmt_opt(r.psnr_below_floor_db, |x| format!("{x:.2}")),
                 r.geometry_bytes as f64 / (1u64 << 20) as f64,
                 r.bytes_per_stored_triangle,
             );
@@ -1633,17 +1635,48 @@ pub fn markdown(report: &BenchReport) -> String {
         for k in report.skipped.iter().filter(|k| k.scene == info.name) {
             let _ = writeln!(
                 md,
-                "| {} | {} | skipped: {} |||||||||| ",
+                "| {} | {} | skipped: {} ||||||||||| ",
                 k.mode,
                 k.error_px.map_or("-".into(), |e| e.to_string()),
                 k.reason
             );
         }
         md.push('\n');
+        let eq: Vec<&EqualError> = (report.equal_error.iter())
+            .filter(|e| e.scene == info.name)
+            .collect();
+        if let Some(first) = eq.first() {
+            let _ = writeln!(
+                md,
+                "At equal error (PSNR at least {:.2} dB: brute at 1 spp {:.2} dB - {} dB):\n\n| mode | px | GPU ms | triangles | PSNR dB | surface diff % |\n|---|---|---|---|---|---|",
+                first.floor_psnr_db - first.psnr_margin_db,
+                first.floor_psnr_db,
+                first.psnr_margin_db
+            );
+            for e in eq {
+                match e.error_px {
+                    Some(px) => {
+                        let _ = writeln!(
+                            md,
+                            "| {} | {px} | {} | {} | {} | {} |",
+                            e.mode,
+                            fmt_opt(e.gpu_ms_mean, |x| format!("{x:.3}")),
+                            fmt_opt(e.triangles_mean, |x| format!("{x:.0}")),
+                            fmt_opt(e.psnr_db, |x| format!("{x:.2}")),
+                            fmt_opt(e.surface_diff_mean, |x| format!("{:.3}", x * 100.0)),
+                        );
+                    }
+                    None => {
+                        let _ = writeln!(md, "| {} | none of the sweep |||||", e.mode);
+                    }
+                }
+            }
+            md.push('\n');
+        }
     }
     let scaling = scaling_series(report);
     if scaling.iter().any(|(_, p)| !p.is_empty()) {
-        md.push_str("## stress scaling (1 px)\n\n| mode | scene triangles | GPU ms | MiB (geometry + instances) |\n|---|---|---|---|\n");
+        md.push_str("## stress scaling (threshold nearest 1 px, not equal error)\n\n| mode | scene triangles | GPU ms | MiB (geometry + instances) |\n|---|---|---|---|\n");
         for (mode, pts) in &scaling {
             for p in pts {
                 let _ = writeln!(md, "| {mode} | {:.3e} | {:.3} | {:.1} |", p.0, p.1, p.2);
@@ -1675,54 +1708,110 @@ pub fn run_bench(args: &BenchArgs) -> Result<()> {
 mod tests {
     use super::*;
 
-    fn frame(depth: Vec<f32>, color: Vec<u8>) -> Frame {
-        Frame {
-            width: depth.len() as u32,
-            height: 1,
-            color,
-            depth,
-            gpu_ms: Vec::new(),
-            triangles: 0,
+    /// A record of `mode` at `e` px with `gpu_ms` and lit-image `mse` against the reference.
+    fn record(mode: &str, e: Option<f32>, gpu_ms: f64, mse: f64) -> FrameRecord {
+        FrameRecord {
+            scene: "s".into(),
+            mode: mode.into(),
+            error_px: e,
+            frame: 0,
+            gpu_ms,
+            passes: vec![("p".into(), gpu_ms)],
+            cpu_ms: 1.0,
+            triangles: 100,
+            clusters: None,
+            instances_visible: None,
+            error: Some(ImageError {
+                surface_diff: 0.01,
+                coverage_diff: 0.0,
+                depth_err_mean: 0.0,
+                depth_err_max: 0.0,
+                mse,
+                psnr_db: psnr(mse),
+            }),
         }
     }
 
     #[test]
-    fn image_error_counts_coverage_depth_and_psnr() {
-        let a = frame(vec![0.5, 0.5, 0.0, 0.2], vec![10; 16]);
-        assert_eq!(image_error(&a, &a).unwrap().psnr_db, f64::INFINITY);
-        assert_eq!(image_error(&a, &a).unwrap().surface_diff, 0.0);
-        let mut c = vec![10u8; 16];
-        c[0] = 20; // one channel off by 10: mse = 100 / 12
-        let b = frame(vec![0.5, 0.5004, 0.3, 0.21], c);
-        let e = image_error(&a, &b).unwrap();
-        // Pixel 1: within 1e-3 relative; pixel 2: coverage; pixel 3: 5 % off.
-        assert_eq!(e.coverage_diff, 0.25);
-        assert_eq!(e.surface_diff, 0.5);
-        assert!((e.depth_err_max - 0.05).abs() < 1e-5, "{}", e.depth_err_max);
-        assert!((e.mse - 100.0 / 12.0).abs() < 1e-9);
-        assert!((e.psnr_db - psnr(100.0 / 12.0)).abs() < 1e-9 && e.psnr_db.is_finite());
-        let small = frame(vec![0.5], vec![0; 4]);
-        assert!(image_error(&a, &small).is_err());
-    }
-
-    #[test]
-    fn generated_meshes_are_valid() {
-        let g = generated_mesh("grass").unwrap();
-        g.validate().unwrap();
-        assert_eq!(g.triangle_count(), 24 * 7);
-        let (lo, hi) = g.bounds().unwrap();
-        assert!(lo[1] >= 0.0 && hi[1] > 0.5 && hi[1] < 1.5, "{lo:?} {hi:?}");
-        let b = generated_mesh("box").unwrap();
-        b.validate().unwrap();
-        assert_eq!(b.triangle_count(), 12);
-        assert_eq!(b.bounds().unwrap(), ([-0.5; 3], [0.5; 3]));
-        // Outward winding: each triangle's normal agrees with its vertices' normals.
-        for t in b.indices.chunks_exact(3) {
-            let p = |i: u32| Vec3::from(b.positions[i as usize]);
-            let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
-            assert!(n.dot(Vec3::from(b.normals[t[0] as usize])) > 0.0);
+    fn equal_error_picks_the_cheapest_threshold_within_the_margin() {
+        let settings = Suite::Quick.settings();
+        let info = SceneInfo {
+            name: "s".into(),
+            file: PathBuf::new(),
+            stress_n: None,
+            instances: 1,
+            instances_in_scene: 1,
+            scene_triangles: 100,
+            stored_triangles: 100,
+            meshes: Vec::new(),
+            frames: 1,
+            prepare_s: 0.0,
+            build_s: 0.0,
+            reference_s: 0.0,
+        };
+        // Floor: brute at mse 10. PSNR falls 3 dB each time the mse doubles.
+        let records = vec![
+            record("brute", None, 9.0, 10.0),
+            record("lod", Some(0.5), 5.0, 10.5),
+            record("lod", Some(1.0), 4.0, 12.0),
+            record("lod", Some(2.0), 3.0, 30.0),
+            record("vgeo", Some(0.5), 2.0, 40.0),
+            record("vgeo", Some(1.0), 1.0, 80.0),
+        ];
+        let mut report = BenchReport {
+            device: String::new(),
+            driver: String::new(),
+            api_version: String::new(),
+            validation: false,
+            commit: None,
+            date: String::new(),
+            settings,
+            scenes: vec![info],
+            records,
+            summary: Vec::new(),
+            equal_error: Vec::new(),
+            skipped: Vec::new(),
+            memory: Vec::new(),
+            wall_s: 0.0,
+            images: Vec::new(),
+        };
+        report.summary = summarize(&report);
+        let below = |mode: &str, e: Option<f32>| {
+            (report.summary.iter())
+                .find(|s| s.mode == mode && s.error_px == e)
+                .and_then(|s| s.psnr_below_floor_db)
+                .unwrap()
+        };
+        assert_eq!(below("brute", None), 0.0);
+        assert!((below("lod", Some(1.0)) - 10.0 * 1.2f64.log10()).abs() < 1e-9);
+        report.equal_error = equal_error(&report);
+        fn pick(report: &BenchReport, mode: &str) -> EqualError {
+            (report.equal_error.iter())
+                .find(|e| e.mode == mode)
+                .unwrap()
+                .clone()
         }
-        assert!(generated_mesh("nope").is_none());
+        // lod: 1 px is 0.79 dB below the floor (2 px: 4.8 dB), the cheapest within 1 dB.
+        let lod = pick(&report, "lod");
+        assert_eq!(lod.error_px, Some(1.0));
+        assert_eq!(lod.gpu_ms_mean, Some(4.0));
+        assert!((lod.floor_psnr_db - psnr(10.0)).abs() < 1e-12);
+        // vgeo: none within 1 dB; with a 7 dB margin 0.5 px (6 dB below) qualifies, 1 px not.
+        assert_eq!(pick(&report, "vgeo").error_px, None);
+        report.settings.psnr_margin_db = 7.0;
+        report.equal_error = equal_error(&report);
+        assert_eq!(pick(&report, "vgeo").error_px, Some(0.5));
+        assert_eq!(
+            pick(&report, "lod").error_px,
+            Some(2.0),
+            "cheaper, 4.8 dB below"
+        );
+        // The Markdown says what was picked.
+        let md = markdown(&report);
+        assert!(
+            md.contains("At equal error") && md.contains("| vgeo | 0.5 |"),
+            "{md}"
+        );
     }
 
     #[test]
@@ -1746,7 +1835,24 @@ mod tests {
         assert!(s.validate().is_err());
         s.hw_threshold_px = 64.0;
         s.validate().unwrap();
+        for (spp, ok) in [
+            (16, true),
+            (1, true),
+            (9, true),
+            (256, true),
+            (0, false),
+            (8, false),
+            (289, false),
+        ] {
+            s.reference_spp = spp;
+            assert_eq!(s.validate().is_ok(), ok, "reference spp {spp}");
+        }
+        s.reference_spp = 16;
+        assert_eq!(s.reference_samples_per_axis(), 4);
+        s.psnr_margin_db = -1.0;
+        assert!(s.validate().is_err());
         let full = Suite::Full.settings();
+        assert_eq!(full.reference_spp, 16);
         assert_eq!((full.width, full.height), (1920, 1080));
         assert_eq!(*full.stress_n.last().unwrap(), 100);
         assert_eq!(first_one_px(&full.error_sweep), Some(1.0));

@@ -79,6 +79,34 @@ impl Camera {
         self.projection(width as f32 / height.max(1) as f32) * self.view_rotation()
     }
 
+    /// The projection of the sub-rectangle `[x0, x0 + width) x [y0, y0 + height)` (pixels) of a
+    /// `full_width` x `full_height` image, onto a `width` x `height` target: the same rays as
+    /// [`Camera::view_proj`] of the full image, the rectangle's pixels mapped one to one (an
+    /// off-centre projection). Renders a large image in tiles; depth is unchanged.
+    pub fn view_proj_window(
+        &self,
+        (full_width, full_height): (u32, u32),
+        (x0, y0): (u32, u32),
+        (width, height): (u32, u32),
+    ) -> Mat4 {
+        // Full-image NDC to the rectangle's NDC: ndc' = s ndc + o per axis, in clip space
+        // x' = s x + o w (w unchanged, so depth is too).
+        let axis = |full: u32, start: u32, size: u32| {
+            let s = full as f64 / size.max(1) as f64;
+            let o = (full as f64 - 2.0 * start as f64) / size.max(1) as f64 - 1.0;
+            (s as f32, o as f32)
+        };
+        let (sx, ox) = axis(full_width, x0, width);
+        let (sy, oy) = axis(full_height, y0, height);
+        let window = Mat4::from_cols(
+            Vec4::new(sx, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, sy, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, 1.0, 0.0),
+            Vec4::new(ox, oy, 0.0, 1.0),
+        );
+        window * self.view_proj(full_width, full_height)
+    }
+
     /// `model` made camera-relative (translation minus the camera position, in f64), as f32.
     pub fn relative_model(&self, model: &DMat4) -> Mat4 {
         let rel = DMat4::from_translation(-self.position) * *model;
@@ -99,4 +127,42 @@ pub fn project_to_pixel(view_proj: &Mat4, p: Vec3, width: u32, height: u32) -> O
         ndc.z,
         c.w,
     ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point lands in a tile's projection at its full-image pixel minus the tile's corner, with
+    /// the same depth; the whole image as its own tile is the plain projection.
+    #[test]
+    fn window_projection_maps_pixels_of_the_rectangle() {
+        let cam = Camera::look_at(
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::ZERO,
+            Vec3::Y,
+            50f32.to_radians(),
+            0.01,
+        );
+        let full = (640, 360);
+        assert_eq!(
+            cam.view_proj_window(full, (0, 0), full),
+            cam.view_proj(full.0, full.1)
+        );
+        let vp = cam.view_proj(full.0, full.1);
+        for (corner, size) in [
+            ((0, 0), (256, 256)),
+            ((384, 256), (256, 104)),
+            ((100, 7), (33, 20)),
+        ] {
+            let win = cam.view_proj_window(full, corner, size);
+            for p in [Vec3::new(-1.0, -2.0, -3.0), Vec3::new(-0.7, -1.5, -3.2)] {
+                let a = project_to_pixel(&vp, p, full.0, full.1).unwrap();
+                let b = project_to_pixel(&win, p, size.0, size.1).unwrap();
+                assert!((a[0] - corner.0 as f32 - b[0]).abs() < 1e-3, "{a:?} {b:?}");
+                assert!((a[1] - corner.1 as f32 - b[1]).abs() < 1e-3, "{a:?} {b:?}");
+                assert!((a[2] - b[2]).abs() <= 1e-7 * a[2].abs() && a[3] == b[3]);
+            }
+        }
+    }
 }

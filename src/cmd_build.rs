@@ -1,20 +1,26 @@
 //! CLI glue for `vgeo build`, `vgeo verify` and `vgeo info FILE.vgeo`.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Context;
 use clap::Args;
 
 use crate::builder::{self, BuildOptions, VerifyOptions};
-use crate::mesh::Mesh;
+use crate::mesh::{ImportOptions, Mesh};
+use crate::scene::Scene;
+use crate::scene::load::{LoadedScene, MeshCache, PreparedMesh};
 
-/// `vgeo build IN -o OUT.vgeo`: builds the cluster DAG of a mesh.
+/// `vgeo build IN -o OUT.vgeo`: builds the cluster DAG of a mesh, or of every mesh of a scene.
 #[derive(Args, Debug, Clone)]
 pub struct BuildArgs {
-    /// Input mesh (glTF/GLB, OBJ, PLY, STL, OFF).
+    /// Input mesh (glTF/GLB, OBJ, PLY, STL, OFF), or a scene file (.toml): every mesh of the
+    /// scene is built with the scene's options (e.g. `materials = 64`), as `vgeo render` and
+    /// `vgeo bench` load them, into OUT/NAME.vgeo.
     pub input: PathBuf,
-    /// Output `.vgeo` file (default: the input with extension `.vgeo`).
+    /// Output `.vgeo` file (default: the input with extension `.vgeo`); for a scene file, the
+    /// output folder (default: SCENE-vgeo beside the scene file).
     #[arg(short = 'o', long = "out")]
     pub out: Option<PathBuf>,
     /// Most triangles per cluster.
@@ -85,6 +91,10 @@ pub struct VerifyArgs {
     /// Seed of the views.
     #[arg(long = "seed", default_value_t = 1)]
     pub seed: u64,
+    /// Check with the slow reference verifier (the oracle the fast one is tested against; same
+    /// report, for comparisons and timing).
+    #[arg(long = "reference", hide = true)]
+    pub reference: bool,
 }
 
 /// Loads the meshes of `path` with the importer: one per glTF node with `split_nodes`, else one.
@@ -100,19 +110,37 @@ pub fn load_input(path: &Path, opts: &crate::mesh::ImportOptions) -> anyhow::Res
     Ok(import.meshes)
 }
 
+/// What one `vgeo build` output is made from.
+enum Source {
+    /// A glTF node's mesh (`--split-nodes`).
+    Node(Mesh),
+    /// A mesh file, or a scene's mesh with the scene's options, through the scene loader
+    /// ([`crate::scene::load`]: the path `vgeo render` and `vgeo bench` take).
+    Prepared(Arc<PreparedMesh>),
+}
+
+/// One output of `vgeo build`.
+struct Job {
+    /// The input named in messages.
+    input: PathBuf,
+    source: Source,
+    out: PathBuf,
+}
+
+/// Whether `path` is a scene file (`.toml`).
+fn is_scene_file(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+}
+
 /// Runs `vgeo build`.
 pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
-    let meshes = load_input(
-        &a.input,
-        &crate::mesh::ImportOptions {
-            split_nodes: a.split_nodes,
-            crease_deg: a.crease_deg,
-        },
-    )?;
-    let mut meshes = if a.split_nodes {
-        meshes
-    } else {
-        vec![crate::mesh::merge(meshes)]
+    if !(a.crease_deg >= 0.0 && a.crease_deg <= 180.0) {
+        anyhow::bail!("--crease-deg {} is not in 0..=180", a.crease_deg);
+    }
+    let import = ImportOptions {
+        split_nodes: a.split_nodes,
+        crease_deg: a.crease_deg,
     };
     let opts = BuildOptions {
         max_cluster_triangles: a.max_triangles,
@@ -132,31 +160,91 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
             _ => builder::Partitioner::Meshopt,
         },
     };
-    let out_base = a
-        .out
-        .clone()
-        .unwrap_or_else(|| a.input.with_extension("vgeo"));
-    let count = meshes.len();
-    let mut reports = Vec::new();
-    for (i, mesh) in meshes.drain(..).enumerate() {
-        let out = if count > 1 {
+    let jobs = if is_scene_file(&a.input) {
+        scene_jobs(a, import, opts.clone())?
+    } else if a
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("vgeo"))
+    {
+        anyhow::bail!("{} is built already", a.input.display());
+    } else {
+        let out_base = a
+            .out
+            .clone()
+            .unwrap_or_else(|| a.input.with_extension("vgeo"));
+        if a.split_nodes {
+            let meshes = load_input(&a.input, &import)?;
+            let count = meshes.len();
             let stem = out_base
                 .file_stem()
                 .and_then(|s| s.to_str())
-                .unwrap_or("out");
-            out_base.with_file_name(format!("{stem}_{i}.vgeo"))
+                .unwrap_or("out")
+                .to_string();
+            meshes
+                .into_iter()
+                .enumerate()
+                .map(|(i, mesh)| Job {
+                    input: a.input.clone(),
+                    source: Source::Node(mesh),
+                    out: if count > 1 {
+                        out_base.with_file_name(format!("{stem}_{i}.vgeo"))
+                    } else {
+                        out_base.clone()
+                    },
+                })
+                .collect()
         } else {
-            out_base.clone()
-        };
+            let mut cache = MeshCache::new(import, opts.clone());
+            let loaded = LoadedScene::from_scene(&mut cache, Scene::single_mesh(&a.input))?;
+            for w in &loaded.warnings {
+                eprintln!("warning: {w}");
+            }
+            vec![Job {
+                input: a.input.clone(),
+                source: Source::Prepared(loaded.prepared[0].clone()),
+                out: out_base,
+            }]
+        }
+    };
+    if a.fallback_out.is_some() && jobs.len() > 1 {
+        anyhow::bail!(
+            "--fallback-out takes one mesh; this input has {}",
+            jobs.len()
+        );
+    }
+    let mut reports = Vec::new();
+    let mut failed = Vec::new();
+    for job in &jobs {
         let bar = indicatif::ProgressBar::new_spinner();
+        let progress = |msg: &str| bar.set_message(msg.to_string());
         let t0 = Instant::now();
-        let built =
-            builder::build_with_progress(&mesh, &opts, &|msg| bar.set_message(msg.to_string()))
-                .with_context(|| format!("building {}", a.input.display()))?;
+        let owned;
+        let built = match &job.source {
+            Source::Node(mesh) => {
+                owned = builder::build_with_progress(mesh, &opts, &progress)
+                    .with_context(|| format!("building {}", job.input.display()));
+                owned.as_ref().map_err(|e| anyhow::anyhow!("{e:#}"))
+            }
+            Source::Prepared(p) => p
+                .built_with(&progress)
+                .with_context(|| format!("building {}", job.input.display())),
+        };
         let secs = t0.elapsed().as_secs_f64();
         bar.finish_and_clear();
-        let bytes = crate::format::save(&built);
-        std::fs::write(&out, &bytes).with_context(|| format!("writing {}", out.display()))?;
+        let built = match built {
+            Ok(b) => b,
+            // A scene's other meshes are still built; the command fails at the end.
+            Err(e) if jobs.len() > 1 && is_scene_file(&a.input) => {
+                eprintln!("error: {e:#}");
+                failed.push(job.input.display().to_string());
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        let out = &job.out;
+        let bytes = crate::format::save(built);
+        std::fs::write(out, &bytes).with_context(|| format!("writing {}", out.display()))?;
         if let Some(obj) = &a.fallback_out {
             let fb = built.fallback_mesh(a.fallback_triangles);
             std::fs::write(obj, builder::mesh_to_obj(&fb))
@@ -165,13 +253,13 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         let tps = built.stats.input_triangles as f64 / secs.max(1e-9);
         if a.json {
             reports.push(serde_json::json!({
-                "input": a.input, "output": out, "seconds": secs, "triangles_per_second": tps,
+                "input": job.input, "output": out, "seconds": secs, "triangles_per_second": tps,
                 "bytes": bytes.len(),
-                "bytes_per_input_triangle": crate::format::bytes_per_input_triangle(bytes.len(), &built),
+                "bytes_per_input_triangle": crate::format::bytes_per_input_triangle(bytes.len(), built),
                 "stats": built.stats,
             }));
         } else {
-            println!("{}", describe(&built, bytes.len()));
+            println!("{}", describe(built, bytes.len()));
             println!(
                 "built in {secs:.2} s ({:.0} input triangles/s) -> {}",
                 tps,
@@ -182,7 +270,60 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
     if a.json {
         println!("{}", serde_json::to_string_pretty(&reports)?);
     }
+    if !failed.is_empty() {
+        anyhow::bail!(
+            "{} of {} meshes failed to build: {}",
+            failed.len(),
+            jobs.len(),
+            failed.join(", ")
+        );
+    }
     Ok(())
+}
+
+/// `vgeo build SCENE.toml`: every mesh of the scene with the scene's options (each distinct
+/// path and options once), to `OUT/NAME.vgeo` (`OUT`: `-o`, default `SCENE-vgeo` beside the
+/// scene file). Meshes given as `.vgeo` files are built already and skipped.
+fn scene_jobs(
+    a: &BuildArgs,
+    import: ImportOptions,
+    opts: BuildOptions,
+) -> anyhow::Result<Vec<Job>> {
+    if a.split_nodes {
+        anyhow::bail!("--split-nodes applies to a mesh file, not a scene");
+    }
+    let dir = a.out.clone().unwrap_or_else(|| {
+        let stem = a
+            .input
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy());
+        a.input.with_file_name(format!("{stem}-vgeo"))
+    });
+    let mut cache = MeshCache::new(import, opts);
+    let loaded = LoadedScene::load_with(&mut cache, &a.input)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let mut jobs: Vec<Job> = Vec::new();
+    for (m, p) in loaded.scene.meshes.iter().zip(&loaded.prepared) {
+        if p.built_if_ready().is_some() {
+            eprintln!("{}: built already, skipped", m.path.display());
+            continue;
+        }
+        if jobs
+            .iter()
+            .any(|j| matches!(&j.source, Source::Prepared(q) if Arc::ptr_eq(p, q)))
+        {
+            continue;
+        }
+        jobs.push(Job {
+            input: m.path.clone(),
+            source: Source::Prepared(p.clone()),
+            out: dir.join(format!("{}.vgeo", m.name)),
+        });
+    }
+    Ok(jobs)
 }
 
 /// Human-readable statistics of a built mesh.
@@ -235,14 +376,16 @@ pub fn describe(m: &builder::BuiltMesh, file_len: usize) -> String {
 pub fn run_verify(a: &VerifyArgs) -> anyhow::Result<bool> {
     let bytes = std::fs::read(&a.file).with_context(|| format!("reading {}", a.file.display()))?;
     let m = crate::format::load(&bytes).with_context(|| format!("loading {}", a.file.display()))?;
-    let report = builder::verify(
-        &m,
-        &VerifyOptions {
-            views: a.views,
-            seed: a.seed,
-            ..Default::default()
-        },
-    );
+    let opts = VerifyOptions {
+        views: a.views,
+        seed: a.seed,
+        ..Default::default()
+    };
+    let report = if a.reference {
+        builder::verify::verify_reference(&m, &opts)
+    } else {
+        builder::verify(&m, &opts)
+    };
     println!("{}: {report}", a.file.display());
     Ok(report.ok())
 }

@@ -5,6 +5,8 @@
 //! fixed command buffer: nothing in it depends on the number of instances or clusters, the counts
 //! live on the GPU and reach the rasterizers through indirect arguments.
 
+use std::borrow::Borrow;
+
 use crate::builder::BuiltMesh;
 use crate::camera::Camera;
 use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Timer, vk};
@@ -97,16 +99,21 @@ pub struct VgeoRenderer {
 
 impl VgeoRenderer {
     /// Uploads the scene and creates the pipelines.
-    pub fn new(ctx: &Context, built: &[BuiltMesh], placements: &[Placement]) -> GpuResult<Self> {
+    /// `built` may hold the meshes or references to them (anything that borrows as one).
+    pub fn new<B: Borrow<BuiltMesh>>(
+        ctx: &Context,
+        built: &[B],
+        placements: &[Placement],
+    ) -> GpuResult<Self> {
         let vis_path = VisPath::choose(ctx).map_err(GpuError::Other)?;
         Self::with_path(ctx, built, placements, vis_path)
     }
 
     /// Like [`VgeoRenderer::new`] with an explicit visibility-buffer path (the image path needs
     /// `VK_EXT_shader_image_atomic_int64`).
-    pub fn with_path(
+    pub fn with_path<B: Borrow<BuiltMesh>>(
         ctx: &Context,
-        built: &[BuiltMesh],
+        built: &[B],
         placements: &[Placement],
         vis_path: VisPath,
     ) -> GpuResult<Self> {
@@ -120,11 +127,11 @@ impl VgeoRenderer {
         // Every BVH node is visited at most once per instance, and at most every cluster drawn.
         let nodes: u64 = placements
             .iter()
-            .map(|p| built[p.mesh as usize].bvh.len() as u64)
+            .map(|p| built[p.mesh as usize].borrow().bvh.len() as u64)
             .sum();
         let clusters: u64 = placements
             .iter()
-            .map(|p| built[p.mesh as usize].clusters.len() as u64)
+            .map(|p| built[p.mesh as usize].borrow().clusters.len() as u64)
             .sum();
         let queue_capacity = nodes.clamp(64, MAX_QUEUE as u64) as u32;
         let visible_capacity = clusters.clamp(64, MAX_VISIBLE as u64) as u32;

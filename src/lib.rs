@@ -3,7 +3,9 @@
 //! - [`mesh`] imports meshes (glTF, OBJ, PLY, STL, OFF) into a validated, welded [`mesh::Mesh`].
 //! - [`builder`] turns a mesh into a DAG of clusters (CPU only, deterministic); [`format`] stores it.
 //! - [`gpu`] is the only module with raw Vulkan calls; [`baseline`] holds the classic paths.
-//! - [`bench`] runs the benchmark scenes in every mode; [`scene`] reads scene files; [`reference`] has CPU oracles used by tests.
+//! - [`scene`] reads scene files and is the one loader of their meshes ([`scene::load`]); [`bench`]
+//!   runs the benchmark scenes in every mode; [`imgerr`] measures image error against a
+//!   (supersampled) reference; [`reference`] has CPU oracles used by tests.
 //!
 //! See `docs/architecture.md` for the map of the code.
 
@@ -15,6 +17,7 @@ pub mod cmd_build;
 pub mod format;
 pub mod frame;
 pub mod gpu;
+pub mod imgerr;
 pub mod lod_strip;
 pub mod material;
 pub mod mesh;

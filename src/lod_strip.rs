@@ -23,7 +23,8 @@ use crate::frame::VgeoRenderer;
 use crate::gpu::{Context, GpuError};
 use crate::passes::debug_view::ViewMode;
 use crate::passes::view::FrameSettings;
-use crate::render::{Frame, Light, LoadedScene};
+use crate::render::{Frame, Light};
+use crate::scene::load::LoadedScene;
 
 /// Most panels of one strip (`2^15` times the base distance at the last).
 pub const MAX_PANELS: u32 = 16;
@@ -249,14 +250,9 @@ pub fn render_lod_strip(
 /// ahead).
 pub fn base_view(loaded: &LoadedScene, width: u32, height: u32) -> (Camera, f64) {
     let camera = loaded.camera(width, height);
-    let bounds: Vec<_> = loaded
-        .meshes
-        .iter()
-        .map(|m| m.bounds().unwrap_or(([0.0; 3], [0.0; 3])))
-        .collect();
     let centre = loaded
         .scene
-        .bounds(&bounds)
+        .bounds(&loaded.mesh_bounds())
         .map(|(lo, hi)| (lo + hi) * 0.5)
         .unwrap_or(DVec3::ZERO);
     let to = centre - camera.position;
@@ -274,7 +270,7 @@ pub fn render_file(
     progress: &(dyn Fn(&str) + Sync),
 ) -> anyhow::Result<LodStrip> {
     opts.check()?;
-    let mut loaded = LoadedScene::load(path)?;
+    let loaded = LoadedScene::load(path)?;
     for w in &loaded.warnings {
         progress(&format!("warning: {w}"));
     }

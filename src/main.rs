@@ -9,7 +9,7 @@ use vgeo::frame::VgeoRenderer;
 use vgeo::gpu::{Context, ContextOptions};
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
-use vgeo::render::LoadedScene;
+use vgeo::scene::load::LoadedScene;
 
 /// vgeo renders triangle scenes of any size at pixel-scale detail (Nanite-style cluster DAGs) on Vulkan.
 ///
@@ -28,9 +28,11 @@ struct Cli {
 enum Command {
     /// Render a mesh (auto-framed) or a scene file (.toml) to a PNG.
     Render(RenderArgs),
-    /// Build a mesh's cluster DAG into a .vgeo file.
+    /// Build a mesh's cluster DAG into a .vgeo file, or every mesh of a scene file (.toml) with
+    /// the scene's options.
     Build(vgeo::cmd_build::BuildArgs),
-    /// Benchmark the scenes in the three modes (brute, lod, vgeo): speed, image error, scaling.
+    /// Benchmark the scenes in the three modes (brute, lod, vgeo): speed, image error against a
+    /// supersampled brute reference (--reference-spp), speed at equal error, scaling.
     Bench(vgeo::bench::BenchArgs),
     /// Check a .vgeo file: DAG invariants and crack-free cuts for many views (non-zero exit on failure).
     Verify(vgeo::cmd_build::VerifyArgs),
@@ -207,7 +209,7 @@ fn render(a: &RenderArgs) -> Result<()> {
         return lod_strip(a, flags);
     }
     let t0 = std::time::Instant::now();
-    let mut loaded = LoadedScene::load(&a.input)?;
+    let loaded = LoadedScene::load(&a.input)?;
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
     }
@@ -268,7 +270,7 @@ fn render(a: &RenderArgs) -> Result<()> {
     let frame = match a.mode.as_str() {
         "lod" => {
             let opts = vgeo::baseline::lod::LodOptions::default();
-            let lod = vgeo::baseline::lod::Lod::new(&ctx, &l.meshes, &opts)?;
+            let lod = vgeo::baseline::lod::Lod::new(&ctx, &l.meshes(), &opts)?;
             lod.warnings()
                 .iter()
                 .for_each(|w| eprintln!("warning: {w}"));
@@ -276,7 +278,7 @@ fn render(a: &RenderArgs) -> Result<()> {
             lod.render_view(&l.placements, c, &l.light, size, a.error_px, shade)?
         }
         _ => {
-            let brute = vgeo::baseline::brute::Brute::new(&ctx, &l.meshes)?;
+            let brute = vgeo::baseline::brute::Brute::new(&ctx, &l.meshes())?;
             brute
                 .warnings()
                 .iter()
@@ -333,7 +335,7 @@ fn finish(
     println!("resolution: {}x{}", a.width, a.height);
     println!(
         "scene:      {} meshes, {} instances (loaded in {load_s:.2} s)",
-        loaded.meshes.len(),
+        loaded.prepared.len(),
         loaded.placements.len()
     );
     println!("triangles:  {}", frame.triangles);

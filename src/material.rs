@@ -259,10 +259,11 @@ fn load_texture(path: &Path, srgb: bool) -> Result<TextureData, String> {
 impl SceneMaterials {
     /// Gathers the materials of `built` (meshes without materials get [`Material::default`]) and
     /// names their textures (each file once).
-    pub fn new(built: &[BuiltMesh]) -> Result<Self, String> {
+    pub fn new<B: std::borrow::Borrow<BuiltMesh>>(built: &[B]) -> Result<Self, String> {
         let mut s = Self::empty();
         let mut by_path = BTreeMap::new();
         for m in built {
+            let m = m.borrow();
             let (offset, count) = s.push_table(&mut by_path, &m.name, &m.materials);
             let q = &m.quantization;
             s.meshes.push(MeshMaterialGpu {

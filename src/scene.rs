@@ -68,12 +68,16 @@
 //! target = [0, 0.5, 0]
 //! ```
 //!
-//! A mesh path `generated:NAME` names a mesh made in code (see `crate::bench::generated_mesh`);
-//! it is kept as written, not resolved against the scene's folder.
+//! A mesh path `generated:NAME` names a mesh made in code ([`generated::generated_mesh`]); it is
+//! kept as written, not resolved against the scene's folder. Scenes' meshes are loaded and built
+//! through [`load`] ([`load::LoadedScene`], [`load::MeshCache`]), the one path every command uses.
 //!
 //! Rotations: `rotation_deg = [x, y, z]` is `R = Rz(z) * Ry(y) * Rx(x)` (Blender's "XYZ Euler").
 //! An instance's transform is `translate * rotate * scale`; for procedural entries the random yaw
 //! is applied after the entry's own rotation.
+
+pub mod generated;
+pub mod load;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

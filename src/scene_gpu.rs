@@ -1,6 +1,8 @@
 //! The vgeo path's scene on the GPU: every mesh's cluster DAG in shared buffers (uploaded once) and
 //! the instances. Nothing here changes per frame; the per-frame data is [`crate::shared::ViewGpu`].
 
+use std::borrow::Borrow;
+
 use glam::{DMat4, DVec3, Mat3};
 
 use crate::builder::BuiltMesh;
@@ -26,11 +28,7 @@ pub fn instance_gpu(p: &Placement) -> InstanceVgeo {
     let (hx, lx) = split_f64(t.x);
     let (hy, ly) = split_f64(t.y);
     let (hz, lz) = split_f64(t.z);
-    let max_scale = lin
-        .x_axis
-        .length()
-        .max(lin.y_axis.length())
-        .max(lin.z_axis.length());
+    let max_scale = crate::render::max_axis_scale(&m);
     InstanceVgeo {
         linear: [
             lin.x_axis.extend(0.0).into(),
@@ -92,7 +90,11 @@ pub struct GpuScene {
 
 impl GpuScene {
     /// Uploads `built` meshes and `placements` (whose `mesh` indexes `built`).
-    pub fn new(ctx: &Context, built: &[BuiltMesh], placements: &[Placement]) -> GpuResult<Self> {
+    pub fn new<B: Borrow<BuiltMesh>>(
+        ctx: &Context,
+        built: &[B],
+        placements: &[Placement],
+    ) -> GpuResult<Self> {
         if let Some(p) = placements.iter().find(|p| p.mesh as usize >= built.len()) {
             return Err(GpuError::Other(format!(
                 "placement refers to mesh {} of {}",
@@ -111,6 +113,7 @@ impl GpuScene {
         );
         let mut uvs: Vec<u32> = Vec::new();
         for m in built {
+            let m = m.borrow();
             let (center, radius) = mesh_sphere(m);
             let q = &m.quantization;
             table.push(MeshGpu {
@@ -163,7 +166,7 @@ impl GpuScene {
             .map(|p| {
                 let mut inst = instance_gpu(p);
                 inst.visible_base = next.min(u32::MAX as u64) as u32;
-                next += built[p.mesh as usize].clusters.len() as u64;
+                next += built[p.mesh as usize].borrow().clusters.len() as u64;
                 inst
             })
             .collect();

@@ -134,11 +134,54 @@ fn build_verify_and_info_of_a_vgeo_file() {
     assert!(!ok && !err.contains("panicked"), "{err}");
 }
 
+/// `vgeo build SCENE.toml` builds every mesh of the scene through the scene loader, with the
+/// scene's options applied (`materials = N`, generated meshes), one file per mesh.
+#[test]
+fn build_of_a_scene_applies_its_options() {
+    let dir = std::env::temp_dir().join(format!("vgeo-cli-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    let spot = assets().join("spot.obj");
+    std::fs::write(
+        &scene,
+        format!(
+            "[[mesh]]\nname = \"ground\"\npath = \"generated:box\"\n\
+             [[mesh]]\nname = \"spot\"\npath = {:?}\nmaterials = 8\n\
+             [[mesh]]\nname = \"spot_again\"\npath = {:?}\nmaterials = 8\n\
+             [[instance]]\nmesh = \"ground\"\n[[instance]]\nmesh = \"spot\"\n",
+            spot.display().to_string(),
+            spot.display().to_string()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("built");
+    let (ok, stdout, err) = run(vgeo().arg("build").arg(&scene).arg("-o").arg(&out));
+    assert!(ok, "build failed: {stdout}{err}");
+    let load = |name: &str| {
+        let bytes = std::fs::read(out.join(format!("{name}.vgeo")))
+            .unwrap_or_else(|e| panic!("{name}.vgeo: {e}"));
+        vgeo::format::load(&bytes).unwrap_or_else(|e| panic!("{name}.vgeo: {e}"))
+    };
+    assert_eq!(load("ground").stats.input_triangles, 12);
+    let spot = load("spot");
+    assert_eq!(spot.stats.input_triangles, 5856);
+    assert_eq!(spot.materials.len(), 8, "materials = 8 applied");
+    // The same mesh with the same options is built once.
+    assert!(!out.join("spot_again.vgeo").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn help_explains_commands() {
     let (ok, out, _) = run(vgeo().arg("--help"));
     assert!(ok);
-    for cmd in ["render", "build", "verify", "info"] {
+    for cmd in ["render", "build", "bench", "verify", "info"] {
         assert!(out.contains(cmd), "--help lacks `{cmd}`:\n{out}");
+    }
+    // The benchmark's reference and equal-error options are explained.
+    let (ok, out, _) = run(vgeo().args(["bench", "--help"]));
+    assert!(ok);
+    for opt in ["--reference-spp", "--psnr-margin", "4x4", "floor"] {
+        assert!(out.contains(opt), "bench --help lacks `{opt}`:\n{out}");
     }
 }

@@ -10,49 +10,17 @@ use vgeo::baseline::brute::Brute;
 use vgeo::builder::{BuildOptions, build};
 use vgeo::camera::Camera;
 use vgeo::frame::VgeoRenderer;
+use vgeo::imgerr::image_error;
 use vgeo::material::ShadeMode;
 use vgeo::mesh::{Material, Mesh};
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
-use vgeo::render::{Light, Placement};
+use vgeo::render::{Frame, Light, Placement};
 
 /// The sub-pixel size of the measurement: a scan of 70-200 K triangles in 96 x 96 pixels.
 const SIZE: u32 = 96;
 /// The reference's samples per pixel along each axis (8 x 8 = 64 spp).
 const SS: u32 = 8;
-
-/// Averages `f` x `f` blocks of an RGBA8 image.
-fn box_down(rgba: &[u8], w: u32, h: u32, f: u32) -> Vec<u8> {
-    let (ow, oh) = (w / f, h / f);
-    let mut out = vec![0u8; (ow * oh * 4) as usize];
-    for y in 0..oh {
-        for x in 0..ow {
-            for k in 0..4 {
-                let mut s = 0u32;
-                for dy in 0..f {
-                    for dx in 0..f {
-                        s += rgba[(((y * f + dy) * w + x * f + dx) * 4 + k) as usize] as u32;
-                    }
-                }
-                out[((y * ow + x) * 4 + k) as usize] = ((s + f * f / 2) / (f * f)) as u8;
-            }
-        }
-    }
-    out
-}
-
-/// PSNR (dB) of the RGB channels.
-fn psnr(a: &[u8], b: &[u8]) -> f64 {
-    let (mut se, mut n) = (0.0f64, 0usize);
-    for (pa, pb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
-        for k in 0..3 {
-            let d = pa[k] as f64 - pb[k] as f64;
-            se += d * d;
-            n += 1;
-        }
-    }
-    10.0 * (255.0f64 * 255.0 / (se / n as f64).max(1e-12)).log10()
-}
 
 fn framing(m: &Mesh, aspect: f32) -> Camera {
     let (lo, hi) = m.bounds().expect("bounds");
@@ -86,10 +54,10 @@ fn lit_psnr(mesh: &Mesh, thresholds: &[f32]) -> (f64, Vec<(f32, f64, u64)>) {
     let placements = one_instance();
     let camera = framing(mesh, 1.0);
     let brute = Brute::new(&ctx, std::slice::from_ref(mesh)).expect("brute");
-    let big = brute
-        .render(&placements, &camera, &light, SIZE * SS, SIZE * SS)
+    let reference = brute
+        .render_reference(&placements, &camera, &light, (SIZE, SIZE), SS)
         .expect("reference");
-    let reference = box_down(&big.color, SIZE * SS, SIZE * SS, SS);
+    let psnr = |f: &Frame| image_error(&reference, f).expect("same size").psnr_db;
     let one = brute
         .render(&placements, &camera, &light, SIZE, SIZE)
         .expect("brute");
@@ -100,10 +68,10 @@ fn lit_psnr(mesh: &Mesh, thresholds: &[f32]) -> (f64, Vec<(f32, f64, u64)>) {
             .render(&camera, SIZE, SIZE, &at(tau), ViewMode::Lit, &light)
             .expect("vgeo frame");
         f.check().expect("complete frame");
-        out.push((tau, psnr(&f.frame.color, &reference), f.frame.triangles));
+        out.push((tau, psnr(&f.frame), f.frame.triangles));
     }
     assert_no_validation_errors(&ctx);
-    (psnr(&one.color, &reference), out)
+    (psnr(&one), out)
 }
 
 #[test]

@@ -9,12 +9,13 @@ use vgeo::baseline::brute::Brute;
 use vgeo::baseline::lod::{LOD_COUNT, LOD_FRACTIONS, Lod, LodChain, LodOptions, select_lod};
 use vgeo::camera::Camera;
 use vgeo::mesh::Mesh;
-use vgeo::render::{Frame, Light, LoadedScene, Placement};
+use vgeo::render::{Frame, Light, Placement};
+use vgeo::scene::load::LoadedScene;
 
 fn load(rel: &str) -> Mesh {
     let path = shared_assets().join(rel);
     let scene = LoadedScene::load(&path).unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
-    scene.meshes.into_iter().next().expect("one mesh")
+    scene.mesh(0).clone()
 }
 
 fn bunny() -> Mesh {
@@ -224,6 +225,65 @@ fn selection_follows_distance() {
     }
 }
 
+/// "1 px" means what vgeo's culls mean: the cut's `lod_error_px` of the level's error and the
+/// mesh's sphere, both scaled by the instance's largest axis scale (the `max_scale` vgeo's
+/// instances carry), the sphere moved by the transform; for scaled, rotated, far-off instances.
+#[test]
+fn selection_is_the_cut_formula_with_the_instance_scale() {
+    use vgeo::builder::cut::{lod_error_px, proj_scale};
+    let chain = LodChain::build(&bunny());
+    let cam = Camera::look_at(
+        DVec3::new(1.0e5, 20.0, -3.0),
+        DVec3::new(1.0e5, 20.0, -10.0),
+        Vec3::Y,
+        50f32.to_radians(),
+        0.01,
+    );
+    let ps = proj_scale(1080.0, cam.fov_y);
+    let centre = DVec3::from(Vec3::from_slice(&chain.sphere[..3]));
+    let mut picked = [0u32; LOD_COUNT];
+    for i in 0..400 {
+        let f = i as f64;
+        let scale = DVec3::new(
+            0.5 + (f * 0.37).sin().abs() * 3.0,
+            1.0 + (f * 0.11).cos(),
+            0.7,
+        );
+        let rot = glam::DQuat::from_euler(glam::EulerRot::YXZ, f * 0.3, f * 0.17, f * 0.05);
+        let pos = cam.position + DVec3::new((f * 0.7).sin() * 2.0, 0.3, -0.2 - f * 0.05);
+        let t = DMat4::from_scale_rotation_translation(scale, rot, pos);
+        let p = Placement {
+            mesh: 0,
+            transform: t,
+            color: [1.0; 3],
+        };
+        // vgeo's instance record carries the same scale.
+        let s = vgeo::render::max_axis_scale(&t);
+        assert_eq!(vgeo::scene_gpu::instance_gpu(&p).max_scale, s);
+        assert!((s as f64 - scale.max_element()).abs() < 1e-5 * scale.max_element());
+        let rel = (t.transform_point3(centre) - cam.position).as_vec3();
+        for tau in [0.5f32, 1.0, 4.0] {
+            let expect = (1..LOD_COUNT)
+                .rev()
+                .find(|&k| {
+                    lod_error_px(
+                        chain.errors[k] * s,
+                        rel,
+                        chain.sphere[3] * s,
+                        Vec3::ZERO,
+                        ps,
+                    ) <= tau
+                })
+                .unwrap_or(0) as u8;
+            let got = select_lod(&chain.errors, &chain.sphere, &t, cam.position, ps, tau);
+            assert_eq!(got, expect, "instance {i}, {tau} px");
+            picked[got as usize] += 1;
+        }
+    }
+    // The instances span the levels, so the comparison covers each switch.
+    assert!(picked.iter().all(|&n| n > 0), "{picked:?}");
+}
+
 /// Share of pixels where both frames agree on coverage, and share of those covered by both whose
 /// depth agrees within a relative `tol`.
 fn agreement(a: &Frame, b: &Frame, tol: f32) -> (f64, f64) {
@@ -307,8 +367,8 @@ fn far_bunny_stays_close_to_brute() {
     let scene = LoadedScene::load(&path).expect("bunny loads");
     let (w, h) = (128, 128);
     let cam = scene.camera(w, h);
-    let lod = Lod::new(&ctx, &scene.meshes, &LodOptions::default()).expect("lod renderer");
-    let brute = Brute::new(&ctx, &scene.meshes).expect("brute renderer");
+    let lod = Lod::new(&ctx, &scene.meshes(), &LodOptions::default()).expect("lod renderer");
+    let brute = Brute::new(&ctx, &scene.meshes()).expect("brute renderer");
     let sel = lod
         .selection(&scene.placements, &cam, h, 1.0)
         .expect("selection");
@@ -316,7 +376,7 @@ fn far_bunny_stays_close_to_brute() {
     let errors = lod.lod_errors(0);
     assert_eq!(
         counts,
-        vgeo::baseline::lod::LodChain::build(&scene.meshes[0]).triangle_counts()
+        vgeo::baseline::lod::LodChain::build(scene.mesh(0)).triangle_counts()
     );
     assert!(
         sel[0] >= 2,
@@ -342,11 +402,11 @@ fn far_bunny_stays_close_to_brute() {
     );
     eprintln!("{msg}");
     assert!(b.covered() > 2000, "{msg}");
-    // Measured on lavapipe: coverage 0.9992, depth 0.863 (level 3, 8,681 triangles; 0.951 with
-    // position-only simplification: weighing normals moves some vertices more, within the same
-    // projected error bound, since the error is the combined one).
+    // Measured on lavapipe: coverage 0.9991, depth 0.798 (level 3, 8,680 triangles; 0.951 with
+    // position-only simplification, 0.863 with normal weight 0.5: weighing normals moves some
+    // vertices more, within the same projected error bound, since the error is the combined one).
     assert!(cover >= 0.995, "{msg}");
-    assert!(depth >= 0.83, "{msg}");
+    assert!(depth >= 0.77, "{msg}");
     assert_no_validation_errors(&ctx);
 }
 

@@ -334,6 +334,7 @@ impl Classic {
             instances: instances.to_vec(),
             draws: draws.to_vec(),
             camera: *camera,
+            view_proj: None,
         };
         let mut frames = self.render_frames(
             std::slice::from_ref(&frame),
@@ -401,8 +402,11 @@ impl Classic {
             timer.reset(cmd);
             for ((f, inst_buf), tris) in frames.iter().zip(&inst_bufs).zip(&mut triangles) {
                 starts.push(timer.count());
+                let view_proj = f
+                    .view_proj
+                    .unwrap_or_else(|| f.camera.view_proj(width, height));
                 let uniforms = FrameUniforms {
-                    view_proj: f.camera.view_proj(width, height).to_cols_array_2d(),
+                    view_proj: view_proj.to_cols_array_2d(),
                     light_dir: light.direction.normalize_or_zero().extend(0.0).into(),
                     viewport: [
                         width as f32,
@@ -411,7 +415,7 @@ impl Classic {
                         1.0 / height as f32,
                     ],
                 };
-                let view = targets.view_for(&f.camera, light.direction, mode);
+                let view = targets.view_for_matrix(&view_proj, light.direction, mode);
                 // The previous frame is done with this frame's inputs before they are rewritten.
                 cmd.barrier(
                     (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
@@ -523,6 +527,8 @@ pub(crate) struct ClassicFrame {
     pub(crate) instances: Vec<InstanceGpu>,
     pub(crate) draws: Vec<Draw>,
     pub(crate) camera: Camera,
+    /// The projection, when not the camera's for the target (a tile of a larger image).
+    pub(crate) view_proj: Option<glam::Mat4>,
 }
 
 /// The brute-force renderer: every mesh at full detail, one instanced draw per mesh.
@@ -533,8 +539,12 @@ pub struct Brute {
 impl Brute {
     /// Uploads `meshes` (vertices split per material) and their materials (decoding textures) and
     /// creates the pipelines.
-    pub fn new(ctx: &Context, meshes: &[Mesh]) -> GpuResult<Self> {
-        let split: Vec<ClassicMesh> = meshes.iter().map(ClassicMesh::new).collect();
+    /// `meshes` may hold the meshes or references to them (anything that borrows as one).
+    pub fn new<M: std::borrow::Borrow<Mesh>>(ctx: &Context, meshes: &[M]) -> GpuResult<Self> {
+        let split: Vec<ClassicMesh> = meshes
+            .iter()
+            .map(|m| ClassicMesh::new(m.borrow()))
+            .collect();
         let indices = vec![None; split.len()];
         Ok(Self {
             classic: Classic::new(ctx, "brute", &split, &indices)?,
@@ -636,6 +646,84 @@ impl Brute {
             instances,
             draws,
             camera: *camera,
+            view_proj: None,
         })
     }
+
+    /// The supersampled reference of a `width` x `height` view (DESIGN.md, "Measures"): the lit
+    /// image at `samples_per_axis` times the resolution (`n x n` samples per pixel on a regular
+    /// grid), box-filtered, with each pixel's sample coverage and depth range
+    /// ([`crate::imgerr::Reference`]). Rendered in tiles of at most [`REFERENCE_TILE_SIDE`]
+    /// samples a side, or the device's largest image if smaller (off-centre projections of the
+    /// same camera, [`Camera::view_proj_window`]): a 4x4 reference of 1920x1080 is one tile of
+    /// 7680x4320 samples where the device allows 8192 (every desktop GPU, lavapipe), four on a
+    /// device of 4096 (Vulkan's minimum). Each tile draws every instance: fewer tiles, less work.
+    pub fn render_reference(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        (width, height): (u32, u32),
+        samples_per_axis: u32,
+    ) -> GpuResult<crate::imgerr::Reference> {
+        self.render_reference_tiled(
+            placements,
+            camera,
+            light,
+            (width, height),
+            samples_per_axis,
+            REFERENCE_TILE_SIDE.min(self.classic.ctx.caps().max_image_dimension_2d),
+        )
+    }
+
+    /// [`Brute::render_reference`] with tiles of at most `tile_side` samples a side (at least one
+    /// pixel's worth).
+    pub fn render_reference_tiled(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        (width, height): (u32, u32),
+        samples_per_axis: u32,
+        tile_side: u32,
+    ) -> GpuResult<crate::imgerr::Reference> {
+        let n = samples_per_axis;
+        if !(1..=255).contains(&n) || width == 0 || height == 0 {
+            return Err(crate::gpu::GpuError::Other(format!(
+                "a reference needs 1 to 255 samples per axis and a non-empty image (got {n}, {width}x{height})"
+            )));
+        }
+        let mut reference = crate::imgerr::Reference::new(width, height, n);
+        let mut frame = self.frame_input(placements, camera)?;
+        // Output pixels per tile side.
+        let side = (tile_side / n).max(1);
+        let full = (width * n, height * n);
+        for y0 in (0..height).step_by(side as usize) {
+            for x0 in (0..width).step_by(side as usize) {
+                let (tw, th) = (side.min(width - x0), side.min(height - y0));
+                let size = (tw * n, th * n);
+                frame.view_proj = Some(camera.view_proj_window(full, (x0 * n, y0 * n), size));
+                let tile = self
+                    .classic
+                    .render_frames(
+                        std::slice::from_ref(&frame),
+                        light,
+                        size,
+                        ShadeMode::Lit,
+                        true,
+                    )?
+                    .pop()
+                    .ok_or_else(|| crate::gpu::GpuError::Other("no tile rendered".into()))?;
+                reference
+                    .add_tile(x0, y0, &tile)
+                    .map_err(|e| crate::gpu::GpuError::Other(e.to_string()))?;
+            }
+        }
+        Ok(reference)
+    }
 }
+
+/// Largest side, in samples, of one tile of [`Brute::render_reference`] (8192: a 4x4 reference of
+/// 1920x1080 in one tile of 7680x4320 samples, about 1 GB of targets on the GPU and 0.27 GB read
+/// back), unless the device's `maxImageDimension2D` is smaller.
+pub const REFERENCE_TILE_SIDE: u32 = 8192;

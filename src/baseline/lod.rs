@@ -172,12 +172,7 @@ fn world_sphere(sphere: &[f32; 4], transform: &DMat4, camera_pos: DVec3) -> (Vec
         sphere[1] as f64,
         sphere[2] as f64,
     ));
-    let scale = transform
-        .x_axis
-        .truncate()
-        .length()
-        .max(transform.y_axis.truncate().length())
-        .max(transform.z_axis.truncate().length()) as f32;
+    let scale = crate::render::max_axis_scale(transform);
     ((center - camera_pos).as_vec3(), sphere[3] * scale, scale)
 }
 
@@ -259,8 +254,16 @@ impl Lod {
     /// Splits every mesh's vertices per material (material borders become seams the simplifier
     /// keeps), simplifies it into its levels (in parallel), uploads them with the scene's
     /// materials and creates the pipelines.
-    pub fn new(ctx: &Context, meshes: &[Mesh], opts: &LodOptions) -> GpuResult<Self> {
-        let split: Vec<ClassicMesh> = meshes.par_iter().map(ClassicMesh::new).collect();
+    /// `meshes` may hold the meshes or references to them (anything that borrows as one).
+    pub fn new<M: std::borrow::Borrow<Mesh> + Sync>(
+        ctx: &Context,
+        meshes: &[M],
+        opts: &LodOptions,
+    ) -> GpuResult<Self> {
+        let split: Vec<ClassicMesh> = meshes
+            .par_iter()
+            .map(|m| ClassicMesh::new(m.borrow()))
+            .collect();
         let chains: Vec<LodChain> = split.par_iter().map(|m| LodChain::build(&m.mesh)).collect();
         let indices: Vec<Option<&[u32]>> = chains.iter().map(|c| Some(&c.indices[..])).collect();
         let classic = Classic::new(ctx, "lod", &split, &indices)?;
@@ -480,6 +483,7 @@ impl Lod {
             instances,
             draws,
             camera: *camera,
+            view_proj: None,
         })
     }
 }

@@ -109,6 +109,10 @@ fn check_options(o: &BuildOptions) -> Result<(), BuildError> {
     Ok(())
 }
 
+/// `owner` of a point no working cluster uses, and of one used by several groups (locked).
+const NONE: u32 = u32::MAX;
+const MULTI: u32 = u32::MAX - 1;
+
 /// Triangles per level-0 chunk clustered independently (meshoptimizer partitioner).
 const LEVEL0_CHUNK: usize = 16384;
 
@@ -553,6 +557,11 @@ impl Edges {
                 keys.push((pid[t[e] as usize] as u64) << 32 | pid[t[(e + 1) % 3] as usize] as u64);
             }
         }
+        Edges::from_keys(keys)
+    }
+
+    /// Counts of directed edge keys `a << 32 | b`.
+    fn from_keys(mut keys: Vec<u64>) -> Edges {
         keys.sort_unstable();
         let mut out: Vec<(u64, u32)> = Vec::with_capacity(keys.len());
         for k in keys {
@@ -570,6 +579,108 @@ impl Edges {
             .binary_search_by_key(&k, |e| e.0)
             .map_or(0, |i| self.0[i].1)
     }
+}
+
+/// What the cut test compares against (verify's rules), from the level-0 triangles: the edges
+/// whose directed use counts are not (1, 1) ("irregular": open borders, non-manifold and
+/// duplicated edges), the points on them ("border" points) and their components.
+struct Level0 {
+    /// (undirected key `min << 32 | max`, uses min -> max, uses max -> min), sorted by key.
+    irregular: Vec<(u64, u32, u32)>,
+    border: Vec<bool>,
+    /// Union-find root of each border point over the irregular edges.
+    comp: Vec<u32>,
+}
+
+impl Level0 {
+    fn new(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> Level0 {
+        let mut keys: Vec<(u64, bool)> = tris
+            .par_iter()
+            .flat_map_iter(|t| {
+                (0..3).map(move |e| {
+                    let (a, b) = (pid[t[e] as usize], pid[t[(e + 1) % 3] as usize]);
+                    ((a.min(b) as u64) << 32 | a.max(b) as u64, a < b)
+                })
+            })
+            .collect();
+        keys.par_sort_unstable();
+        let mut irregular = Vec::new();
+        let mut i = 0;
+        while i < keys.len() {
+            let mut j = i;
+            let (mut f, mut r) = (0u32, 0u32);
+            while j < keys.len() && keys[j].0 == keys[i].0 {
+                if keys[j].1 {
+                    f += 1;
+                } else {
+                    r += 1;
+                }
+                j += 1;
+            }
+            if (f, r) != (1, 1) {
+                irregular.push((keys[i].0, f, r));
+            }
+            i = j;
+        }
+        drop(keys);
+        let mut border = vec![false; npid];
+        let mut comp: Vec<u32> = (0..npid as u32).collect();
+        fn find(c: &mut [u32], mut x: u32) -> u32 {
+            while c[x as usize] != x {
+                let p = c[c[x as usize] as usize];
+                c[x as usize] = p;
+                x = p;
+            }
+            x
+        }
+        for &(k, _, _) in &irregular {
+            let (a, b) = ((k >> 32) as u32, k as u32);
+            border[a as usize] = true;
+            border[b as usize] = true;
+            let (ra, rb) = (find(&mut comp, a), find(&mut comp, b));
+            comp[ra.max(rb) as usize] = ra.min(rb);
+        }
+        for x in 0..npid as u32 {
+            comp[x as usize] = find(&mut comp, x);
+        }
+        Level0 {
+            irregular,
+            border,
+            comp,
+        }
+    }
+
+    /// Uses of a -> b and b -> a in the level-0 triangles, when not (1, 1); `None` for a regular
+    /// edge (used once each way) or an absent one, both balanced.
+    fn counts(&self, a: u32, b: u32) -> Option<(u32, u32)> {
+        let k = (a.min(b) as u64) << 32 | a.max(b) as u64;
+        let i = self.irregular.binary_search_by_key(&k, |e| e.0).ok()?;
+        let (_, f, r) = self.irregular[i];
+        Some(if a < b { (f, r) } else { (r, f) })
+    }
+
+    /// Whether a cut may use a -> b `f` times and b -> a `r` times (verify's rule): balanced,
+    /// as in the input, or once between two points of one open border.
+    fn allows(&self, a: u32, b: u32, f: u32, r: u32) -> bool {
+        f == r
+            || self.counts(a, b) == Some((f, r))
+            || (f + r == 1
+                && self.border[a as usize]
+                && self.border[b as usize]
+                && self.comp[a as usize] == self.comp[b as usize])
+    }
+}
+
+/// Whether some point of `tris` has several vertices (an attribute seam).
+fn has_seams(tris: &[[u32; 3]], pid: &[u32]) -> bool {
+    let mut v: Vec<(u32, u32)> = tris
+        .iter()
+        .flatten()
+        .map(|&v| (pid[v as usize], v))
+        .collect();
+    v.sort_unstable();
+    v.dedup();
+    v.windows(2).any(|w| w[0].0 == w[1].0)
 }
 
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
@@ -669,6 +780,8 @@ fn build_inner(
         }
     }
     let level0_triangles = tris.len();
+    let npid = pid.iter().copied().max().map_or(0, |m| m as usize + 1);
+    let level0 = Level0::new(&tris, &pid, npid);
     progress(&format!(
         "{}: {} triangles, clustering level 0",
         mesh.name,
@@ -746,11 +859,8 @@ fn build_inner(
     let mut fallback_groups = 0;
     let mut iteration = 0u32;
     let mut widen = 1usize;
-    let npid = pid.iter().copied().max().map_or(0, |m| m as usize + 1);
     let group_target =
         ((opts.group_min as usize) * 2).clamp(opts.group_min as usize, opts.group_max as usize);
-    const NONE: u32 = u32::MAX;
-    const MULTI: u32 = u32::MAX - 1;
 
     while working.len() > 1 {
         if iteration >= 4096 {
@@ -804,6 +914,22 @@ fn build_inner(
                 }
             }
         }
+        // Use counts of the edges between two locked points (see `unsafe_changes`).
+        let shared = {
+            let mut keys = Vec::new();
+            for &c in &working {
+                for t in &clusters[c as usize].tris {
+                    let p = t.map(|v| pid[v as usize]);
+                    for e in 0..3 {
+                        let (a, b) = (p[e], p[(e + 1) % 3]);
+                        if owner[a as usize] == MULTI && owner[b as usize] == MULTI {
+                            keys.push((a as u64) << 32 | b as u64);
+                        }
+                    }
+                }
+            }
+            Edges::from_keys(keys)
+        };
         let ctx = GroupCtx {
             parter,
             clusters: &clusters,
@@ -814,6 +940,8 @@ fn build_inner(
             opts,
             min_error,
             single,
+            level0: &level0,
+            shared: &shared,
         };
         let outcomes: Vec<Option<Outcome>> = member_groups
             .par_iter()
@@ -860,6 +988,7 @@ fn build_inner(
     // Root chain: simplify the single cluster further (a group of one, nothing to lock) while it
     // is above `root_triangles` and simplification still removes triangles into one cluster.
     let owner = vec![NONE; npid];
+    let shared = Edges(Vec::new());
     while (opts.root_triangles as usize) > 0
         && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
         && iteration < 4096
@@ -875,6 +1004,8 @@ fn build_inner(
             opts,
             min_error,
             single: true,
+            level0: &level0,
+            shared: &shared,
         };
         let Some(out) = ctx.simplify_group(&[top]) else {
             break;
@@ -979,9 +1110,63 @@ struct GroupCtx<'a> {
     opts: &'a BuildOptions,
     min_error: f32,
     single: bool,
+    level0: &'a Level0,
+    /// Use counts of the working set's edges between two shared points.
+    shared: &'a Edges,
 }
 
 impl GroupCtx<'_> {
+    /// Points of the edges whose use counts this group's result changes in a way that some cut
+    /// could not match (verify's rule: in every cut, each edge is used as often each way, or as
+    /// in the input, or once between two points of one open border). A cut's count of an edge
+    /// is its input count plus the changes of the groups applied in it. An edge with a point
+    /// that only this group uses (at this iteration) is used by this group alone: its new count
+    /// must pass the rule. An edge between two shared points may be used and changed by several
+    /// groups, in any combination: it may change only by as many uses each way, and only while
+    /// the working set uses it as often each way, so that every combination stays balanced.
+    /// (A balanced change of an edge that another group uses unbalanced, e.g. the open border
+    /// of a part touching this group's part at two points, shows in a cut as an edge used
+    /// once one way and twice the other.)
+    fn unsafe_changes(&self, in_e: &Edges, out_e: &Edges) -> Vec<u32> {
+        let multi = |p: u32| self.owner[p as usize] == MULTI;
+        let mut bad = Vec::new();
+        let (a, b) = (&in_e.0, &out_e.0);
+        let (mut i, mut j) = (0, 0);
+        while i < a.len() || j < b.len() {
+            let k = match (a.get(i), b.get(j)) {
+                (Some(x), Some(y)) => x.0.min(y.0),
+                (Some(x), None) => x.0,
+                (None, Some(y)) => y.0,
+                (None, None) => break,
+            };
+            let take = |v: &[(u64, u32)], at: &mut usize| match v.get(*at) {
+                Some(e) if e.0 == k => {
+                    *at += 1;
+                    e.1
+                }
+                _ => 0,
+            };
+            let (fi, fo) = (take(a, &mut i), take(b, &mut j));
+            if fi == fo {
+                // A change of the other direction is found at its own key.
+                continue;
+            }
+            let (x, y) = ((k >> 32) as u32, k as u32);
+            let (ri, ro) = (in_e.count(y, x), out_e.count(y, x));
+            let ok = if multi(x) && multi(y) {
+                self.shared.count(x, y) == self.shared.count(y, x)
+                    && fo as i64 - fi as i64 == ro as i64 - ri as i64
+            } else {
+                self.level0.allows(x, y, fo, ro)
+            };
+            if !ok {
+                bad.push(x);
+                bad.push(y);
+            }
+        }
+        bad
+    }
+
     fn simplify_group(&self, members: &[u32]) -> Option<Outcome> {
         let tris: Vec<[u32; 3]> = members
             .iter()
@@ -989,7 +1174,7 @@ impl GroupCtx<'_> {
             .collect();
         let n = tris.len();
         let target = ((n as f32 * self.opts.simplify_ratio) as usize).max(1);
-        let locked = |v: u32| self.owner[self.pid[v as usize] as usize] == u32::MAX - 1;
+        let locked = |v: u32| self.owner[self.pid[v as usize] as usize] == MULTI;
         let members_max = members
             .iter()
             .map(|&m| self.clusters[m as usize].self_error)
@@ -1001,14 +1186,14 @@ impl GroupCtx<'_> {
         let sphere = merge_spheres(&spheres);
         let max_tris = self.opts.max_cluster_triangles as usize;
         let max_verts = MAX_CLUSTER_VERTICES as usize;
-        let accept = |t: &Vec<[u32; 3]>| {
-            !t.is_empty()
-                && if self.single {
-                    t.len() < n
-                } else {
-                    (t.len() as f32) <= n as f32 * 0.85
-                }
-        };
+        // An attempt is taken when it removes at least 15 % of the triangles. The last group
+        // (nothing to regroup with) takes any reduction, but only when no attempt (before
+        // sloppy) reaches 15 %: the first such result is kept as a candidate, so that a group
+        // that barely shrinks with its seams kept collapses across them instead of adding a
+        // level of nearly the same triangles.
+        let strict = |t: &Vec<[u32; 3]>| !t.is_empty() && (t.len() as f32) <= n as f32 * 0.85;
+        let lenient = |t: &Vec<[u32; 3]>| self.single && !t.is_empty() && t.len() < n;
+        let mut candidate = None;
         // Attempts in order; the second locks the group's open borders too (non-manifold and
         // open-border input can otherwise fold a border edge onto another).
         // The last group (nothing to regroup with) also tries gentler targets before sloppy.
@@ -1016,12 +1201,21 @@ impl GroupCtx<'_> {
             (Mode::Locked, false, target),
             (Mode::Locked, true, target),
             (Mode::LockedPrune, true, target),
-            // Seams (normal creases, UV and material borders) may block every collapse.
-            (Mode::Permissive, true, target),
         ];
+        // A group that cannot shrink with its attribute seams kept (material borders: the
+        // coarse levels of a mesh with many materials are little else) may collapse across
+        // them; only where the group has seams (a point with several vertices), else the
+        // attempts would repeat the ones above.
+        if has_seams(&tris, self.pid) {
+            attempts.push((Mode::Permissive, false, target));
+            attempts.push((Mode::Permissive, true, target));
+        }
         if self.single {
             attempts.push((Mode::Locked, true, n * 3 / 4));
             attempts.push((Mode::Locked, true, n * 9 / 10));
+            // Sloppy with the open borders locked first: holes and open parts keep their
+            // borders, so the result stays crack-free where an unlocked one would not.
+            attempts.push((Mode::Sloppy, true, target));
             attempts.push((Mode::Sloppy, false, target));
         }
         let in_edges = Edges::of(&tris, self.pid);
@@ -1041,27 +1235,34 @@ impl GroupCtx<'_> {
                 b.dedup();
                 b
             });
-            locked(v) || b.binary_search(&self.pid[v as usize]).is_ok()
+            b.binary_search(&self.pid[v as usize]).is_ok()
         };
         let mut result = None;
         // Position ids locked because an attempt folded edges at them (grows per round).
         let mut extra: Vec<u32> = Vec::new();
         let mut rounds = 0;
+        let mut attempt_rounds = 0;
         let mut i = 0;
         while i < attempts.len() {
             let (mode, lock_border, goal) = attempts[i];
-            let lock_extra =
-                |v: u32| locked(v) || extra.binary_search(&self.pid[v as usize]).is_ok();
-            let lock: &dyn Fn(u32) -> bool = if lock_border {
-                &locked_border
-            } else {
-                &lock_extra
+            if mode == Mode::Sloppy && candidate.is_some() {
+                break;
+            }
+            if mode == Mode::Sloppy && attempt_rounds == 0 {
+                // Vertex clustering starts from the group's own locks: the points locked by the
+                // edge-collapse attempts' folds would leave it nothing to cluster.
+                extra.clear();
+            }
+            let lock = |v: u32| {
+                locked(v)
+                    || (lock_border && locked_border(v))
+                    || extra.binary_search(&self.pid[v as usize]).is_ok()
             };
             let (mut t, e) = simplify(
                 &tris,
                 self.positions,
                 self.attrs,
-                lock,
+                &lock,
                 goal,
                 f32::MAX,
                 mode,
@@ -1082,11 +1283,17 @@ impl GroupCtx<'_> {
                 .flat_map(|(x, y, _)| [x, y])
                 .collect();
             if folded.is_empty() {
-                if accept(&t) {
+                folded = self.unsafe_changes(&in_edges, &out_edges);
+            }
+            if folded.is_empty() {
+                if strict(&t) {
                     result = Some((t, e, i > 0 || rounds > 0));
                     break;
                 }
-            } else if !lock_border && mode == Mode::Locked && rounds < 8 {
+                if candidate.is_none() && lenient(&t) {
+                    candidate = Some((t, e, i > 0 || rounds > 0));
+                }
+            } else if attempt_rounds < 8 {
                 // Lock the fold's vertices and their input neighbours, and retry.
                 folded.sort_unstable();
                 folded.dedup();
@@ -1100,9 +1307,14 @@ impl GroupCtx<'_> {
                 extra.sort_unstable();
                 extra.dedup();
                 rounds += 1;
+                attempt_rounds += 1;
                 continue;
             }
             i += 1;
+            attempt_rounds = 0;
+        }
+        if result.is_none() {
+            result = candidate;
         }
         if result.is_none() && self.single {
             // Last resort: everything fits in one cluster; merge without simplifying.

@@ -86,7 +86,7 @@ pub enum Partitioner {
 }
 
 /// Default [`BuildOptions::normal_weight`].
-pub const DEFAULT_NORMAL_WEIGHT: f32 = 0.5;
+pub const DEFAULT_NORMAL_WEIGHT: f32 = 1.0;
 /// Default [`BuildOptions::uv_weight`].
 pub const DEFAULT_UV_WEIGHT: f32 = 0.5;
 

@@ -98,8 +98,9 @@ pub(crate) enum Mode {
     Locked,
     /// As `Locked`, and small disconnected parts may be removed.
     LockedPrune,
-    /// As `LockedPrune`, and collapses may cross attribute seams (normal creases, UV and
-    /// material borders): for groups that cannot shrink otherwise.
+    /// As `Locked`, and collapses may cross attribute seams (normal creases, UV and material
+    /// borders): for groups that cannot shrink otherwise. No pruning: the last group, with
+    /// nothing locked, would be pruned away whole.
     Permissive,
     /// Vertex clustering, no locks (only valid when nothing outside the group shares vertices).
     Sloppy,
@@ -158,7 +159,7 @@ pub(crate) fn simplify(
                 | OPT_ERROR_ABSOLUTE
                 | match mode {
                     Mode::LockedPrune => OPT_PRUNE,
-                    Mode::Permissive => OPT_PRUNE | OPT_PERMISSIVE,
+                    Mode::Permissive => OPT_PERMISSIVE,
                     _ => 0,
                 };
             // SAFETY: every pointer covers the counts passed with it: `dest` and `indices` hold

@@ -1,14 +1,17 @@
 //! Checks a [`BuiltMesh`]: structure, the DAG invariants of DESIGN.md, and the cut on many views
 //! (watertight, no overlap, tau = 0 gives exactly the level-0 triangles, BVH cut = brute cut).
 
-use std::collections::HashMap;
 use std::fmt;
+use std::sync::{Mutex, OnceLock};
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::cut::{cut_brute, cut_bvh, proj_scale};
 use super::{BVH_FLAG_LEAF, BuiltMesh, NO_GROUP, Sphere};
 use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
+
+mod reference;
 
 /// Options of [`verify`].
 #[derive(Clone, Debug, PartialEq)]
@@ -136,12 +139,9 @@ pub fn verify(m: &BuiltMesh, opts: &VerifyOptions) -> VerifyReport {
     if !check_structure(m, &mut s) {
         return report;
     }
-    let tris: Vec<Vec<[u32; 3]>> = (0..m.clusters.len())
-        .map(|c| m.cluster_triangles(c))
-        .collect();
     check_dag(m, &mut s);
     if opts.views > 0 {
-        check_cuts(m, &tris, opts, &mut s);
+        check_cuts(m, opts, &mut s);
     }
     report
 }
@@ -426,135 +426,40 @@ fn check_dag(m: &BuiltMesh, s: &mut Sink) {
     }
 }
 
-fn edge_key(a: u32, b: u32) -> u64 {
-    (a as u64) << 32 | b as u64
-}
-
+/// The triangle with its smallest index first (same orientation).
 fn canonical(t: [u32; 3]) -> [u32; 3] {
     let r = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
     [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]
 }
 
-struct Uf(Vec<u32>);
-impl Uf {
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.0[x as usize] != x {
-            let p = self.0[self.0[x as usize] as usize];
-            self.0[x as usize] = p;
-            x = p;
-        }
-        x
+/// The oracle: the same checks as [`verify`] with the first, straightforward cut check (every
+/// directed edge of every view's cut hashed; slow on large meshes). Its report must equal
+/// [`verify`]'s on every mesh, good or broken; the tests compare them.
+#[doc(hidden)]
+pub fn verify_reference(m: &BuiltMesh, opts: &VerifyOptions) -> VerifyReport {
+    let mut report = VerifyReport::default();
+    let mut s = Sink {
+        r: &mut report,
+        max: opts.max_messages,
+    };
+    if !check_structure(m, &mut s) {
+        return report;
     }
+    let tris: Vec<Vec<[u32; 3]>> = (0..m.clusters.len())
+        .map(|c| m.cluster_triangles(c))
+        .collect();
+    check_dag(m, &mut s);
+    if opts.views > 0 {
+        reference::check_cuts(m, &tris, opts, &mut s);
+    }
+    report
 }
 
-fn check_cuts(m: &BuiltMesh, tris: &[Vec<[u32; 3]>], opts: &VerifyOptions, s: &mut Sink) {
-    // Position ids: equal decoded positions are one point.
-    let positions = m.positions();
-    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-    let pid: Vec<u32> = positions
-        .iter()
-        .map(|p| {
-            let n = ids.len() as u32;
-            *ids.entry([p[0].to_bits(), p[1].to_bits(), p[2].to_bits()])
-                .or_insert(n)
-        })
-        .collect();
-    let ptri = |t: &[u32; 3]| [pid[t[0] as usize], pid[t[1] as usize], pid[t[2] as usize]];
-    // Level 0: triangles and directed edge counts.
-    let mut orig_edges: HashMap<u64, u32> = HashMap::new();
-    let mut orig_tris: Vec<[u32; 3]> = Vec::new();
-    for (ci, c) in m.clusters.iter().enumerate() {
-        if c.level == 0 {
-            for t in &tris[ci] {
-                let p = ptri(t);
-                orig_tris.push(canonical(p));
-                for e in 0..3 {
-                    *orig_edges
-                        .entry(edge_key(p[e], p[(e + 1) % 3]))
-                        .or_default() += 1;
-                }
-            }
-        }
-    }
-    orig_tris.sort_unstable();
-    let count =
-        |map: &HashMap<u64, u32>, a: u32, b: u32| map.get(&edge_key(a, b)).copied().unwrap_or(0);
-    // Open-border points of the input and their border components.
-    let mut uf = Uf((0..ids.len() as u32).collect());
-    let mut border = vec![false; ids.len()];
-    for &k in orig_edges.keys() {
-        let (a, b) = ((k >> 32) as u32, k as u32);
-        if (count(&orig_edges, a, b), count(&orig_edges, b, a)) != (1, 1) {
-            border[a as usize] = true;
-            border[b as usize] = true;
-            let (ra, rb) = (uf.find(a), uf.find(b));
-            uf.0[ra as usize] = rb;
-        }
-    }
-    // Simple border loops of the input: components of open-border edges where every point has
-    // exactly one outgoing and one incoming border edge (used once, never in reverse). Each point
-    // gets its loop and its index along the loop, so that a cut's border chain can be checked.
-    let np = ids.len();
-    let mut next_on_border = vec![u32::MAX; np];
-    let mut degree = vec![(0u32, 0u32); np];
-    for (&k, &c) in &orig_edges {
-        let (a, b) = ((k >> 32) as u32, k as u32);
-        if c == 1 && count(&orig_edges, b, a) == 0 {
-            next_on_border[a as usize] = b;
-            degree[a as usize].0 += 1;
-            degree[b as usize].1 += 1;
-        } else if (c, count(&orig_edges, b, a)) != (1, 1) {
-            // Non-manifold or multiply-used border edges: their points are not on simple loops.
-            degree[a as usize].0 += 8;
-            degree[b as usize].1 += 8;
-        }
-    }
-    let mut loop_of = vec![u32::MAX; np];
-    let mut loop_idx = vec![0u32; np];
-    let mut loop_len: Vec<u32> = Vec::new();
-    for start in 0..np {
-        if !border[start] || loop_of[start] != u32::MAX || degree[start] != (1, 1) {
-            continue;
-        }
-        // Walk; the loop is simple if it returns to `start` through degree-(1, 1) points only.
-        let mut walk = vec![start as u32];
-        let mut cur = next_on_border[start];
-        let mut simple = true;
-        while cur != start as u32 {
-            if cur == u32::MAX
-                || degree[cur as usize] != (1, 1)
-                || loop_of[cur as usize] != u32::MAX
-                || walk.len() > np
-            {
-                simple = false;
-                break;
-            }
-            walk.push(cur);
-            cur = next_on_border[cur as usize];
-        }
-        if simple {
-            let id = loop_len.len() as u32;
-            for (i, &v) in walk.iter().enumerate() {
-                loop_of[v as usize] = id;
-                loop_idx[v as usize] = i as u32;
-            }
-            loop_len.push(walk.len() as u32);
-        }
-    }
-    s.r.border_loops = loop_len.len();
-    // Parents of each cluster (clusters created by its group), for the path check.
-    let mut children: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
-    for (ci, c) in m.clusters.iter().enumerate() {
-        if c.creator != NO_GROUP {
-            children[c.creator as usize].push(ci as u32);
-        }
-    }
-    let mut by_level: Vec<u32> = (0..m.clusters.len() as u32).collect();
-    by_level.sort_by_key(|&c| std::cmp::Reverse(m.clusters[c as usize].level));
-
+/// Center and radius of the decoded positions' bounding box, which the views circle.
+fn view_bounds(positions: &[[f32; 3]]) -> (Vec3, f32) {
     let mut lo = [f32::MAX; 3];
     let mut hi = [f32::MIN; 3];
-    for p in &positions {
+    for p in positions {
         for k in 0..3 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
@@ -565,148 +470,666 @@ fn check_cuts(m: &BuiltMesh, tris: &[Vec<[u32; 3]>], opts: &VerifyOptions, s: &m
         .length()
         .max(1e-20)
         * 0.5;
-    let scale = proj_scale(1080.0, 60f32.to_radians());
+    (center, radius)
+}
+
+/// The views of the cut test, (camera, tau): directions uniform on the sphere, distances from
+/// inside the mesh to far away, every 8th view at tau = 0 (the reference draws the same sequence).
+fn draw_views(center: Vec3, radius: f32, opts: &VerifyOptions) -> Vec<(Vec3, f32)> {
     let mut rng = Rng(opts.seed ^ 0x5eed);
-    s.r.cut_triangles_min = usize::MAX;
-    for view in 0..opts.views {
-        // Directions uniform on the sphere; distances from inside the mesh to far away.
-        let z = rng.unit() * 2.0 - 1.0;
-        let phi = rng.unit() * std::f64::consts::TAU;
-        let rxy = (1.0 - z * z).max(0.0).sqrt();
-        let dir = Vec3::new((rxy * phi.cos()) as f32, (rxy * phi.sin()) as f32, z as f32);
-        let dist = radius * 10f32.powf((rng.unit() * 3.5 - 1.5) as f32);
-        let cam = center + dir * dist;
-        let tau = if view % 8 == 0 {
-            0.0
-        } else {
-            2f32.powf((rng.unit() * 9.0 - 3.0) as f32)
-        };
-        let cut = cut_brute(m, cam, scale, tau);
-        let what = format!("view {view} (camera {:?}, tau {tau})", cam.to_array());
-        match cut_bvh(m, cam, scale, tau) {
-            Some(b) if b == cut => {}
-            Some(b) => s.add(format!(
-                "{what}: BVH cut has {} clusters, brute cut {}",
-                b.len(),
-                cut.len()
-            )),
-            None => s.add(format!("{what}: BVH traversal went out of range")),
-        }
-        // Every leaf-to-root path crosses the cut exactly once.
-        let mut drawn = vec![false; m.clusters.len()];
-        for &c in &cut {
-            drawn[c as usize] = true;
-        }
-        let mut up = vec![(0u32, 0u32); m.clusters.len()];
-        for &c in &by_level {
-            let cl = &m.clusters[c as usize];
-            let d = drawn[c as usize] as u32;
-            up[c as usize] = if c == m.root {
-                (d, d)
+    (0..opts.views)
+        .map(|view| {
+            let z = rng.unit() * 2.0 - 1.0;
+            let phi = rng.unit() * std::f64::consts::TAU;
+            let rxy = (1.0 - z * z).max(0.0).sqrt();
+            let dir = Vec3::new((rxy * phi.cos()) as f32, (rxy * phi.sin()) as f32, z as f32);
+            let dist = radius * 10f32.powf((rng.unit() * 3.5 - 1.5) as f32);
+            let tau = if view % 8 == 0 {
+                0.0
             } else {
-                let ps = &children[cl.group as usize];
-                let mn = ps.iter().map(|&p| up[p as usize].0).min().unwrap_or(0);
-                let mx = ps.iter().map(|&p| up[p as usize].1).max().unwrap_or(0);
-                (d + mn, d + mx)
+                2f32.powf((rng.unit() * 9.0 - 3.0) as f32)
             };
+            (center + dir * dist, tau)
+        })
+        .collect()
+}
+
+/// An edge between position ids `x <= y` that is counted per view: one that occurs in more than
+/// one cluster, or not exactly once each way in its only cluster. (An edge used once each way
+/// inside a single cluster and nowhere else is matched in every cut that draws the cluster, and
+/// absent from every other; it can never be a crack, an overlap or a border edge.) `f0` / `r0`: its
+/// uses x -> y / y -> x in the input (level 0). An edge with `x == y` (a zero-area triangle's)
+/// counts each use both ways, as the reference's single self key does.
+#[derive(Clone, Copy, Debug)]
+struct Edge {
+    x: u32,
+    y: u32,
+    f0: u32,
+    r0: u32,
+}
+
+/// A cluster's uses of a counted edge: `f` times x -> y, `r` times y -> x.
+#[derive(Clone, Copy, Debug, Default)]
+struct Use {
+    edge: u32,
+    f: u16,
+    r: u16,
+}
+
+/// A cluster's distinct edges with their use counts (x <= y; see [`Edge`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct LocalEdge {
+    x: u32,
+    y: u32,
+    f: u16,
+    r: u16,
+}
+
+/// Everything about the cut test that does not depend on the view, computed once.
+struct Prep {
+    /// Position of each position id (its first vertex's).
+    id_pos: Vec<[f32; 3]>,
+    /// Triangles of cluster `c` (as position ids): `tris[tri_off[c]..tri_off[c + 1]]`.
+    tri_off: Vec<usize>,
+    tris: Vec<[u32; 3]>,
+    /// Level-0 clusters, ascending, and their triangle count.
+    level0: Vec<u32>,
+    level0_triangles: usize,
+    /// Counted edges, and each cluster's uses of them: `uses[use_off[c]..use_off[c + 1]]`.
+    edges: Vec<Edge>,
+    use_off: Vec<usize>,
+    uses: Vec<Use>,
+    /// Per position id: on the input's open border, its border component.
+    border: Vec<bool>,
+    comp: Vec<u32>,
+    /// Per position id: simple border loop and index along it (`u32::MAX`: none), and its index
+    /// among the loop points (for per-view degree counts).
+    loop_of: Vec<u32>,
+    loop_idx: Vec<u32>,
+    loop_point: Vec<u32>,
+    loop_len: Vec<u32>,
+    /// Clusters created by each group (its members' parents), and clusters by level, coarsest first.
+    children: Vec<Vec<u32>>,
+    by_level: Vec<u32>,
+    /// The input's triangles (canonical, sorted), only built if a tau = 0 cut is not exactly the
+    /// level-0 clusters.
+    orig_tris: OnceLock<Vec<[u32; 3]>>,
+}
+
+/// Position ids: equal decoded positions (bit for bit) are one point, numbered in the order of
+/// their first vertex (the reference's numbering, on which its reports' choice of example edge
+/// depends). Returns each vertex's id and each id's position.
+fn position_ids(positions: &[[f32; 3]]) -> (Vec<u32>, Vec<[f32; 3]>) {
+    let n = positions.len();
+    let mut keys: Vec<[u32; 4]> = positions
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| [p[0].to_bits(), p[1].to_bits(), p[2].to_bits(), i as u32])
+        .collect();
+    keys.par_sort_unstable();
+    // Each vertex's representative: the first vertex with its position.
+    let mut rep = vec![0u32; n];
+    let mut i = 0;
+    while i < n {
+        let r = keys[i][3];
+        let mut j = i;
+        while j < n && keys[j][..3] == keys[i][..3] {
+            rep[keys[j][3] as usize] = r;
+            j += 1;
         }
-        let bad = (0..m.clusters.len())
-            .filter(|&c| m.clusters[c].level == 0 && up[c] != (1, 1))
-            .count();
-        if bad > 0 {
-            s.add(format!(
-                "{what}: {bad} level-0 clusters not covered exactly once by the cut"
-            ));
+        i = j;
+    }
+    drop(keys);
+    let mut id_of_rep = vec![u32::MAX; n];
+    let mut id_pos = Vec::new();
+    for v in 0..n {
+        if rep[v] == v as u32 {
+            id_of_rep[v] = id_pos.len() as u32;
+            id_pos.push(positions[v]);
         }
-        // Edges.
-        let mut edges: HashMap<u64, u32> = HashMap::new();
-        let mut cut_tris = Vec::new();
-        for &c in &cut {
-            for t in &tris[c as usize] {
-                let p = ptri(t);
-                cut_tris.push(canonical(p));
-                for e in 0..3 {
-                    *edges.entry(edge_key(p[e], p[(e + 1) % 3])).or_default() += 1;
+    }
+    let pid = rep.iter().map(|&r| id_of_rep[r as usize]).collect();
+    (pid, id_pos)
+}
+
+/// The distinct edges of one cluster's triangles with their use counts, sorted by (x, y).
+fn local_edges(tris: &[[u32; 3]]) -> Vec<LocalEdge> {
+    let mut dir: Vec<(u64, bool)> = Vec::with_capacity(tris.len() * 3);
+    for t in tris {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            dir.push(((a.min(b) as u64) << 32 | a.max(b) as u64, a > b));
+        }
+    }
+    dir.sort_unstable();
+    let mut out: Vec<LocalEdge> = Vec::with_capacity(dir.len());
+    for (k, back) in dir {
+        let (x, y) = ((k >> 32) as u32, k as u32);
+        if out.last().is_none_or(|l| (l.x, l.y) != (x, y)) {
+            out.push(LocalEdge { x, y, f: 0, r: 0 });
+        }
+        let l = out.last_mut().expect("pushed");
+        if x == y {
+            l.f += 1;
+            l.r += 1;
+        } else if back {
+            l.r += 1;
+        } else {
+            l.f += 1;
+        }
+    }
+    out
+}
+
+fn find(uf: &mut [u32], mut x: u32) -> u32 {
+    while uf[x as usize] != x {
+        let p = uf[uf[x as usize] as usize];
+        uf[x as usize] = p;
+        x = p;
+    }
+    x
+}
+
+impl Prep {
+    fn new(m: &BuiltMesh, positions: &[[f32; 3]]) -> Self {
+        let nc = m.clusters.len();
+        let (pid, id_pos) = position_ids(positions);
+        let np = id_pos.len();
+        let per_cluster: Vec<Vec<[u32; 3]>> = (0..nc)
+            .into_par_iter()
+            .map(|c| {
+                let mut t = m.cluster_triangles(c);
+                for v in t.iter_mut().flatten() {
+                    *v = pid[*v as usize];
+                }
+                t
+            })
+            .collect();
+        drop(pid);
+        let mut tri_off = Vec::with_capacity(nc + 1);
+        tri_off.push(0);
+        for t in &per_cluster {
+            tri_off.push(tri_off.last().copied().unwrap_or(0) + t.len());
+        }
+        let tris = per_cluster.concat();
+        drop(per_cluster);
+        let level0: Vec<u32> = (0..nc as u32)
+            .filter(|&c| m.clusters[c as usize].level == 0)
+            .collect();
+        let level0_triangles = level0
+            .iter()
+            .map(|&c| tri_off[c as usize + 1] - tri_off[c as usize])
+            .sum();
+
+        // Every cluster's distinct edges, bucketed by their smaller end (a counting sort), then
+        // sorted by the other end within each bucket (stably: clusters stay in order).
+        let local: Vec<Vec<LocalEdge>> = (0..nc)
+            .into_par_iter()
+            .map(|c| local_edges(&tris[tri_off[c]..tri_off[c + 1]]))
+            .collect();
+        let mut bucket_off = vec![0usize; np + 1];
+        for l in &local {
+            for e in l {
+                bucket_off[e.x as usize + 1] += 1;
+            }
+        }
+        for x in 0..np {
+            bucket_off[x + 1] += bucket_off[x];
+        }
+        let mut entries = vec![(0u32, 0u32, 0u16, 0u16); bucket_off[np]];
+        let mut cursor = bucket_off.clone();
+        for (c, l) in local.iter().enumerate() {
+            for e in l {
+                let at = &mut cursor[e.x as usize];
+                entries[*at] = (e.y, c as u32, e.f, e.r);
+                *at += 1;
+            }
+        }
+        drop(local);
+        drop(cursor);
+        {
+            // Sort the buckets in parallel, in runs of whole buckets.
+            let runs = 256.min(np.max(1));
+            let mut slices = Vec::with_capacity(runs);
+            let mut rest: &mut [(u32, u32, u16, u16)] = &mut entries;
+            for k in 0..runs {
+                let (lo, hi) = (k * np / runs, (k + 1) * np / runs);
+                let (a, b) = rest.split_at_mut(bucket_off[hi] - bucket_off[lo]);
+                slices.push((lo, a));
+                rest = b;
+            }
+            slices.into_par_iter().for_each(|(lo, s)| {
+                let base = bucket_off[lo];
+                let mut x = lo;
+                while bucket_off[x] - base < s.len() {
+                    s[bucket_off[x] - base..bucket_off[x + 1] - base].sort_by_key(|e| e.0);
+                    x += 1;
+                }
+            });
+        }
+
+        // Counted edges and each cluster's uses of them.
+        let mut edges = Vec::new();
+        let mut uses_by_edge: Vec<(u32, Use)> = Vec::new();
+        for x in 0..np {
+            let b = &entries[bucket_off[x]..bucket_off[x + 1]];
+            let mut i = 0;
+            while i < b.len() {
+                let y = b[i].0;
+                let mut j = i;
+                let (mut f0, mut r0) = (0u32, 0u32);
+                while j < b.len() && b[j].0 == y {
+                    if m.clusters[b[j].1 as usize].level == 0 {
+                        f0 += b[j].2 as u32;
+                        r0 += b[j].3 as u32;
+                    }
+                    j += 1;
+                }
+                let run = &b[i..j];
+                i = j;
+                if run.len() == 1 && (run[0].2, run[0].3) == (1, 1) {
+                    continue;
+                }
+                let edge = edges.len() as u32;
+                edges.push(Edge {
+                    x: x as u32,
+                    y,
+                    f0,
+                    r0,
+                });
+                for &(_, c, f, r) in run {
+                    uses_by_edge.push((c, Use { edge, f, r }));
                 }
             }
         }
-        s.r.cut_triangles_min = s.r.cut_triangles_min.min(cut_tris.len());
-        s.r.cut_triangles_max = s.r.cut_triangles_max.max(cut_tris.len());
-        let mut keys: Vec<u64> = edges.keys().copied().collect();
-        keys.sort_unstable();
-        let (mut cracks, mut overlaps) = (0usize, 0usize);
-        let mut example = None;
-        for k in keys {
-            let (a, b) = ((k >> 32) as u32, k as u32);
-            if a > b && edges.contains_key(&edge_key(b, a)) {
-                continue; // counted from the other direction
-            }
-            let (f, r) = (count(&edges, a, b), count(&edges, b, a));
-            let (f0, r0) = (count(&orig_edges, a, b), count(&orig_edges, b, a));
-            if f == r || (f, r) == (f0, r0) {
+        drop(entries);
+        let mut use_off = vec![0usize; nc + 1];
+        for (c, _) in &uses_by_edge {
+            use_off[*c as usize + 1] += 1;
+        }
+        for c in 0..nc {
+            use_off[c + 1] += use_off[c];
+        }
+        let mut uses = vec![Use::default(); uses_by_edge.len()];
+        let mut cursor = use_off.clone();
+        for (c, u) in uses_by_edge {
+            uses[cursor[c as usize]] = u;
+            cursor[c as usize] += 1;
+        }
+
+        // Open-border points of the input and their border components: ends of input edges not
+        // used exactly once each way.
+        let mut uf: Vec<u32> = (0..np as u32).collect();
+        let mut border = vec![false; np];
+        let mut next_on_border = vec![u32::MAX; np];
+        let mut degree = vec![(0u32, 0u32); np];
+        for e in &edges {
+            if e.f0 + e.r0 == 0 || (e.f0, e.r0) == (1, 1) {
                 continue;
             }
-            if f + r == 1 && border[a as usize] && border[b as usize] && uf.find(a) == uf.find(b) {
-                s.r.border_edges_accepted += 1;
-                continue;
-            }
-            if f > 1 || r > 1 {
-                overlaps += 1
+            border[e.x as usize] = true;
+            border[e.y as usize] = true;
+            let (ra, rb) = (find(&mut uf, e.x), find(&mut uf, e.y));
+            uf[ra as usize] = rb;
+            // Border edges used once, one way only, chain into loops; other uses (non-manifold,
+            // multiply used) keep their points off the simple loops.
+            let dirs = if e.x == e.y {
+                &[(e.x, e.y, e.f0, e.r0)][..]
             } else {
-                cracks += 1
+                &[(e.x, e.y, e.f0, e.r0), (e.y, e.x, e.r0, e.f0)][..]
+            };
+            for &(a, b, c, rev) in dirs {
+                if c == 0 {
+                    continue;
+                }
+                if c == 1 && rev == 0 {
+                    next_on_border[a as usize] = b;
+                    degree[a as usize].0 += 1;
+                    degree[b as usize].1 += 1;
+                } else {
+                    degree[a as usize].0 += 8;
+                    degree[b as usize].1 += 8;
+                }
             }
-            example.get_or_insert((a, b, f, r, f0, r0));
         }
-        // Border chains: on each simple input border loop, the cut's edges used once in one
-        // direction only must form one chain that goes around the loop exactly once, forward
-        // (a simplified border replaces a run of border edges by a chord in the same direction);
-        // a crack ending on the border, a backward or overlapping chord breaks this.
-        let mut walked = vec![0u64; loop_len.len()];
-        let mut out_deg: HashMap<u32, (u32, u32)> = HashMap::new();
-        for (&k, &f) in &edges {
-            let (a, b) = ((k >> 32) as u32, k as u32);
-            let l = loop_of[a as usize];
-            if f != 1 || count(&edges, b, a) != 0 || l == u32::MAX || loop_of[b as usize] != l {
+        let comp: Vec<u32> = (0..np as u32).map(|p| find(&mut uf, p)).collect();
+        drop(uf);
+        // Simple border loops: every point with exactly one outgoing and one incoming border
+        // edge; each point gets its loop and its index along it.
+        let mut loop_of = vec![u32::MAX; np];
+        let mut loop_idx = vec![0u32; np];
+        let mut loop_len: Vec<u32> = Vec::new();
+        let mut walk = Vec::new();
+        for start in 0..np {
+            if !border[start] || loop_of[start] != u32::MAX || degree[start] != (1, 1) {
                 continue;
             }
-            let len = loop_len[l as usize];
-            let d = (loop_idx[b as usize] + len - loop_idx[a as usize]) % len;
-            walked[l as usize] += d as u64;
-            out_deg.entry(a).or_default().0 += 1;
-            out_deg.entry(b).or_default().1 += 1;
-        }
-        let bad_loops = walked
-            .iter()
-            .zip(&loop_len)
-            .filter(|&(&w, &len)| w != 0 && w != len as u64)
-            .count();
-        let bad_points = out_deg.values().filter(|d| **d != (1, 1)).count();
-        if bad_loops > 0 || bad_points > 0 {
-            s.add(format!(
-                "{what}: border chains broken on {bad_loops} of {} input border loops ({bad_points} points without one incoming and one outgoing border edge)",
-                loop_len.len()
-            ));
-        }
-        if let Some((a, b, f, r, f0, r0)) = example {
-            s.add(format!(
-                "{what}: {cracks} unmatched and {overlaps} over-used edges, e.g. {:?} -> {:?} used {f}/{r} times (input: {f0}/{r0})",
-                positions[pid.iter().position(|&x| x == a).unwrap_or(0)],
-                positions[pid.iter().position(|&x| x == b).unwrap_or(0)]
-            ));
-        }
-        if tau == 0.0 {
-            cut_tris.sort_unstable();
-            if cut_tris != orig_tris {
-                s.add(format!(
-                    "{what}: tau = 0 cut has {} triangles, not the {} input triangles",
-                    cut_tris.len(),
-                    orig_tris.len()
-                ));
+            walk.clear();
+            walk.push(start as u32);
+            let mut cur = next_on_border[start];
+            let mut simple = true;
+            while cur != start as u32 {
+                if cur == u32::MAX
+                    || degree[cur as usize] != (1, 1)
+                    || loop_of[cur as usize] != u32::MAX
+                    || walk.len() > np
+                {
+                    simple = false;
+                    break;
+                }
+                walk.push(cur);
+                cur = next_on_border[cur as usize];
+            }
+            if simple {
+                let id = loop_len.len() as u32;
+                for (i, &v) in walk.iter().enumerate() {
+                    loop_of[v as usize] = id;
+                    loop_idx[v as usize] = i as u32;
+                }
+                loop_len.push(walk.len() as u32);
             }
         }
+        let mut loop_point = vec![u32::MAX; np];
+        let mut n = 0;
+        for (p, l) in loop_of.iter().enumerate() {
+            if *l != u32::MAX {
+                loop_point[p] = n;
+                n += 1;
+            }
+        }
+
+        let mut children: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
+        for (ci, c) in m.clusters.iter().enumerate() {
+            if c.creator != NO_GROUP {
+                children[c.creator as usize].push(ci as u32);
+            }
+        }
+        let mut by_level: Vec<u32> = (0..nc as u32).collect();
+        by_level.sort_by_key(|&c| std::cmp::Reverse(m.clusters[c as usize].level));
+        Prep {
+            id_pos,
+            tri_off,
+            tris,
+            level0,
+            level0_triangles,
+            edges,
+            use_off,
+            uses,
+            border,
+            comp,
+            loop_of,
+            loop_idx,
+            loop_point,
+            loop_len,
+            children,
+            by_level,
+            orig_tris: OnceLock::new(),
+        }
+    }
+
+    fn cluster_tris(&self, c: u32) -> &[[u32; 3]] {
+        &self.tris[self.tri_off[c as usize]..self.tri_off[c as usize + 1]]
+    }
+
+    /// The triangles of `clusters`, canonical and sorted.
+    fn sorted_tris(&self, clusters: &[u32]) -> Vec<[u32; 3]> {
+        let mut t: Vec<[u32; 3]> = clusters
+            .iter()
+            .flat_map(|&c| self.cluster_tris(c).iter().map(|&t| canonical(t)))
+            .collect();
+        t.par_sort_unstable();
+        t
+    }
+}
+
+/// Per-thread buffers of the view checks, reused from view to view (left cleared).
+struct Scratch {
+    /// Uses of each counted edge in this view's cut, x -> y and y -> x.
+    count: Vec<[u32; 2]>,
+    touched: Vec<u32>,
+    drawn: Vec<bool>,
+    up: Vec<(u32, u32)>,
+    /// Per border loop: the distance walked along it by the cut's border chain.
+    walked: Vec<u64>,
+    loops_touched: Vec<u32>,
+    /// Per loop point: (outgoing, incoming) border-chain edges of the cut.
+    degree: Vec<(u32, u32)>,
+    points_touched: Vec<u32>,
+}
+
+impl Scratch {
+    fn new(m: &BuiltMesh, p: &Prep) -> Self {
+        Scratch {
+            count: vec![[0; 2]; p.edges.len()],
+            touched: Vec::new(),
+            drawn: vec![false; m.clusters.len()],
+            up: vec![(0, 0); m.clusters.len()],
+            walked: vec![0; p.loop_len.len()],
+            loops_touched: Vec::new(),
+            degree: vec![(0, 0); p.loop_point.iter().filter(|&&x| x != u32::MAX).count()],
+            points_touched: Vec::new(),
+        }
+    }
+}
+
+/// What one view found: its violation lines (in the reference's order), cut size and accepted
+/// border edges.
+struct ViewResult {
+    violations: Vec<String>,
+    cut_triangles: usize,
+    border_edges_accepted: usize,
+}
+
+fn check_cuts(m: &BuiltMesh, opts: &VerifyOptions, s: &mut Sink) {
+    let positions = m.positions();
+    let prep = Prep::new(m, &positions);
+    s.r.border_loops = prep.loop_len.len();
+    let (center, radius) = view_bounds(&positions);
+    drop(positions);
+    let scale = proj_scale(1080.0, 60f32.to_radians());
+    let views = draw_views(center, radius, opts);
+    // Views in parallel; each thread takes a scratch from the pool (as many as run at once).
+    let pool: Mutex<Vec<Scratch>> = Mutex::new(Vec::new());
+    let results: Vec<ViewResult> = views
+        .par_iter()
+        .enumerate()
+        .with_max_len(1)
+        .map(|(view, &(cam, tau))| {
+            let taken = pool.lock().map(|mut p| p.pop()).unwrap_or(None);
+            let mut sc = taken.unwrap_or_else(|| Scratch::new(m, &prep));
+            let r = check_view(m, &prep, view, cam, tau, scale, &mut sc);
+            if let Ok(mut p) = pool.lock() {
+                p.push(sc);
+            }
+            r
+        })
+        .collect();
+    s.r.cut_triangles_min = usize::MAX;
+    for r in results {
+        for v in r.violations {
+            s.add(v);
+        }
+        s.r.cut_triangles_min = s.r.cut_triangles_min.min(r.cut_triangles);
+        s.r.cut_triangles_max = s.r.cut_triangles_max.max(r.cut_triangles);
+        s.r.border_edges_accepted += r.border_edges_accepted;
         s.r.views_tested += 1;
     }
     if s.r.views_tested == 0 {
         s.r.cut_triangles_min = 0;
+    }
+}
+
+/// The checks of one view: the BVH cut equals the brute cut; every leaf-to-root path crosses the
+/// cut once; the cut's edges match (no crack, no overlap) except simplified open borders, whose
+/// chains must go once around their input border loop; at tau = 0 the cut is the input.
+fn check_view(
+    m: &BuiltMesh,
+    p: &Prep,
+    view: usize,
+    cam: Vec3,
+    tau: f32,
+    scale: f32,
+    sc: &mut Scratch,
+) -> ViewResult {
+    let mut out = Vec::new();
+    let cut = cut_brute(m, cam, scale, tau);
+    let what = format!("view {view} (camera {:?}, tau {tau})", cam.to_array());
+    match cut_bvh(m, cam, scale, tau) {
+        Some(b) if b == cut => {}
+        Some(b) => out.push(format!(
+            "{what}: BVH cut has {} clusters, brute cut {}",
+            b.len(),
+            cut.len()
+        )),
+        None => out.push(format!("{what}: BVH traversal went out of range")),
+    }
+    // Every leaf-to-root path crosses the cut exactly once: (fewest, most) drawn clusters on the
+    // paths from each cluster up, coarsest levels first.
+    for &c in &cut {
+        sc.drawn[c as usize] = true;
+    }
+    sc.up.fill((0, 0));
+    for &c in &p.by_level {
+        let cl = &m.clusters[c as usize];
+        let d = sc.drawn[c as usize] as u32;
+        sc.up[c as usize] = if c == m.root {
+            (d, d)
+        } else {
+            let ps = &p.children[cl.group as usize];
+            let mn = ps.iter().map(|&q| sc.up[q as usize].0).min().unwrap_or(0);
+            let mx = ps.iter().map(|&q| sc.up[q as usize].1).max().unwrap_or(0);
+            (d + mn, d + mx)
+        };
+    }
+    for &c in &cut {
+        sc.drawn[c as usize] = false;
+    }
+    let bad = p
+        .level0
+        .iter()
+        .filter(|&&c| sc.up[c as usize] != (1, 1))
+        .count();
+    if bad > 0 {
+        out.push(format!(
+            "{what}: {bad} level-0 clusters not covered exactly once by the cut"
+        ));
+    }
+    // Edge use counts of the cut (counted edges only).
+    let mut cut_triangles = 0;
+    for &c in &cut {
+        let c = c as usize;
+        cut_triangles += p.tri_off[c + 1] - p.tri_off[c];
+        for u in &p.uses[p.use_off[c]..p.use_off[c + 1]] {
+            let k = &mut sc.count[u.edge as usize];
+            if *k == [0, 0] {
+                sc.touched.push(u.edge);
+            }
+            k[0] += u.f as u32;
+            k[1] += u.r as u32;
+        }
+    }
+    let (mut cracks, mut overlaps, mut accepted) = (0usize, 0usize, 0usize);
+    // The example: the reference reports the problem edge whose directed key comes first.
+    let mut example: Option<(u64, [u32; 6])> = None;
+    for &d in &sc.touched {
+        let [fwd, back] = std::mem::take(&mut sc.count[d as usize]);
+        let e = p.edges[d as usize];
+        // Border chains: edges used once in one direction only, both ends on one simple loop.
+        if e.x != e.y {
+            for (a, b, f, r) in [(e.x, e.y, fwd, back), (e.y, e.x, back, fwd)] {
+                let l = p.loop_of[a as usize];
+                if f != 1 || r != 0 || l == u32::MAX || p.loop_of[b as usize] != l {
+                    continue;
+                }
+                let len = p.loop_len[l as usize];
+                let dist = (p.loop_idx[b as usize] + len - p.loop_idx[a as usize]) % len;
+                if sc.walked[l as usize] == 0 {
+                    sc.loops_touched.push(l);
+                }
+                sc.walked[l as usize] += dist as u64;
+                for (q, out_edge) in [(a, true), (b, false)] {
+                    let lp = p.loop_point[q as usize] as usize;
+                    if sc.degree[lp] == (0, 0) {
+                        sc.points_touched.push(lp as u32);
+                    }
+                    if out_edge {
+                        sc.degree[lp].0 += 1;
+                    } else {
+                        sc.degree[lp].1 += 1;
+                    }
+                }
+            }
+        }
+        // The reference visits an edge from x -> y if the cut uses that direction, else y -> x.
+        let (a, b, f, r, f0, r0) = if fwd > 0 {
+            (e.x, e.y, fwd, back, e.f0, e.r0)
+        } else {
+            (e.y, e.x, back, fwd, e.r0, e.f0)
+        };
+        if f == r || (f, r) == (f0, r0) {
+            continue;
+        }
+        let (ai, bi) = (a as usize, b as usize);
+        if f + r == 1 && p.border[ai] && p.border[bi] && p.comp[ai] == p.comp[bi] {
+            accepted += 1;
+            continue;
+        }
+        if f > 1 || r > 1 {
+            overlaps += 1
+        } else {
+            cracks += 1
+        }
+        let key = (a as u64) << 32 | b as u64;
+        if example.is_none_or(|(k, _)| key < k) {
+            example = Some((key, [a, b, f, r, f0, r0]));
+        }
+    }
+    sc.touched.clear();
+    // A walk of 0 is impossible on a simple loop (distinct points), so walked != 0 marks the
+    // touched loops; reset as we count.
+    let mut bad_loops = 0;
+    for &l in &sc.loops_touched {
+        let w = std::mem::take(&mut sc.walked[l as usize]);
+        if w != 0 && w != p.loop_len[l as usize] as u64 {
+            bad_loops += 1;
+        }
+    }
+    sc.loops_touched.clear();
+    let mut bad_points = 0;
+    for &q in &sc.points_touched {
+        if std::mem::take(&mut sc.degree[q as usize]) != (1, 1) {
+            bad_points += 1;
+        }
+    }
+    sc.points_touched.clear();
+    if bad_loops > 0 || bad_points > 0 {
+        out.push(format!(
+            "{what}: border chains broken on {bad_loops} of {} input border loops ({bad_points} points without one incoming and one outgoing border edge)",
+            p.loop_len.len()
+        ));
+    }
+    if let Some((_, [a, b, f, r, f0, r0])) = example {
+        out.push(format!(
+            "{what}: {cracks} unmatched and {overlaps} over-used edges, e.g. {:?} -> {:?} used {f}/{r} times (input: {f0}/{r0})",
+            p.id_pos[a as usize], p.id_pos[b as usize]
+        ));
+    }
+    if tau == 0.0 {
+        // The cut of exactly the level-0 clusters has the input's triangles by definition.
+        let same = cut == p.level0 || {
+            let orig = p.orig_tris.get_or_init(|| p.sorted_tris(&p.level0));
+            p.sorted_tris(&cut) == *orig
+        };
+        if !same {
+            out.push(format!(
+                "{what}: tau = 0 cut has {cut_triangles} triangles, not the {} input triangles",
+                p.level0_triangles
+            ));
+        }
+    }
+    ViewResult {
+        violations: out,
+        cut_triangles,
+        border_edges_accepted: accepted,
     }
 }

@@ -50,6 +50,8 @@ pub struct Caps {
     pub timestamp_period_ns: Option<f32>,
     pub subgroup_size: u32,
     pub max_compute_workgroups: [u32; 3],
+    /// `maxImageDimension2D`: the largest side of a 2D image (at least 4096).
+    pub max_image_dimension_2d: u32,
     pub validation: bool,
 }
 
@@ -496,6 +498,7 @@ impl Context {
                 .then_some(props.limits.timestamp_period),
             subgroup_size: subgroup.subgroup_size,
             max_compute_workgroups: props.limits.max_compute_work_group_count,
+            max_image_dimension_2d: props.limits.max_image_dimension2_d,
             validation: opts.validation,
         };
 

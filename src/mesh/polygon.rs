@@ -388,9 +388,8 @@ mod tests {
         let positions = star(n);
         let poly: Vec<u32> = (0..n as u32).collect();
         let mut out = Vec::new();
-        let start = std::time::Instant::now();
+        // `false`: the work budget ran out and the rest was fanned (deterministic, not timed).
         assert!(!triangulate(&positions, &poly, &mut out), "ran out of work");
-        assert!(start.elapsed().as_secs_f64() < 5.0, "{:?}", start.elapsed());
         assert_eq!(out.len(), n - 2);
         // Every corner used, each triangle from the polygon's corners.
         let mut used = vec![false; n];

@@ -88,10 +88,22 @@ impl GbufferTargets {
         light_dir: glam::Vec3,
         mode: ShadeMode,
     ) -> MaterialViewGpu {
+        let view_proj = camera.view_proj(self.width, self.height);
+        self.view_for_matrix(&view_proj, light_dir, mode)
+    }
+
+    /// [`GbufferTargets::view_for`] with the projection given (e.g. a tile's,
+    /// [`Camera::view_proj_window`]).
+    pub fn view_for_matrix(
+        &self,
+        view_proj: &glam::Mat4,
+        light_dir: glam::Vec3,
+        mode: ShadeMode,
+    ) -> MaterialViewGpu {
         let bg = BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
         let (w, h) = (self.width, self.height);
         MaterialViewGpu {
-            inv_view_proj: camera.view_proj(w, h).inverse().to_cols_array_2d(),
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
             light_dir: light_dir.normalize_or_zero().extend(0.0).into(),
             background: [bg[0], bg[1], bg[2], 1.0],
             viewport: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],

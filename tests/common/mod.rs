@@ -1,6 +1,9 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod cad;
+pub mod shapes;
+
 use std::path::PathBuf;
 
 use vgeo::gpu::{Context, ContextOptions};
