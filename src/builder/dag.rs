@@ -194,6 +194,13 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         name: mesh.name.clone(),
         msg,
     })?;
+    // Position ids index edge keys of 31 bits per point (`undirected`).
+    if mesh.positions.len() >= 1 << 31 {
+        return Err(BuildError::InvalidMesh {
+            name: mesh.name.clone(),
+            msg: format!("{} vertices (at most 2^31 - 1)", mesh.positions.len()),
+        });
+    }
     if mesh.materials.len() > u16::MAX as usize {
         return Err(BuildError::InvalidMesh {
             name: mesh.name.clone(),
@@ -545,40 +552,120 @@ fn group_error(simplify_error: f32, members_max: f32, min_error: f32) -> f32 {
     (simplify_error.max(members_max) * (1.0 + 1.0 / 1024.0)).max(min_error)
 }
 
-/// Directed edges (by position id, key `a << 32 | b`) of some triangles with their use counts,
-/// sorted by key.
-struct Edges(Vec<(u64, u32)>);
+/// Edges (by position id) of some triangles with their use counts each way: entries
+/// `(min << 32 | max, uses min -> max, uses max -> min)`, sorted by key. Keeping both directions
+/// in one entry lets every check read an edge's balance without a second lookup.
+struct Edges(Vec<(u64, u32, u32)>);
 
 impl Edges {
-    fn of(tris: &[[u32; 3]], pid: &[u32]) -> Edges {
-        let mut keys: Vec<u64> = Vec::with_capacity(tris.len() * 3);
-        for t in tris {
-            for e in 0..3 {
-                keys.push((pid[t[e] as usize] as u64) << 32 | pid[t[(e + 1) % 3] as usize] as u64);
-            }
+    /// The edges of `tris`; `npid` bounds the position ids. The group's points are numbered
+    /// densely in the order of their ids, so that each directed edge gets a 32-bit key that
+    /// sorts like its global key and a radix sort orders them in linear time (a comparison
+    /// sort of 64-bit keys was a tenth of the build); a group of more than 2^15 points takes
+    /// the 64-bit keys.
+    fn of(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> Edges {
+        thread_local! {
+            static LOCAL: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
         }
-        Edges::from_keys(keys)
+        LOCAL.with_borrow_mut(|local| {
+            if local.len() < npid {
+                local.resize(npid, NONE);
+            }
+            let mut points: Vec<u32> = Vec::new();
+            for &v in tris.iter().flatten() {
+                let p = pid[v as usize];
+                if local[p as usize] == NONE {
+                    local[p as usize] = 0;
+                    points.push(p);
+                }
+            }
+            let k = points.len();
+            let out = if k <= 1 << 15 {
+                radsort::sort(&mut points);
+                for (i, &p) in points.iter().enumerate() {
+                    local[p as usize] = i as u32;
+                }
+                let mut keys: Vec<u32> = Vec::with_capacity(tris.len() * 3);
+                for t in tris {
+                    let l = t.map(|v| local[pid[v as usize] as usize]);
+                    for e in 0..3 {
+                        let (a, b) = (l[e], l[(e + 1) % 3]);
+                        keys.push((a.min(b) * k as u32 + a.max(b)) << 1 | (a < b) as u32);
+                    }
+                }
+                radsort::sort(&mut keys);
+                let mut out: Vec<(u64, u32, u32)> = Vec::with_capacity(keys.len());
+                let mut last = u32::MAX;
+                for key in keys {
+                    if key >> 1 != last {
+                        last = key >> 1;
+                        let (a, b) = (last / k as u32, last % k as u32);
+                        let (a, b) = (points[a as usize], points[b as usize]);
+                        out.push(((a as u64) << 32 | b as u64, 0, 0));
+                    }
+                    let l = out.last_mut().expect("pushed above");
+                    if key & 1 == 1 {
+                        l.1 += 1;
+                    } else {
+                        l.2 += 1;
+                    }
+                }
+                Edges(out)
+            } else {
+                let mut keys: Vec<u64> = Vec::with_capacity(tris.len() * 3);
+                for t in tris {
+                    for e in 0..3 {
+                        keys.push(undirected(pid[t[e] as usize], pid[t[(e + 1) % 3] as usize]));
+                    }
+                }
+                Edges::from_keys(keys)
+            };
+            for &p in &points {
+                local[p as usize] = NONE;
+            }
+            out
+        })
     }
 
-    /// Counts of directed edge keys `a << 32 | b`.
+    /// Counts of directed edges given as `undirected(a, b)` keys.
     fn from_keys(mut keys: Vec<u64>) -> Edges {
         keys.sort_unstable();
-        let mut out: Vec<(u64, u32)> = Vec::with_capacity(keys.len());
-        for k in keys {
-            match out.last_mut() {
-                Some(l) if l.0 == k => l.1 += 1,
-                _ => out.push((k, 1)),
+        Edges::from_sorted(&keys)
+    }
+
+    fn from_sorted(keys: &[u64]) -> Edges {
+        let mut out: Vec<(u64, u32, u32)> = Vec::with_capacity(keys.len());
+        for &k in keys {
+            let (key, forward) = (k >> 1, k & 1 == 1);
+            if out.last().is_none_or(|l| l.0 != key) {
+                out.push((key, 0, 0));
+            }
+            let l = out.last_mut().expect("pushed above");
+            if forward {
+                l.1 += 1;
+            } else {
+                l.2 += 1;
             }
         }
         Edges(out)
     }
 
-    fn count(&self, a: u32, b: u32) -> u32 {
-        let k = (a as u64) << 32 | b as u64;
-        self.0
-            .binary_search_by_key(&k, |e| e.0)
-            .map_or(0, |i| self.0[i].1)
+    /// Uses of a -> b and of b -> a.
+    fn pair(&self, a: u32, b: u32) -> (u32, u32) {
+        let k = (a.min(b) as u64) << 32 | a.max(b) as u64;
+        match self.0.binary_search_by_key(&k, |e| e.0) {
+            Ok(i) if a <= b => (self.0[i].1, self.0[i].2),
+            Ok(i) => (self.0[i].2, self.0[i].1),
+            Err(_) => (0, 0),
+        }
     }
+}
+
+/// Sort key of the directed edge a -> b: the undirected key `min << 32 | max` shifted left
+/// by one, with the low bit set when a < b (the forward direction). Position ids are below
+/// 2^31 (`prepare` checks), so the key fits.
+fn undirected(a: u32, b: u32) -> u64 {
+    ((a.min(b) as u64) << 32 | a.max(b) as u64) << 1 | (a < b) as u64
 }
 
 /// What the cut test compares against (verify's rules), from the level-0 triangles: the edges
@@ -594,34 +681,21 @@ struct Level0 {
 
 impl Level0 {
     fn new(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> Level0 {
-        let mut keys: Vec<(u64, bool)> = tris
+        let mut keys: Vec<u64> = tris
             .par_iter()
             .flat_map_iter(|t| {
-                (0..3).map(move |e| {
-                    let (a, b) = (pid[t[e] as usize], pid[t[(e + 1) % 3] as usize]);
-                    ((a.min(b) as u64) << 32 | a.max(b) as u64, a < b)
-                })
+                (0..3).map(move |e| undirected(pid[t[e] as usize], pid[t[(e + 1) % 3] as usize]))
             })
             .collect();
         keys.par_sort_unstable();
-        let mut irregular = Vec::new();
-        let mut i = 0;
-        while i < keys.len() {
-            let mut j = i;
-            let (mut f, mut r) = (0u32, 0u32);
-            while j < keys.len() && keys[j].0 == keys[i].0 {
-                if keys[j].1 {
-                    f += 1;
-                } else {
-                    r += 1;
-                }
-                j += 1;
-            }
-            if (f, r) != (1, 1) {
-                irregular.push((keys[i].0, f, r));
-            }
-            i = j;
-        }
+        let irregular: Vec<(u64, u32, u32)> = keys
+            .par_chunk_by(|a, b| a >> 1 == b >> 1)
+            .filter_map(|uses| {
+                let f = uses.iter().filter(|&&k| k & 1 == 1).count() as u32;
+                let r = uses.len() as u32 - f;
+                ((f, r) != (1, 1)).then_some((uses[0] >> 1, f, r))
+            })
+            .collect();
         drop(keys);
         let mut border = vec![false; npid];
         let mut comp: Vec<u32> = (0..npid as u32).collect();
@@ -671,16 +745,53 @@ impl Level0 {
     }
 }
 
-/// Whether some point of `tris` has several vertices (an attribute seam).
-fn has_seams(tris: &[[u32; 3]], pid: &[u32]) -> bool {
-    let mut v: Vec<(u32, u32)> = tris
-        .iter()
-        .flatten()
-        .map(|&v| (pid[v as usize], v))
-        .collect();
-    v.sort_unstable();
-    v.dedup();
-    v.windows(2).any(|w| w[0].0 == w[1].0)
+/// Of a group's triangles: whether some point has several vertices (an attribute seam), and
+/// whether the triangles form more than one connected piece (through shared points). Linear: a
+/// scratch map from position id to the first vertex seen there, per thread, cleared after use.
+fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
+    thread_local! {
+        static FIRST: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+    }
+    FIRST.with_borrow_mut(|first| {
+        if first.len() < npid {
+            first.resize(npid, NONE);
+        }
+        let mut seam = false;
+        // Union-find over the triangles: each point records the first triangle that uses it.
+        let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
+        fn find(c: &mut [u32], mut x: u32) -> u32 {
+            while c[x as usize] != x {
+                let p = c[c[x as usize] as usize];
+                c[x as usize] = p;
+                x = p;
+            }
+            x
+        }
+        let mut owner: Vec<(u32, u32)> = Vec::new();
+        for (ti, t) in tris.iter().enumerate() {
+            for &v in t {
+                let f = &mut first[pid[v as usize] as usize];
+                if *f == NONE {
+                    *f = owner.len() as u32;
+                    owner.push((v, ti as u32));
+                } else {
+                    let (fv, ft) = owner[*f as usize];
+                    seam |= fv != v;
+                    let (ra, rb) = (find(&mut parent, ft), find(&mut parent, ti as u32));
+                    parent[ra.max(rb) as usize] = ra.min(rb);
+                }
+            }
+        }
+        for t in tris {
+            for &v in t {
+                first[pid[v as usize] as usize] = NONE;
+            }
+        }
+        let pieces = (0..tris.len() as u32)
+            .filter(|&t| find(&mut parent, t) == t)
+            .count();
+        (seam, pieces > 1)
+    })
 }
 
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
@@ -900,35 +1011,47 @@ fn build_inner(
                 .collect()
         };
         let single = member_groups.len() == 1;
-        // Locks: position ids used by more than one group.
-        let mut owner = vec![NONE; npid];
-        for (gi, g) in member_groups.iter().enumerate() {
-            for &c in g {
-                for &v in clusters[c as usize].tris.iter().flatten() {
-                    let o = &mut owner[pid[v as usize] as usize];
-                    *o = match *o {
-                        NONE => gi as u32,
-                        x if x == gi as u32 => x,
-                        _ => MULTI,
-                    };
-                }
-            }
-        }
-        // Use counts of the edges between two locked points (see `unsafe_changes`).
-        let shared = {
-            let mut keys = Vec::new();
-            for &c in &working {
-                for t in &clusters[c as usize].tris {
-                    let p = t.map(|v| pid[v as usize]);
-                    for e in 0..3 {
-                        let (a, b) = (p[e], p[(e + 1) % 3]);
-                        if owner[a as usize] == MULTI && owner[b as usize] == MULTI {
-                            keys.push((a as u64) << 32 | b as u64);
+        // Locks: position ids used by more than one group. In parallel over the groups: a
+        // point ends as its one group or MULTI whatever the order of the writes.
+        let owner: Vec<u32> = {
+            use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+            let owner: Vec<AtomicU32> = (0..npid).map(|_| AtomicU32::new(NONE)).collect();
+            member_groups.par_iter().enumerate().for_each(|(gi, g)| {
+                let gi = gi as u32;
+                for &c in g {
+                    for &v in clusters[c as usize].tris.iter().flatten() {
+                        let o = &owner[pid[v as usize] as usize];
+                        let mut cur = o.load(Relaxed);
+                        while cur != gi && cur != MULTI {
+                            let new = if cur == NONE { gi } else { MULTI };
+                            match o.compare_exchange_weak(cur, new, Relaxed, Relaxed) {
+                                Ok(_) => break,
+                                Err(now) => cur = now,
+                            }
                         }
                     }
                 }
-            }
-            Edges::from_keys(keys)
+            });
+            owner.into_iter().map(AtomicU32::into_inner).collect()
+        };
+        // Use counts of the edges between two locked points (see `unsafe_changes`).
+        let shared = {
+            let mut keys: Vec<u64> = working
+                .par_iter()
+                .flat_map_iter(|&c| {
+                    let (owner, pid) = (&owner, &pid);
+                    clusters[c as usize].tris.iter().flat_map(move |t| {
+                        let p = t.map(|v| pid[v as usize]);
+                        (0..3).filter_map(move |e| {
+                            let (a, b) = (p[e], p[(e + 1) % 3]);
+                            (owner[a as usize] == MULTI && owner[b as usize] == MULTI)
+                                .then(|| undirected(a, b))
+                        })
+                    })
+                })
+                .collect();
+            keys.par_sort_unstable();
+            Edges::from_sorted(&keys)
         };
         let ctx = GroupCtx {
             parter,
@@ -940,6 +1063,7 @@ fn build_inner(
             opts,
             min_error,
             single,
+            spare_threads: member_groups.len() * 2 <= rayon::current_num_threads(),
             level0: &level0,
             shared: &shared,
         };
@@ -1004,6 +1128,7 @@ fn build_inner(
             opts,
             min_error,
             single: true,
+            spare_threads: rayon::current_num_threads() > 1,
             level0: &level0,
             shared: &shared,
         };
@@ -1110,6 +1235,8 @@ struct GroupCtx<'a> {
     opts: &'a BuildOptions,
     min_error: f32,
     single: bool,
+    /// Fewer groups than threads this iteration: a group may simplify its attempts in parallel.
+    spare_threads: bool,
     level0: &'a Level0,
     /// Use counts of the working set's edges between two shared points.
     shared: &'a Edges,
@@ -1139,23 +1266,23 @@ impl GroupCtx<'_> {
                 (None, Some(y)) => y.0,
                 (None, None) => break,
             };
-            let take = |v: &[(u64, u32)], at: &mut usize| match v.get(*at) {
+            let take = |v: &[(u64, u32, u32)], at: &mut usize| match v.get(*at) {
                 Some(e) if e.0 == k => {
                     *at += 1;
-                    e.1
+                    (e.1, e.2)
                 }
-                _ => 0,
+                _ => (0, 0),
             };
-            let (fi, fo) = (take(a, &mut i), take(b, &mut j));
-            if fi == fo {
-                // A change of the other direction is found at its own key.
+            let ((fi, ri), (fo, ro)) = (take(a, &mut i), take(b, &mut j));
+            if (fi, ri) == (fo, ro) {
                 continue;
             }
+            // Both rules read the same with the edge's ends swapped, so one check covers both
+            // directions.
             let (x, y) = ((k >> 32) as u32, k as u32);
-            let (ri, ro) = (in_e.count(y, x), out_e.count(y, x));
             let ok = if multi(x) && multi(y) {
-                self.shared.count(x, y) == self.shared.count(y, x)
-                    && fo as i64 - fi as i64 == ro as i64 - ri as i64
+                let (sf, sr) = self.shared.pair(x, y);
+                sf == sr && fo as i64 - fi as i64 == ro as i64 - ri as i64
             } else {
                 self.level0.allows(x, y, fo, ro)
             };
@@ -1197,16 +1324,17 @@ impl GroupCtx<'_> {
         // Attempts in order; the second locks the group's open borders too (non-manifold and
         // open-border input can otherwise fold a border edge onto another).
         // The last group (nothing to regroup with) also tries gentler targets before sloppy.
-        let mut attempts = vec![
-            (Mode::Locked, false, target),
-            (Mode::Locked, true, target),
-            (Mode::LockedPrune, true, target),
-        ];
+        let (seams, pieces) = group_shape(&tris, self.pid, self.owner.len());
+        let mut attempts = vec![(Mode::Locked, false, target), (Mode::Locked, true, target)];
+        // Pruning removes whole connected pieces: of a group in one piece it leaves nothing.
+        if pieces {
+            attempts.push((Mode::LockedPrune, true, target));
+        }
         // A group that cannot shrink with its attribute seams kept (material borders: the
         // coarse levels of a mesh with many materials are little else) may collapse across
         // them; only where the group has seams (a point with several vertices), else the
         // attempts would repeat the ones above.
-        if has_seams(&tris, self.pid) {
+        if seams {
             attempts.push((Mode::Permissive, false, target));
             attempts.push((Mode::Permissive, true, target));
         }
@@ -1218,24 +1346,44 @@ impl GroupCtx<'_> {
             attempts.push((Mode::Sloppy, true, target));
             attempts.push((Mode::Sloppy, false, target));
         }
-        let in_edges = Edges::of(&tris, self.pid);
+        let in_edges = Edges::of(&tris, self.pid, self.owner.len());
         // Open-border / non-manifold points of the group (computed when first needed).
-        let border = std::cell::OnceCell::new();
-        let locked_border = |v: u32| {
-            let b: &Vec<u32> = border.get_or_init(|| {
-                let mut b = Vec::new();
-                for &(k, f) in &in_edges.0 {
-                    let (x, y) = ((k >> 32) as u32, k as u32);
-                    if in_edges.count(y, x) != f {
-                        b.push(x);
-                        b.push(y);
-                    }
+        // Open-border / non-manifold points of the group.
+        let border: Vec<u32> = {
+            let mut b = Vec::new();
+            for &(k, f, r) in &in_edges.0 {
+                if f != r {
+                    b.push((k >> 32) as u32);
+                    b.push(k as u32);
                 }
-                b.sort_unstable();
-                b.dedup();
-                b
-            });
-            b.binary_search(&self.pid[v as usize]).is_ok()
+            }
+            b.sort_unstable();
+            b.dedup();
+            b
+        };
+        let locked_border = |v: u32| border.binary_search(&self.pid[v as usize]).is_ok();
+        // With threads to spare (few groups this iteration), every attempt is simplified at
+        // once, before any fold has locked more points; the sequence below takes these results
+        // while no fold has (the same inputs give the same result), so the output is the same
+        // as without, in the time of the slowest attempt rather than their sum.
+        let speculated: Vec<Option<(Vec<[u32; 3]>, f32)>> = if self.spare_threads {
+            attempts
+                .par_iter()
+                .map(|&(mode, lock_border, goal)| {
+                    let lock = |v: u32| locked(v) || (lock_border && locked_border(v));
+                    Some(simplify(
+                        &tris,
+                        self.positions,
+                        self.attrs,
+                        &lock,
+                        goal,
+                        f32::MAX,
+                        mode,
+                    ))
+                })
+                .collect()
+        } else {
+            vec![None; attempts.len()]
         };
         let mut result = None;
         // Position ids locked because an attempt folded edges at them (grows per round).
@@ -1258,29 +1406,43 @@ impl GroupCtx<'_> {
                     || (lock_border && locked_border(v))
                     || extra.binary_search(&self.pid[v as usize]).is_ok()
             };
-            let (mut t, e) = simplify(
-                &tris,
-                self.positions,
-                self.attrs,
-                &lock,
-                goal,
-                f32::MAX,
-                mode,
-            );
+            let (mut t, e) = match &speculated[i] {
+                Some(r) if extra.is_empty() => r.clone(),
+                _ => simplify(
+                    &tris,
+                    self.positions,
+                    self.attrs,
+                    &lock,
+                    goal,
+                    f32::MAX,
+                    mode,
+                ),
+            };
             drop_degenerate(&mut t, self.pid);
+            if !(strict(&t) || candidate.is_none() && lenient(&t)) {
+                // Too little reduction to be taken, folds or not; locking a fold's points for
+                // another round would only reduce less, and so would the same attempt with the
+                // open borders locked too.
+                i += 1;
+                attempt_rounds = 0;
+                if !lock_border && attempts.get(i) == Some(&(mode, true, goal)) {
+                    i += 1;
+                }
+                continue;
+            }
             // No overlap (verify's rule): an edge used more than once in one direction must be
             // balanced by the other direction or be used exactly as in the input; otherwise it
             // is a fold, visible in every cut that shows it.
-            let out_edges = Edges::of(&t, self.pid);
+            let out_edges = Edges::of(&t, self.pid, self.owner.len());
             let mut folded: Vec<u32> = out_edges
                 .0
                 .iter()
-                .map(|&(k, f)| ((k >> 32) as u32, k as u32, f))
-                .filter(|&(x, y, f)| {
-                    let r = out_edges.count(y, x);
-                    f > 1 && f != r && (f, r) != (in_edges.count(x, y), in_edges.count(y, x))
+                .filter(|&&(k, f, r)| {
+                    (f > 1 || r > 1)
+                        && f != r
+                        && (f, r) != in_edges.pair((k >> 32) as u32, k as u32)
                 })
-                .flat_map(|(x, y, _)| [x, y])
+                .flat_map(|&(k, _, _)| [(k >> 32) as u32, k as u32])
                 .collect();
             if folded.is_empty() {
                 folded = self.unsafe_changes(&in_edges, &out_edges);
