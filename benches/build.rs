@@ -107,7 +107,7 @@ fn main() {
             generated_torus(1000)
         } else {
             let path = std::path::Path::new(&dir).join("scanned").join(name);
-            match vgeo::cmd_build::load_input(&path, &Default::default()) {
+            match vgeo::build_files::load_input(&path, &Default::default()) {
                 Ok(m) => vgeo::mesh::merge(m),
                 Err(e) => {
                     eprintln!("{}: {e:#}", path.display());

@@ -4,7 +4,7 @@
 fn main() {
     let dir = std::env::var("VGEO_SHARED_ASSETS").unwrap_or_else(|_| "/work/shared/assets".into());
     let path = std::path::Path::new(&dir).join("scanned/bunny.ply");
-    let meshes = match vgeo::cmd_build::load_input(&path, &Default::default()) {
+    let meshes = match vgeo::build_files::load_input(&path, &Default::default()) {
         Ok(m) => m,
         Err(e) => {
             eprintln!("{e:#}");

@@ -103,7 +103,7 @@ fn main() -> anyhow::Result<()> {
         crease_deg: 180.0,
         ..Default::default()
     };
-    let meshes = vgeo::cmd_build::load_input(std::path::Path::new(input), &import)?;
+    let meshes = vgeo::build_files::load_input(std::path::Path::new(input), &import)?;
     let mesh = vgeo::mesh::merge(meshes);
     let mut p = mesh.positions.clone();
     let mut idx = mesh.indices.clone();

@@ -5,15 +5,19 @@
 //! - [`gpu`] is the only module with raw Vulkan calls; [`baseline`] holds the classic paths.
 //! - [`scene`] reads scene files and is the one loader of their meshes ([`scene::load`]); [`bench`]
 //!   runs the benchmark scenes in every mode; [`imgerr`] measures image error against a
-//!   (supersampled) reference; [`reference`] has CPU oracles used by tests.
+//!   (supersampled) reference; [`reference`] has CPU oracles used by tests; [`build_files`] builds
+//!   `.vgeo` files (what `vgeo build` does).
+//!
+//! Modules import only from layers below them (docs/architecture.md, "Layers"; `tests/layers.rs`
+//! fails on an import cycle); nothing in the library imports [`bench`] or the command line.
 //!
 //! See `docs/architecture.md` for the map of the code.
 
 pub mod baseline;
 pub mod bench;
+pub mod build_files;
 pub mod builder;
 pub mod camera;
-pub mod cmd_build;
 pub mod format;
 pub mod frame;
 pub mod gpu;

@@ -1,5 +1,7 @@
 //! `vgeo`: the command-line front end. Thin: parses arguments and calls the library.
 
+mod cli;
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -30,12 +32,12 @@ enum Command {
     Render(RenderArgs),
     /// Build a mesh's cluster DAG into a .vgeo file, or every mesh of a scene file (.toml) with
     /// the scene's options.
-    Build(vgeo::cmd_build::BuildArgs),
+    Build(cli::build::BuildArgs),
     /// Benchmark the scenes in the three modes (brute, lod, vgeo): speed, image error against a
     /// supersampled brute reference (--reference-spp), speed at equal error, scaling.
     Bench(vgeo::bench::BenchArgs),
     /// Check a .vgeo file: DAG invariants and crack-free cuts for many views (non-zero exit on failure).
-    Verify(vgeo::cmd_build::VerifyArgs),
+    Verify(cli::build::VerifyArgs),
     /// Without FILE: the Vulkan device, driver and the features vgeo uses. With a .vgeo FILE: its stats.
     Info {
         /// A .vgeo file to describe.
@@ -132,15 +134,15 @@ fn main() -> ExitCode {
             strip_view: "clusters".into(),
         }),
         Some(Command::Render(a)) => render(&a),
-        Some(Command::Build(a)) => vgeo::cmd_build::run_build(&a),
+        Some(Command::Build(a)) => cli::build::run_build(&a),
         Some(Command::Bench(a)) => vgeo::bench::run_bench(&a),
-        Some(Command::Verify(a)) => match vgeo::cmd_build::run_verify(&a) {
+        Some(Command::Verify(a)) => match cli::build::run_verify(&a) {
             Ok(true) => Ok(()),
             Ok(false) => return ExitCode::FAILURE,
             Err(e) => Err(e),
         },
         Some(Command::Info { file: Some(f) }) => {
-            vgeo::cmd_build::info_vgeo(&f).map(|s| println!("{s}"))
+            vgeo::build_files::info_vgeo(&f).map(|s| println!("{s}"))
         }
         Some(Command::Info { file: None }) => info(),
     };

@@ -3,25 +3,17 @@
 //! (vertices are split per material, so a triangle's material is its first vertex's), per-mesh UV
 //! ranges, and every base-colour and normal texture (with a mip chain, box-filtered in linear
 //! space) in one bindless array (texture 0 is white, used where a material has none or its file cannot be read,
-//! with a warning).
+//! with a warning). The passes read these (`crate::passes::materials` drives them); this module
+//! imports no pass.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use bytemuck::{Pod, Zeroable};
 
-use glam::Vec3;
-
 use crate::builder::BuiltMesh;
-use crate::camera::Camera;
-use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Image, TextureSet, Timer, vk};
+use crate::gpu::{Buffer, Context, GpuError, GpuResult, Image, TextureSet, vk};
 use crate::mesh::{Material, Mesh};
-use crate::passes::emit_gbuffer::{EmitGbuffer, EmitPath};
-use crate::passes::material_classify::{MaterialClassify, MaterialTargets, MaterialViewGpu};
-use crate::passes::material_depth::MaterialDepth;
-use crate::passes::shade::Shade;
-use crate::passes::{FrameBuffers, VisPath};
-use crate::scene_gpu::GpuScene;
 
 /// One material as the shaders read it (mirrors `MaterialGpu` in shaders_glsl/common/material.glsl).
 #[repr(C)]
@@ -480,196 +472,4 @@ pub enum ShadeMode {
     Normals = 2,
     /// A hashed colour per material id.
     Materials = 3,
-}
-
-/// The material passes of a frame (`material_classify`, `material_depth`, `emit_gbuffer`, `shade`)
-/// with the scene's materials on the GPU and the targets for the current resolution.
-pub struct MaterialPasses {
-    ctx: Context,
-    /// The scene's materials on the GPU.
-    pub gpu: GpuMaterials,
-    classify: MaterialClassify,
-    depth: MaterialDepth,
-    emit: EmitGbuffer,
-    shade: Shade,
-    targets: Option<MaterialTargets>,
-    /// Whether `emit_gbuffer` counts its fragments per material (tests).
-    pub count_fragments: bool,
-    /// How `emit_gbuffer` runs (compute by default).
-    pub emit_path: EmitPath,
-}
-
-impl MaterialPasses {
-    /// Uploads `materials` (decoding the textures) and creates the pipelines for `path`.
-    pub fn new(ctx: &Context, materials: &SceneMaterials, path: VisPath) -> GpuResult<Self> {
-        let gpu = GpuMaterials::new(ctx, materials)?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            classify: MaterialClassify::new(ctx, path)?,
-            depth: MaterialDepth::new(ctx)?,
-            emit: EmitGbuffer::new(ctx, path, &gpu)?,
-            shade: Shade::new(ctx)?,
-            gpu,
-            targets: None,
-            count_fragments: false,
-            emit_path: EmitPath::default(),
-        })
-    }
-
-    /// The targets of the last frame.
-    pub fn targets(&self) -> Option<&MaterialTargets> {
-        self.targets.as_ref()
-    }
-
-    /// Sizes the targets for `fb` and writes the view (call before recording).
-    pub fn prepare(
-        &mut self,
-        fb: &FrameBuffers,
-        camera: &Camera,
-        light_dir: Vec3,
-        mode: ShadeMode,
-    ) -> GpuResult<()> {
-        let ok = self
-            .targets
-            .as_ref()
-            .is_some_and(|t| t.width == fb.width && t.height == fb.height);
-        if !ok {
-            self.targets = Some(MaterialTargets::new(
-                &self.ctx,
-                fb.width,
-                fb.height,
-                self.gpu.count,
-            )?);
-        }
-        let view = self.view_for(fb, camera, light_dir, mode)?;
-        let t = self
-            .targets
-            .as_mut()
-            .ok_or_else(|| GpuError::Other("material targets missing".into()))?;
-        t.gbuffer.view.write(0, bytemuck::bytes_of(&view))
-    }
-
-    /// The material view of a frame seen from `camera` (targets sized by
-    /// [`MaterialPasses::prepare`] first); for recording several frames in one submission.
-    pub fn view_for(
-        &self,
-        fb: &FrameBuffers,
-        camera: &Camera,
-        light_dir: Vec3,
-        mode: ShadeMode,
-    ) -> GpuResult<MaterialViewGpu> {
-        let t = self
-            .targets
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("material targets missing".into()))?;
-        Ok(MaterialViewGpu {
-            tiles_x: t.tiles_x,
-            tiles_y: t.tiles_y,
-            material_count: self.gpu.count,
-            visible_capacity: fb.visible_capacity,
-            count_fragments: self.count_fragments as u32,
-            ..t.gbuffer.view_for(camera, light_dir, mode)
-        })
-    }
-
-    /// Records the four passes after the rasterizers (the visibility buffer and visible list must
-    /// be visible to compute shaders). [`MaterialPasses::prepare`] must have run for `fb`.
-    pub fn record(
-        &self,
-        cmd: &mut Cmd,
-        timer: &mut Timer,
-        scene: &GpuScene,
-        fb: &FrameBuffers,
-    ) -> GpuResult<()> {
-        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
-        let t = self
-            .targets
-            .as_ref()
-            .filter(|t| t.width == fb.width && t.height == fb.height)
-            .ok_or_else(|| GpuError::Other("material passes not prepared for this frame".into()))?;
-        if self.count_fragments {
-            cmd.fill_buffer(&t.fragment_counts, 0);
-            cmd.barrier(
-                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-                (
-                    S::FRAGMENT_SHADER | S::COMPUTE_SHADER,
-                    A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
-                ),
-            );
-        }
-        self.classify.record(cmd, timer, scene, &self.gpu, fb, t);
-        cmd.barrier(
-            (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
-            (
-                S::VERTEX_SHADER | S::FRAGMENT_SHADER | S::COMPUTE_SHADER,
-                A::SHADER_STORAGE_READ,
-            ),
-        );
-        match self.emit_path {
-            EmitPath::Compute => {
-                self.emit
-                    .record_compute(cmd, timer, scene, &self.gpu, fb, t);
-                cmd.barrier(
-                    (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
-                    (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
-                );
-            }
-            EmitPath::Raster => {
-                self.depth.record(cmd, timer, t);
-                self.emit.record(cmd, timer, scene, &self.gpu, fb, t);
-            }
-        }
-        self.shade.record(cmd, timer, &t.gbuffer);
-        cmd.barrier(
-            (
-                S::COMPUTE_SHADER | S::FRAGMENT_SHADER,
-                A::SHADER_STORAGE_WRITE,
-            ),
-            (S::ALL_TRANSFER | S::HOST, A::TRANSFER_READ | A::HOST_READ),
-        );
-        Ok(())
-    }
-
-    /// The output image of the last frame (RGBA8, sRGB-encoded).
-    pub fn download(&self) -> GpuResult<Vec<u8>> {
-        self.targets
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?
-            .gbuffer
-            .output
-            .download()
-    }
-
-    /// Fragments `emit_gbuffer` ran per material in the last frame (zeros unless
-    /// [`MaterialPasses::count_fragments`] was on).
-    pub fn fragment_counts(&self) -> GpuResult<Vec<u32>> {
-        let t = self
-            .targets
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?;
-        let bytes = t.fragment_counts.download()?;
-        Ok(bytemuck::cast_slice::<u8, u32>(&bytes)[..self.gpu.count as usize].to_vec())
-    }
-
-    /// Per tile `[min, max]` material of the last frame (`[u32::MAX, 0]` where empty), row-major.
-    pub fn tile_ranges(&self) -> GpuResult<Vec<[u32; 2]>> {
-        let t = self
-            .targets
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?;
-        let bytes = t.tiles.download()?;
-        let n = (t.tiles_x * t.tiles_y) as usize;
-        Ok(bytemuck::cast_slice::<u8, [u32; 2]>(&bytes)[..n].to_vec())
-    }
-
-    /// Global material id per pixel of the last frame (`u32::MAX` where empty).
-    pub fn pixel_materials(&self) -> GpuResult<Vec<u32>> {
-        let t = self
-            .targets
-            .as_ref()
-            .ok_or_else(|| GpuError::Other("no material frame rendered".into()))?;
-        let bytes = t.pixel_materials.download()?;
-        let n = (t.width * t.height) as usize;
-        Ok(bytemuck::cast_slice::<u8, u32>(&bytes)[..n].to_vec())
-    }
 }

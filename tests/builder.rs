@@ -408,7 +408,7 @@ fn build_file_and_verify_with(
 ) -> (usize, f64) {
     let name = path.display().to_string();
     let meshes =
-        vgeo::cmd_build::load_input(path, import).unwrap_or_else(|e| panic!("{name}: {e:#}"));
+        vgeo::build_files::load_input(path, import).unwrap_or_else(|e| panic!("{name}: {e:#}"));
     let mesh = vgeo::mesh::merge(meshes);
     let t0 = std::time::Instant::now();
     let built =
@@ -516,8 +516,9 @@ fn real_hard_meshes() {
 #[test]
 fn deterministic_real_mesh() {
     let path = assets_dir().join("scanned/bunny.ply");
-    let mesh =
-        vgeo::mesh::merge(vgeo::cmd_build::load_input(&path, &Default::default()).expect("bunny"));
+    let mesh = vgeo::mesh::merge(
+        vgeo::build_files::load_input(&path, &Default::default()).expect("bunny"),
+    );
     let build = |threads| {
         let b = builder::build(
             &mesh,

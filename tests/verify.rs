@@ -174,8 +174,9 @@ fn fast_verify_matches_reference_on_good_meshes() {
 fn fast_verify_matches_reference_on_real_meshes() {
     for file in ["hard/elephant-with-holes.off", "hard/Spider_binary.stl"] {
         let path = common::shared_assets().join(file);
-        let mesh =
-            vgeo::mesh::merge(vgeo::cmd_build::load_input(&path, &Default::default()).expect(file));
+        let mesh = vgeo::mesh::merge(
+            vgeo::build_files::load_input(&path, &Default::default()).expect(file),
+        );
         let m = builder::build(&mesh, &BuildOptions::default()).expect(file);
         let r = both(file, &m, &views(64));
         assert!(r.ok(), "{file}: {r}");

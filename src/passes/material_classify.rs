@@ -23,32 +23,6 @@ pub const MATERIAL_TILE: u32 = 64;
 /// "No material" in the per-pixel ids and the empty tile's minimum.
 pub const NO_MATERIAL: u32 = u32::MAX;
 
-/// The material passes' view (mirrors `MaterialViewGpu` in shaders_glsl/common/material.glsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct MaterialViewGpu {
-    /// Inverse of the camera-relative `view_proj`.
-    pub inv_view_proj: [[f32; 4]; 4],
-    /// Towards the light (world space), normalized.
-    pub light_dir: [f32; 4],
-    /// sRGB-encoded background.
-    pub background: [f32; 4],
-    /// Width, height, 1/width, 1/height.
-    pub viewport: [f32; 4],
-    pub tiles_x: u32,
-    pub tiles_y: u32,
-    /// Materials in the scene's table.
-    pub material_count: u32,
-    /// Capacity of the visible-cluster list (larger indices are ignored).
-    pub visible_capacity: u32,
-    /// `shade`'s output: 0 shaded, 1 albedo, 2 normals, 3 materials.
-    pub mode: u32,
-    /// Non-zero: `emit_gbuffer` counts its fragments per material.
-    pub count_fragments: u32,
-    pub _pad: [u32; 2],
-}
-const _: () = assert!(size_of::<MaterialViewGpu>() == 144);
-
 /// Material depth: `(id + 1) / 2^24`, 0 where empty.
 pub const MATERIAL_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 

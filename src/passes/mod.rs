@@ -17,6 +17,7 @@ pub mod emit_gbuffer;
 pub mod instance_cull;
 pub mod material_classify;
 pub mod material_depth;
+pub mod materials;
 pub mod raster_hw;
 pub mod raster_sw;
 pub mod shade;

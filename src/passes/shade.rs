@@ -11,7 +11,7 @@ use crate::gpu::{
     vk,
 };
 use crate::material::ShadeMode;
-use crate::passes::material_classify::MaterialViewGpu;
+use crate::passes::view::MaterialViewGpu;
 use crate::render::BACKGROUND;
 
 /// GBuffer albedo: sRGB-encoded colour, alpha 1 where covered.
