@@ -9,7 +9,8 @@
 //!   `.vgeo` files (what `vgeo build` does).
 //!
 //! Modules import only from layers below them (docs/architecture.md, "Layers"; `tests/layers.rs`
-//! fails on an import cycle); nothing in the library imports [`bench`] or the command line.
+//! fails on an import cycle); nothing in the library imports [`bench`](mod@bench) or the command
+//! line.
 //!
 //! See `docs/architecture.md` for the map of the code.
 
@@ -31,6 +32,10 @@ pub mod render;
 pub mod scene;
 pub mod scene_gpu;
 pub mod shared;
+
+/// What vgeo requires of a host's Vulkan instance and device (and uses when present); see
+/// [`gpu::HostDevice`] and [`gpu::Context::from_host`] to run vgeo on the host's device.
+pub use gpu::{HostDevice, requirements};
 
 /// SPIR-V of every shader, embedded at build time (see build.rs).
 pub mod shaders {

@@ -3,8 +3,8 @@
 //!
 //! For every scene and every frame of its camera path, `brute` renders the reference: the frame at
 //! `--reference-spp` samples per pixel (default 16: 4x4), box-filtered
-//! ([`Brute::render_reference`], [`crate::imgerr`]), and the frame at one sample per pixel, whose
-//! error against the reference is the floor any one-sample renderer can reach. `lod` and `vgeo`
+//! ([`Brute::render_reference`](crate::baseline::brute::Brute::render_reference),
+//! [`crate::imgerr`]), and the frame at one sample per pixel, whose error against the reference is the floor any one-sample renderer can reach. `lod` and `vgeo`
 //! render at every pixel threshold of the sweep, each threshold's whole path in order (so vgeo's
 //! occlusion culling sees the previous frame of the same run). Each path is run twice: first timed,
 //! the path's frames recorded back to back into one submission without read-back (GPU ms per pass

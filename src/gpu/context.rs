@@ -1,4 +1,5 @@
-//! Instance, device, queue, allocator, debug messenger and one-shot submission.
+//! Instance, device, queue, allocator, debug messenger and one-shot submission: the context on a
+//! host's device ([`Context::from_host`]) or on one vgeo creates ([`Context::new`], the same path).
 
 use std::ffi::{CStr, CString, c_void};
 use std::sync::{Arc, Mutex};
@@ -99,9 +100,7 @@ impl std::fmt::Display for Caps {
 pub(crate) struct Inner {
     pub entry: ash::Entry,
     pub instance: ash::Instance,
-    pub debug_instance: Option<ash::ext::debug_utils::Instance>,
     pub debug_device: Option<ash::ext::debug_utils::Device>,
-    messenger: vk::DebugUtilsMessengerEXT,
     pub device: ash::Device,
     pub push_descriptor: ash::khr::push_descriptor::Device,
     pub dynamic_rendering: ash::khr::dynamic_rendering::Device,
@@ -109,7 +108,10 @@ pub(crate) struct Inner {
     pub queue: vk::Queue,
     pub allocator: Mutex<Option<Allocator>>,
     pub caps: Caps,
-    messages: Box<Messages>,
+    /// vgeo's validation messenger (vgeo's: destroyed by vgeo, on the host's instance too).
+    validation: Option<Validation>,
+    /// The instance and device when vgeo created them (headless); `None` for a host's.
+    owned: bool,
     pub last_pass: Mutex<String>,
     pool: Mutex<vk::CommandPool>,
 }
@@ -117,6 +119,84 @@ pub(crate) struct Inner {
 #[derive(Default)]
 struct Messages {
     errors: Mutex<Vec<String>>,
+}
+
+/// A debug messenger vgeo created that stores validation errors.
+struct Validation {
+    debug_instance: ash::ext::debug_utils::Instance,
+    messenger: vk::DebugUtilsMessengerEXT,
+    messages: Box<Messages>,
+}
+
+impl Validation {
+    /// A messenger on `instance` (which must have `VK_EXT_debug_utils` enabled).
+    fn new(entry: &ash::Entry, instance: &ash::Instance) -> GpuResult<Self> {
+        let debug_instance = ash::ext::debug_utils::Instance::new(entry, instance);
+        let messages = Box::<Messages>::default();
+        let ci = vk::DebugUtilsMessengerCreateInfoEXT::default()
+            .message_severity(
+                vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+                    | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+            )
+            .message_type(
+                vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                    | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE
+                    | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
+            )
+            .pfn_user_callback(Some(debug_callback))
+            .user_data(&*messages as *const Messages as *mut c_void);
+        // SAFETY: `messages` is boxed and kept with the messenger, which is destroyed first.
+        let messenger = unsafe { debug_instance.create_debug_utils_messenger(&ci, None) }
+            .call("vkCreateDebugUtilsMessengerEXT")?;
+        Ok(Self {
+            debug_instance,
+            messenger,
+            messages,
+        })
+    }
+
+    /// Destroys the messenger (before its instance).
+    fn destroy(&self) {
+        // SAFETY: the messenger belongs to this instance and is destroyed once, by its owner.
+        unsafe {
+            self.debug_instance
+                .destroy_debug_utils_messenger(self.messenger, None)
+        };
+    }
+}
+
+/// A Vulkan device that a host (an engine) created for vgeo to run on, with what it enabled.
+///
+/// The host creates the instance and device with at least what [`super::requirements`] lists
+/// (for example with [`super::device_extensions_for_vgeo`] and [`super::DeviceFeatures::for_vgeo`]
+/// chained by [`super::DeviceFeatures::chain`]), fills this in, and calls [`Context::from_host`].
+/// **Ownership:** the handles stay the host's. vgeo never destroys the instance, the device or the
+/// queue; it destroys only what it creates on them (allocator memory, command pool, pipelines,
+/// buffers, its debug messenger), all before the last [`Context`] clone drops (it waits for the
+/// device to be idle then). The host destroys the device and instance after that.
+/// **Queue:** vgeo submits to `queue` (one-shot submissions of its own paths); the host must not
+/// use the queue from another thread while a vgeo call runs (Vulkan's external synchronization).
+pub struct HostDevice {
+    /// The loader the instance came from.
+    pub entry: ash::Entry,
+    /// The host's instance.
+    pub instance: ash::Instance,
+    /// The instance's `VkApplicationInfo::apiVersion` (at least 1.2).
+    pub api_version: u32,
+    /// Whether the instance has `VK_EXT_debug_utils` enabled (names, labels, validation messages).
+    pub debug_utils: bool,
+    /// The physical device the device was created on.
+    pub physical_device: vk::PhysicalDevice,
+    /// The host's device.
+    pub device: ash::Device,
+    /// The device extensions the device was created with.
+    pub device_extensions: Vec<CString>,
+    /// The features the device was created with (at least those of [`super::requirements`]).
+    pub features: super::DeviceFeatures,
+    /// A queue family with graphics and compute.
+    pub queue_family_index: u32,
+    /// A queue of that family.
+    pub queue: vk::Queue,
 }
 
 /// The Vulkan context. Cheap to clone (shared); resources keep it alive.
@@ -162,9 +242,69 @@ fn cstr_array(chars: &[std::ffi::c_char]) -> String {
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
+/// Handles the headless path created, destroyed in reverse order if construction fails.
+struct Headless {
+    entry: ash::Entry,
+    instance: ash::Instance,
+    debug_utils: bool,
+    validation: Option<Validation>,
+}
+
+impl Headless {
+    fn destroy(self) {
+        if let Some(v) = &self.validation {
+            v.destroy();
+        }
+        // SAFETY: nothing else created from the instance is alive.
+        unsafe { self.instance.destroy_instance(None) };
+    }
+}
+
 impl Context {
-    /// Creates a headless context (no window, no surface).
+    /// Creates a headless context (no window, no surface): vgeo creates an instance and a device
+    /// with what [`super::requirements`] lists (and the optional parts the device has), then
+    /// continues as [`Context::from_host`] does, owning (and at the end destroying) both.
     pub fn new(opts: &ContextOptions) -> GpuResult<Self> {
+        let headless = Self::headless_instance(opts)?;
+        let picked = Self::pick_device(&headless.instance, opts.device_filter.as_deref())
+            .and_then(|(pd, qf)| Self::headless_device(&headless.instance, pd, qf));
+        let (physical, queue_family, device, device_extensions, features) = match picked {
+            Ok(p) => p,
+            Err(e) => {
+                headless.destroy();
+                return Err(e);
+            }
+        };
+        // SAFETY: queue 0 of the family the device was created with.
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let host = HostDevice {
+            entry: headless.entry.clone(),
+            instance: headless.instance.clone(),
+            api_version: vk::API_VERSION_1_2,
+            debug_utils: headless.debug_utils,
+            physical_device: physical,
+            device: device.clone(),
+            device_extensions: device_extensions.iter().map(|n| (*n).to_owned()).collect(),
+            features,
+            queue_family_index: queue_family,
+            queue,
+        };
+        let mut headless = headless;
+        match Self::from_host_with(host, &mut headless) {
+            Ok(ctx) => Ok(ctx),
+            Err(e) => {
+                // SAFETY: the device is idle and nothing created on it is alive (the failed
+                // constructor destroyed what it made).
+                unsafe { device.destroy_device(None) };
+                headless.destroy();
+                Err(e)
+            }
+        }
+    }
+
+    /// The headless instance (Vulkan 1.2; debug utils when present; the validation layer and its
+    /// messenger when asked).
+    fn headless_instance(opts: &ContextOptions) -> GpuResult<Headless> {
         // SAFETY: loading the system Vulkan loader; its symbols are used through ash's tables only.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::Loader(e.to_string()))?;
 
@@ -182,22 +322,36 @@ impl Context {
         // SAFETY: plain enumeration query.
         let inst_exts = unsafe { entry.enumerate_instance_extension_properties(None) }
             .call("vkEnumerateInstanceExtensionProperties")?;
+        let reqs = super::requirements();
         let has_inst_ext = |n: &CStr| {
             inst_exts
                 .iter()
                 .any(|e| e.extension_name_as_c_str().is_ok_and(|x| x == n))
         };
+        let missing: Vec<String> = (reqs.instance_extensions.iter())
+            .filter(|n| !has_inst_ext(n))
+            .map(|n| format!("instance extension {}", n.to_string_lossy()))
+            .collect();
+        if !missing.is_empty() {
+            return Err(GpuError::Unsupported { missing });
+        }
+        let mut ext_names: Vec<*const std::ffi::c_char> = reqs
+            .instance_extensions
+            .iter()
+            .map(|n| n.as_ptr())
+            .collect();
+        ext_names.extend(
+            (reqs.optional_instance_extensions.iter())
+                .filter(|n| has_inst_ext(n))
+                .map(|n| n.as_ptr()),
+        );
         let debug_utils = has_inst_ext(ash::ext::debug_utils::NAME);
 
         let app_name = c"vgeo";
         let app = vk::ApplicationInfo::default()
             .application_name(app_name)
             .engine_name(app_name)
-            .api_version(vk::API_VERSION_1_2);
-        let mut ext_names = Vec::new();
-        if debug_utils {
-            ext_names.push(ash::ext::debug_utils::NAME.as_ptr());
-        }
+            .api_version(reqs.api_version);
         let layer_names = if opts.validation {
             vec![VALIDATION_LAYER.as_ptr()]
         } else {
@@ -215,57 +369,76 @@ impl Context {
         }
         // SAFETY: all pointers in `info` point to locals alive for the call.
         let instance = unsafe { entry.create_instance(&info, None) }.call("vkCreateInstance")?;
-
-        let messages = Box::<Messages>::default();
-        let (debug_instance, messenger) = if debug_utils {
-            let di = ash::ext::debug_utils::Instance::new(&entry, &instance);
-            let mut messenger = vk::DebugUtilsMessengerEXT::null();
-            if opts.validation {
-                let ci = vk::DebugUtilsMessengerCreateInfoEXT::default()
-                    .message_severity(
-                        vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
-                            | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
-                    )
-                    .message_type(
-                        vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-                            | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE
-                            | vk::DebugUtilsMessageTypeFlagsEXT::GENERAL,
-                    )
-                    .pfn_user_callback(Some(debug_callback))
-                    .user_data(&*messages as *const Messages as *mut c_void);
-                // SAFETY: `messages` is boxed and stored in the context, outliving the messenger.
-                messenger = unsafe { di.create_debug_utils_messenger(&ci, None) }
-                    .call("vkCreateDebugUtilsMessengerEXT")?;
-            }
-            (Some(di), messenger)
-        } else {
-            (None, vk::DebugUtilsMessengerEXT::null())
-        };
-
-        let picked = Self::pick_device(&instance, opts.device_filter.as_deref());
-        let (physical, queue_family) = match picked {
-            Ok(p) => p,
-            Err(e) => {
-                // SAFETY: nothing else was created from the instance yet but the messenger.
-                unsafe {
-                    if let Some(di) = &debug_instance {
-                        di.destroy_debug_utils_messenger(messenger, None);
-                    }
-                    instance.destroy_instance(None);
-                }
-                return Err(e);
-            }
-        };
-        Self::create_device(
+        let mut headless = Headless {
             entry,
             instance,
-            debug_instance,
-            messenger,
-            messages,
-            physical,
-            queue_family,
-            opts,
-        )
+            debug_utils,
+            validation: None,
+        };
+        // The messenger exists before the device, so device creation is validated too.
+        if opts.validation && debug_utils {
+            match Validation::new(&headless.entry, &headless.instance) {
+                Ok(v) => headless.validation = Some(v),
+                Err(e) => {
+                    headless.destroy();
+                    return Err(e);
+                }
+            }
+        }
+        Ok(headless)
+    }
+
+    /// The headless device on `physical`: [`super::requirements`]' extensions and features (an
+    /// error naming what the device lacks) and the optional ones it has.
+    #[allow(clippy::type_complexity)]
+    fn headless_device(
+        instance: &ash::Instance,
+        physical: vk::PhysicalDevice,
+        queue_family: u32,
+    ) -> GpuResult<(
+        vk::PhysicalDevice,
+        u32,
+        ash::Device,
+        Vec<&'static CStr>,
+        super::DeviceFeatures,
+    )> {
+        // SAFETY: a query on a valid physical device.
+        let props = unsafe { instance.get_physical_device_properties(physical) };
+        let device_name = cstr_array(&props.device_name);
+        let extensions =
+            super::device_extensions_for_vgeo(instance, physical).map_err(|e| match e {
+                GpuError::Unsupported { missing } => GpuError::NoDevice(format!(
+                    "{device_name} lacks required extensions {:?}",
+                    missing
+                        .iter()
+                        .map(|m| m.trim_start_matches("device extension "))
+                        .collect::<Vec<_>>()
+                )),
+                e => e,
+            })?;
+        let supported = super::DeviceFeatures::supported(instance, physical)?;
+        let features = super::DeviceFeatures::for_vgeo(&supported).map_err(|missing| {
+            GpuError::NoDevice(format!(
+                "{device_name} lacks required features {:?}",
+                missing.iter().map(|f| f.name).collect::<Vec<_>>()
+            ))
+        })?;
+        let mut enable = features;
+        let ext_names: Vec<*const std::ffi::c_char> =
+            extensions.iter().map(|n| n.as_ptr()).collect();
+        let prio = [1.0f32];
+        let qinfo = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&prio)];
+        let dinfo = enable.chain(
+            vk::DeviceCreateInfo::default()
+                .queue_create_infos(&qinfo)
+                .enabled_extension_names(&ext_names),
+        );
+        // SAFETY: every pointer in `dinfo` refers to locals alive for the call.
+        let device =
+            unsafe { instance.create_device(physical, &dinfo, None) }.call("vkCreateDevice")?;
+        Ok((physical, queue_family, device, extensions, features))
     }
 
     fn pick_device(
@@ -327,141 +500,134 @@ impl Context {
         })
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn create_device(
-        entry: ash::Entry,
-        instance: ash::Instance,
-        debug_instance: Option<ash::ext::debug_utils::Instance>,
-        messenger: vk::DebugUtilsMessengerEXT,
-        messages: Box<Messages>,
-        physical: vk::PhysicalDevice,
-        queue_family: u32,
-        opts: &ContextOptions,
-    ) -> GpuResult<Self> {
+    /// vgeo on a device the host created. Checks the device against [`super::requirements`]:
+    /// the Vulkan version, the queue family's flags, every required device extension and feature
+    /// as the host says it enabled them ([`HostDevice::device_extensions`],
+    /// [`HostDevice::features`]); anything missing is a [`GpuError::Unsupported`] naming each one
+    /// (never a panic). Optional parts are used when enabled (64-bit image atomics: the extension
+    /// and `shaderImageInt64Atomics`). With `collect_validation` and `VK_EXT_debug_utils` on the
+    /// instance, vgeo adds its own debug messenger and [`Context::validation_errors`] returns the
+    /// errors it saw (the host enables the validation layer itself).
+    ///
+    /// The handles stay the host's: see [`HostDevice`] for who destroys what. vgeo's own headless
+    /// context ([`Context::new`]) is made through this same constructor.
+    pub fn from_host(host: HostDevice, collect_validation: bool) -> GpuResult<Self> {
+        let validation = if collect_validation && host.debug_utils {
+            Some(Validation::new(&host.entry, &host.instance)?)
+        } else {
+            None
+        };
+        match Self::from_host_checked(host, validation, false) {
+            Ok(ctx) => Ok(ctx),
+            Err((e, v)) => {
+                if let Some(v) = v {
+                    v.destroy();
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// [`Context::from_host`] for the headless path: `headless`'s messenger is used and the
+    /// context owns the instance and device. On failure the messenger is back in `headless`.
+    fn from_host_with(host: HostDevice, headless: &mut Headless) -> GpuResult<Self> {
+        let validation = headless.validation.take();
+        Self::from_host_checked(host, validation, true).map_err(|(e, v)| {
+            headless.validation = v;
+            e
+        })
+    }
+
+    /// What a host's device lacks of [`super::requirements`], one line each.
+    fn missing_requirements(host: &HostDevice) -> Vec<String> {
+        let reqs = super::requirements();
+        let mut missing = Vec::new();
+        let version = |v: u32| format!("{}.{}", vk::api_version_major(v), vk::api_version_minor(v));
+        if host.api_version < reqs.api_version {
+            missing.push(format!(
+                "instance apiVersion {} (have {})",
+                version(reqs.api_version),
+                version(host.api_version)
+            ));
+        }
+        // SAFETY: queries on the host's valid physical device.
+        let (props, families) = unsafe {
+            (
+                host.instance
+                    .get_physical_device_properties(host.physical_device),
+                host.instance
+                    .get_physical_device_queue_family_properties(host.physical_device),
+            )
+        };
+        if props.api_version < reqs.api_version {
+            missing.push(format!(
+                "device Vulkan {} (have {})",
+                version(reqs.api_version),
+                version(props.api_version)
+            ));
+        }
+        match families.get(host.queue_family_index as usize) {
+            Some(f) if f.queue_flags.contains(reqs.queue_flags) => {}
+            _ => missing.push(format!(
+                "queue family {} with {:?}",
+                host.queue_family_index, reqs.queue_flags
+            )),
+        }
+        let enabled = |n: &CStr| host.device_extensions.iter().any(|e| e.as_c_str() == n);
+        for n in reqs.device_extensions {
+            if !enabled(n) {
+                missing.push(format!("device extension {}", n.to_string_lossy()));
+            }
+        }
+        for f in reqs.features {
+            if !host.features.has(f) {
+                missing.push(format!("feature {f}"));
+            }
+        }
+        missing
+    }
+
+    /// The one constructor behind [`Context::from_host`] and [`Context::new`].
+    fn from_host_checked(
+        host: HostDevice,
+        validation: Option<Validation>,
+        owned: bool,
+    ) -> Result<Self, (GpuError, Option<Validation>)> {
+        let missing = Self::missing_requirements(&host);
+        if !missing.is_empty() {
+            return Err((GpuError::Unsupported { missing }, validation));
+        }
+        let HostDevice {
+            entry,
+            instance,
+            debug_utils,
+            physical_device: physical,
+            device,
+            device_extensions,
+            features,
+            queue_family_index: queue_family,
+            queue,
+            ..
+        } = host;
+        let image_int64 = device_extensions
+            .iter()
+            .any(|e| e.as_c_str() == ash::ext::shader_image_atomic_int64::NAME)
+            && features.image_int64.shader_image_int64_atomics == vk::TRUE;
         // SAFETY: queries on a valid physical device.
         let (props, dev_exts, families) = unsafe {
             (
                 instance.get_physical_device_properties(physical),
                 instance
                     .enumerate_device_extension_properties(physical)
-                    .call("vkEnumerateDeviceExtensionProperties")?,
+                    .unwrap_or_default(),
                 instance.get_physical_device_queue_family_properties(physical),
             )
         };
-        let has = |n: &CStr| {
+        let supports = |n: &CStr| {
             dev_exts
                 .iter()
                 .any(|e| e.extension_name_as_c_str().is_ok_and(|x| x == n))
         };
-        let required = [
-            ash::khr::dynamic_rendering::NAME,
-            ash::khr::synchronization2::NAME,
-            ash::khr::push_descriptor::NAME,
-            ash::khr::maintenance4::NAME,
-        ];
-        let missing: Vec<String> = required
-            .iter()
-            .filter(|n| !has(n))
-            .map(|n| n.to_string_lossy().into_owned())
-            .collect();
-        let device_name = cstr_array(&props.device_name);
-        if !missing.is_empty() {
-            return Err(GpuError::NoDevice(format!(
-                "{device_name} lacks required extensions {missing:?}"
-            )));
-        }
-
-        // What the device supports.
-        let mut s12 = vk::PhysicalDeviceVulkan12Features::default();
-        let mut s_img64 = vk::PhysicalDeviceShaderImageAtomicInt64FeaturesEXT::default();
-        let mut s_dr = vk::PhysicalDeviceDynamicRenderingFeatures::default();
-        let mut s_sync2 = vk::PhysicalDeviceSynchronization2Features::default();
-        let mut s_m4 = vk::PhysicalDeviceMaintenance4Features::default();
-        let has_img64 = has(ash::ext::shader_image_atomic_int64::NAME);
-        let mut s2 = vk::PhysicalDeviceFeatures2::default()
-            .push_next(&mut s12)
-            .push_next(&mut s_dr)
-            .push_next(&mut s_sync2)
-            .push_next(&mut s_m4);
-        if has_img64 {
-            s2 = s2.push_next(&mut s_img64);
-        }
-        // SAFETY: the chain holds valid, writable structs.
-        unsafe { instance.get_physical_device_features2(physical, &mut s2) };
-        let s10 = s2.features;
-        let image_int64 = has_img64 && s_img64.shader_image_int64_atomics == vk::TRUE;
-        let need = [
-            ("shaderInt64", s10.shader_int64),
-            ("multiDrawIndirect", s10.multi_draw_indirect),
-            ("fragmentStoresAndAtomics", s10.fragment_stores_and_atomics),
-            ("shaderBufferInt64Atomics", s12.shader_buffer_int64_atomics),
-            ("drawIndirectCount", s12.draw_indirect_count),
-            ("scalarBlockLayout", s12.scalar_block_layout),
-            ("timelineSemaphore", s12.timeline_semaphore),
-            ("dynamicRendering", s_dr.dynamic_rendering),
-            ("synchronization2", s_sync2.synchronization2),
-            ("maintenance4", s_m4.maintenance4),
-        ];
-        let lacking: Vec<&str> = need
-            .iter()
-            .filter(|(_, v)| *v != vk::TRUE)
-            .map(|(n, _)| *n)
-            .collect();
-        if !lacking.is_empty() {
-            return Err(GpuError::NoDevice(format!(
-                "{device_name} lacks required features {lacking:?}"
-            )));
-        }
-
-        // What we enable.
-        let f10 = vk::PhysicalDeviceFeatures::default()
-            .shader_int64(true)
-            .multi_draw_indirect(true)
-            .fragment_stores_and_atomics(true)
-            .vertex_pipeline_stores_and_atomics(s10.vertex_pipeline_stores_and_atomics == vk::TRUE)
-            .pipeline_statistics_query(s10.pipeline_statistics_query == vk::TRUE);
-        let mut e12 = vk::PhysicalDeviceVulkan12Features::default()
-            .shader_buffer_int64_atomics(true)
-            .draw_indirect_count(true)
-            .scalar_block_layout(true)
-            .timeline_semaphore(true)
-            .descriptor_indexing(s12.descriptor_indexing == vk::TRUE)
-            .runtime_descriptor_array(s12.runtime_descriptor_array == vk::TRUE)
-            .shader_sampled_image_array_non_uniform_indexing(
-                s12.shader_sampled_image_array_non_uniform_indexing == vk::TRUE,
-            )
-            .descriptor_binding_partially_bound(s12.descriptor_binding_partially_bound == vk::TRUE)
-            .host_query_reset(s12.host_query_reset == vk::TRUE);
-        let mut e_dr =
-            vk::PhysicalDeviceDynamicRenderingFeatures::default().dynamic_rendering(true);
-        let mut e_sync2 =
-            vk::PhysicalDeviceSynchronization2Features::default().synchronization2(true);
-        let mut e_m4 = vk::PhysicalDeviceMaintenance4Features::default().maintenance4(true);
-        let mut e_img64 = vk::PhysicalDeviceShaderImageAtomicInt64FeaturesEXT::default()
-            .shader_image_int64_atomics(true);
-        let mut ext_names: Vec<*const std::ffi::c_char> =
-            required.iter().map(|n| n.as_ptr()).collect();
-        let prio = [1.0f32];
-        let qinfo = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(queue_family)
-            .queue_priorities(&prio)];
-        let mut dinfo = vk::DeviceCreateInfo::default()
-            .queue_create_infos(&qinfo)
-            .enabled_features(&f10)
-            .push_next(&mut e12)
-            .push_next(&mut e_dr)
-            .push_next(&mut e_sync2)
-            .push_next(&mut e_m4);
-        if image_int64 {
-            ext_names.push(ash::ext::shader_image_atomic_int64::NAME.as_ptr());
-            dinfo = dinfo.push_next(&mut e_img64);
-        }
-        dinfo = dinfo.enabled_extension_names(&ext_names);
-        // SAFETY: every pointer in `dinfo` refers to locals alive for the call.
-        let device =
-            unsafe { instance.create_device(physical, &dinfo, None) }.call("vkCreateDevice")?;
-        // SAFETY: queue 0 of a family we created.
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
 
         // Driver name and subgroup size.
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
@@ -475,7 +641,7 @@ impl Context {
         let ts_bits = families[queue_family as usize].timestamp_valid_bits;
         let v = props.api_version;
         let caps = Caps {
-            device_name: device_name.clone(),
+            device_name: cstr_array(&props.device_name),
             device_type: format!("{:?}", props.device_type)
                 .to_lowercase()
                 .replace('_', " "),
@@ -490,7 +656,7 @@ impl Context {
             shader_int64: true,
             buffer_int64_atomics: true,
             image_int64_atomics: image_int64,
-            mesh_shader: has(ash::ext::mesh_shader::NAME),
+            mesh_shader: supports(ash::ext::mesh_shader::NAME),
             multi_draw_indirect: true,
             draw_indirect_count: true,
             timestamp_period_ns: (ts_bits > 0
@@ -499,46 +665,56 @@ impl Context {
             subgroup_size: subgroup.subgroup_size,
             max_compute_workgroups: props.limits.max_compute_work_group_count,
             max_image_dimension_2d: props.limits.max_image_dimension2_d,
-            validation: opts.validation,
+            validation: validation.is_some(),
         };
 
-        let allocator = Allocator::new(&AllocatorCreateDesc {
+        let allocator = match Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
             device: device.clone(),
             physical_device: physical,
             debug_settings: Default::default(),
             buffer_device_address: false,
             allocation_sizes: Default::default(),
-        })
-        .map_err(|e| GpuError::Alloc {
-            name: "allocator".into(),
-            msg: e.to_string(),
-        })?;
+        }) {
+            Ok(a) => a,
+            Err(e) => {
+                let e = GpuError::Alloc {
+                    name: "allocator".into(),
+                    msg: e.to_string(),
+                };
+                return Err((e, validation));
+            }
+        };
 
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: valid device and create info.
-        let pool =
-            unsafe { device.create_command_pool(&pool_info, None) }.call("vkCreateCommandPool")?;
+        let pool = match unsafe { device.create_command_pool(&pool_info, None) }
+            .call("vkCreateCommandPool")
+        {
+            Ok(p) => p,
+            Err(e) => {
+                drop(allocator);
+                return Err((e, validation));
+            }
+        };
 
-        let debug_device = debug_instance
-            .as_ref()
-            .map(|_| ash::ext::debug_utils::Device::new(&instance, &device));
+        let debug_device =
+            debug_utils.then(|| ash::ext::debug_utils::Device::new(&instance, &device));
         let inner = Inner {
             push_descriptor: ash::khr::push_descriptor::Device::new(&instance, &device),
             dynamic_rendering: ash::khr::dynamic_rendering::Device::new(&instance, &device),
             sync2: ash::khr::synchronization2::Device::new(&instance, &device),
             entry,
             instance,
-            debug_instance,
             debug_device,
-            messenger,
             device,
             queue,
             allocator: Mutex::new(Some(allocator)),
             caps,
-            messages,
+            validation,
+            owned,
             last_pass: Mutex::new(String::from("(none)")),
             pool: Mutex::new(pool),
         };
@@ -550,6 +726,12 @@ impl Context {
         Ok(ctx)
     }
 
+    /// Whether vgeo created (and will destroy) the instance and device: true for the headless
+    /// context, false for a host's ([`Context::from_host`]).
+    pub fn owns_device(&self) -> bool {
+        self.inner.owned
+    }
+
     /// The device's capabilities.
     pub fn caps(&self) -> &Caps {
         &self.inner.caps
@@ -557,11 +739,8 @@ impl Context {
 
     /// Validation errors collected so far (empty when validation is off).
     pub fn validation_errors(&self) -> Vec<String> {
-        self.inner
-            .messages
-            .errors
-            .lock()
-            .map(|e| e.clone())
+        (self.inner.validation.as_ref())
+            .and_then(|v| v.messages.errors.lock().ok().map(|e| e.clone()))
             .unwrap_or_default()
     }
 
@@ -667,7 +846,8 @@ impl Context {
 impl Drop for Inner {
     fn drop(&mut self) {
         // SAFETY: every resource holds an Arc to this Inner, so none is alive any more; wait for the
-        // device to go idle and destroy in reverse order of creation.
+        // device to go idle and destroy vgeo's objects in reverse order of creation. The instance
+        // and device are destroyed only when vgeo created them (headless); a host's stay alive.
         unsafe {
             let _ = self.device.device_wait_idle();
             if let Ok(p) = self.pool.lock() {
@@ -676,13 +856,15 @@ impl Drop for Inner {
             if let Ok(mut a) = self.allocator.lock() {
                 a.take();
             }
-            self.device.destroy_device(None);
-            if let Some(di) = &self.debug_instance
-                && self.messenger != vk::DebugUtilsMessengerEXT::null()
-            {
-                di.destroy_debug_utils_messenger(self.messenger, None);
+            if self.owned {
+                self.device.destroy_device(None);
             }
-            self.instance.destroy_instance(None);
+            if let Some(v) = &self.validation {
+                v.destroy();
+            }
+            if self.owned {
+                self.instance.destroy_instance(None);
+            }
         }
         let _ = &self.entry;
     }

@@ -10,14 +10,18 @@ mod context;
 mod memory;
 mod pipeline;
 mod query;
+mod requirements;
 mod texture;
 
 pub use ash::vk;
 pub use cmd::{Cmd, Desc, RenderTarget};
-pub use context::{Caps, Context, ContextOptions};
+pub use context::{Caps, Context, ContextOptions, HostDevice};
 pub use memory::{Buffer, Image, MemoryKind};
 pub use pipeline::{ComputePipeline, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage};
 pub use query::Timer;
+pub use requirements::{
+    DeviceFeatures, Feature, Requirements, device_extensions_for_vgeo, requirements,
+};
 pub use texture::TextureSet;
 
 /// Errors of the GPU layer.
@@ -29,6 +33,9 @@ pub enum GpuError {
     Loader(String),
     #[error("no usable Vulkan device: {0}")]
     NoDevice(String),
+    /// The device (or instance) lacks what [`requirements`] lists: each missing item named.
+    #[error("the Vulkan device lacks what vgeo requires: {} (see vgeo::gpu::requirements())", missing.join(", "))]
+    Unsupported { missing: Vec<String> },
     #[error("Vulkan call {call} failed: {result}")]
     Vk {
         call: &'static str,
