@@ -699,14 +699,6 @@ impl Level0 {
         drop(keys);
         let mut border = vec![false; npid];
         let mut comp: Vec<u32> = (0..npid as u32).collect();
-        fn find(c: &mut [u32], mut x: u32) -> u32 {
-            while c[x as usize] != x {
-                let p = c[c[x as usize] as usize];
-                c[x as usize] = p;
-                x = p;
-            }
-            x
-        }
         for &(k, _, _) in &irregular {
             let (a, b) = ((k >> 32) as u32, k as u32);
             border[a as usize] = true;
@@ -759,14 +751,6 @@ fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
         let mut seam = false;
         // Union-find over the triangles: each point records the first triangle that uses it.
         let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
-        fn find(c: &mut [u32], mut x: u32) -> u32 {
-            while c[x as usize] != x {
-                let p = c[c[x as usize] as usize];
-                c[x as usize] = p;
-                x = p;
-            }
-            x
-        }
         let mut owner: Vec<(u32, u32)> = Vec::new();
         for (ti, t) in tris.iter().enumerate() {
             for &v in t {
@@ -792,6 +776,16 @@ fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
             .count();
         (seam, pieces > 1)
     })
+}
+
+/// Union-find root of `x` (with path halving).
+fn find(c: &mut [u32], mut x: u32) -> u32 {
+    while c[x as usize] != x {
+        let p = c[c[x as usize] as usize];
+        c[x as usize] = p;
+        x = p;
+    }
+    x
 }
 
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
@@ -1366,21 +1360,27 @@ impl GroupCtx<'_> {
         // once, before any fold has locked more points; the sequence below takes these results
         // while no fold has (the same inputs give the same result), so the output is the same
         // as without, in the time of the slowest attempt rather than their sum.
-        let speculated: Vec<Option<(Vec<[u32; 3]>, f32)>> = if self.spare_threads {
+        // One attempt: the group's locks, the open borders when asked, and `extra` points.
+        let run = |mode: Mode, lock_border: bool, goal: usize, extra: &[u32]| {
+            let lock = |v: u32| {
+                locked(v)
+                    || (lock_border && locked_border(v))
+                    || extra.binary_search(&self.pid[v as usize]).is_ok()
+            };
+            simplify(
+                &tris,
+                self.positions,
+                self.attrs,
+                &lock,
+                goal,
+                f32::MAX,
+                mode,
+            )
+        };
+        let mut speculated: Vec<Option<(Vec<[u32; 3]>, f32)>> = if self.spare_threads {
             attempts
                 .par_iter()
-                .map(|&(mode, lock_border, goal)| {
-                    let lock = |v: u32| locked(v) || (lock_border && locked_border(v));
-                    Some(simplify(
-                        &tris,
-                        self.positions,
-                        self.attrs,
-                        &lock,
-                        goal,
-                        f32::MAX,
-                        mode,
-                    ))
-                })
+                .map(|&(mode, lock_border, goal)| Some(run(mode, lock_border, goal, &[])))
                 .collect()
         } else {
             vec![None; attempts.len()]
@@ -1401,22 +1401,9 @@ impl GroupCtx<'_> {
                 // edge-collapse attempts' folds would leave it nothing to cluster.
                 extra.clear();
             }
-            let lock = |v: u32| {
-                locked(v)
-                    || (lock_border && locked_border(v))
-                    || extra.binary_search(&self.pid[v as usize]).is_ok()
-            };
-            let (mut t, e) = match &speculated[i] {
-                Some(r) if extra.is_empty() => r.clone(),
-                _ => simplify(
-                    &tris,
-                    self.positions,
-                    self.attrs,
-                    &lock,
-                    goal,
-                    f32::MAX,
-                    mode,
-                ),
+            let (mut t, e) = match speculated[i].take() {
+                Some(r) if extra.is_empty() => r,
+                _ => run(mode, lock_border, goal, &extra),
             };
             drop_degenerate(&mut t, self.pid);
             if !(strict(&t) || candidate.is_none() && lenient(&t)) {

@@ -456,7 +456,7 @@ pub fn verify_reference(m: &BuiltMesh, opts: &VerifyOptions) -> VerifyReport {
 }
 
 /// Center and radius of the decoded positions' bounding box, which the views circle.
-fn view_bounds(positions: &[[f32; 3]]) -> (Vec3, f32) {
+pub(super) fn view_bounds(positions: &[[f32; 3]]) -> (Vec3, f32) {
     let mut lo = [f32::MAX; 3];
     let mut hi = [f32::MIN; 3];
     for p in positions {
@@ -471,6 +471,52 @@ fn view_bounds(positions: &[[f32; 3]]) -> (Vec3, f32) {
         .max(1e-20)
         * 0.5;
     (center, radius)
+}
+
+/// Simple border loops: chains of points that each have exactly one outgoing and one incoming
+/// border edge (`degree`), following `next_on_border`. Returns each point's loop (`u32::MAX`:
+/// none), its index along the loop, and each loop's length.
+pub(super) fn simple_border_loops(
+    border: &[bool],
+    next_on_border: &[u32],
+    degree: &[(u32, u32)],
+) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    let np = border.len();
+    let mut loop_of = vec![u32::MAX; np];
+    let mut loop_idx = vec![0u32; np];
+    let mut loop_len: Vec<u32> = Vec::new();
+    let mut walk = Vec::new();
+    for start in 0..np {
+        if !border[start] || loop_of[start] != u32::MAX || degree[start] != (1, 1) {
+            continue;
+        }
+        // The loop is simple if it returns to `start` through degree-(1, 1) points only.
+        walk.clear();
+        walk.push(start as u32);
+        let mut cur = next_on_border[start];
+        let mut simple = true;
+        while cur != start as u32 {
+            if cur == u32::MAX
+                || degree[cur as usize] != (1, 1)
+                || loop_of[cur as usize] != u32::MAX
+                || walk.len() > np
+            {
+                simple = false;
+                break;
+            }
+            walk.push(cur);
+            cur = next_on_border[cur as usize];
+        }
+        if simple {
+            let id = loop_len.len() as u32;
+            for (i, &v) in walk.iter().enumerate() {
+                loop_of[v as usize] = id;
+                loop_idx[v as usize] = i as u32;
+            }
+            loop_len.push(walk.len() as u32);
+        }
+    }
+    (loop_of, loop_idx, loop_len)
 }
 
 /// The views of the cut test, (camera, tau): directions uniform on the sphere, distances from
@@ -796,39 +842,7 @@ impl Prep {
         drop(uf);
         // Simple border loops: every point with exactly one outgoing and one incoming border
         // edge; each point gets its loop and its index along it.
-        let mut loop_of = vec![u32::MAX; np];
-        let mut loop_idx = vec![0u32; np];
-        let mut loop_len: Vec<u32> = Vec::new();
-        let mut walk = Vec::new();
-        for start in 0..np {
-            if !border[start] || loop_of[start] != u32::MAX || degree[start] != (1, 1) {
-                continue;
-            }
-            walk.clear();
-            walk.push(start as u32);
-            let mut cur = next_on_border[start];
-            let mut simple = true;
-            while cur != start as u32 {
-                if cur == u32::MAX
-                    || degree[cur as usize] != (1, 1)
-                    || loop_of[cur as usize] != u32::MAX
-                    || walk.len() > np
-                {
-                    simple = false;
-                    break;
-                }
-                walk.push(cur);
-                cur = next_on_border[cur as usize];
-            }
-            if simple {
-                let id = loop_len.len() as u32;
-                for (i, &v) in walk.iter().enumerate() {
-                    loop_of[v as usize] = id;
-                    loop_idx[v as usize] = i as u32;
-                }
-                loop_len.push(walk.len() as u32);
-            }
-        }
+        let (loop_of, loop_idx, loop_len) = simple_border_loops(&border, &next_on_border, &degree);
         let mut loop_point = vec![u32::MAX; np];
         let mut n = 0;
         for (p, l) in loop_of.iter().enumerate() {

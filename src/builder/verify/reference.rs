@@ -9,7 +9,7 @@ use glam::Vec3;
 
 use super::super::cut::{cut_brute, cut_bvh, proj_scale};
 use super::super::{BuiltMesh, NO_GROUP};
-use super::{Rng, Sink, canonical};
+use super::{Rng, Sink, canonical, simple_border_loops, view_bounds};
 
 fn edge_key(a: u32, b: u32) -> u64 {
     (a as u64) << 32 | b as u64
@@ -94,38 +94,7 @@ pub(super) fn check_cuts(
             degree[b as usize].1 += 8;
         }
     }
-    let mut loop_of = vec![u32::MAX; np];
-    let mut loop_idx = vec![0u32; np];
-    let mut loop_len: Vec<u32> = Vec::new();
-    for start in 0..np {
-        if !border[start] || loop_of[start] != u32::MAX || degree[start] != (1, 1) {
-            continue;
-        }
-        // Walk; the loop is simple if it returns to `start` through degree-(1, 1) points only.
-        let mut walk = vec![start as u32];
-        let mut cur = next_on_border[start];
-        let mut simple = true;
-        while cur != start as u32 {
-            if cur == u32::MAX
-                || degree[cur as usize] != (1, 1)
-                || loop_of[cur as usize] != u32::MAX
-                || walk.len() > np
-            {
-                simple = false;
-                break;
-            }
-            walk.push(cur);
-            cur = next_on_border[cur as usize];
-        }
-        if simple {
-            let id = loop_len.len() as u32;
-            for (i, &v) in walk.iter().enumerate() {
-                loop_of[v as usize] = id;
-                loop_idx[v as usize] = i as u32;
-            }
-            loop_len.push(walk.len() as u32);
-        }
-    }
+    let (loop_of, loop_idx, loop_len) = simple_border_loops(&border, &next_on_border, &degree);
     s.r.border_loops = loop_len.len();
     // Parents of each cluster (clusters created by its group), for the path check.
     let mut children: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
@@ -137,19 +106,7 @@ pub(super) fn check_cuts(
     let mut by_level: Vec<u32> = (0..m.clusters.len() as u32).collect();
     by_level.sort_by_key(|&c| std::cmp::Reverse(m.clusters[c as usize].level));
 
-    let mut lo = [f32::MAX; 3];
-    let mut hi = [f32::MIN; 3];
-    for p in &positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let center = Vec3::from_array(std::array::from_fn(|k| (lo[k] + hi[k]) * 0.5));
-    let radius = (Vec3::from_array(hi) - Vec3::from_array(lo))
-        .length()
-        .max(1e-20)
-        * 0.5;
+    let (center, radius) = view_bounds(&positions);
     let scale = proj_scale(1080.0, 60f32.to_radians());
     let mut rng = Rng(opts.seed ^ 0x5eed);
     s.r.cut_triangles_min = usize::MAX;
