@@ -39,5 +39,13 @@ pub use gpu::{HostDevice, requirements};
 
 /// SPIR-V of every shader, embedded at build time (see build.rs).
 pub mod shaders {
+    /// One compiled shader: its GLSL file (relative to `shaders_glsl/`), the macro its variant
+    /// defines (if any) and the SPIR-V embedded at build time.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Variant {
+        pub file: &'static str,
+        pub define: Option<(&'static str, &'static str)>,
+        pub spirv: &'static [u8],
+    }
     include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 }

@@ -18,12 +18,19 @@ use vgeo::scene::load::LoadedScene;
 /// With no command, renders the built-in demo scene to `vgeo.png`.
 ///
 /// Environment: VGEO_VALIDATION=1 enables the Khronos validation layer; VGEO_DEVICE=<substring>
-/// picks a device by name; SHADER_DEBUG=1 (at build time) embeds shader debug info for RenderDoc.
+/// picks a device by name; VGEO_SHADER_DIR=DIR is `--shader-dir DIR`; SHADER_DEBUG=1 (at build
+/// time, or at run time for `--shader-dir`) embeds shader debug info for RenderDoc.
 #[derive(Parser)]
 #[command(name = "vgeo", version, about, long_about)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Compile the GLSL in DIR at start-up in place of the built-in shaders, without `cargo
+    /// build`: DIR mirrors `shaders_glsl/` (copy a pass's file, e.g. `shade.comp.glsl`, or an
+    /// include such as `common/shading.glsl`, and edit it); files not there are the built-in ones.
+    /// A compile error names the file and line; an interface block whose size changed is refused.
+    #[arg(long, global = true, value_name = "DIR")]
+    shader_dir: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -114,6 +121,11 @@ struct RenderArgs {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(dir) = &cli.shader_dir {
+        // SAFETY: set before any other thread starts; every context reads it through
+        // `ContextOptions::from_env`.
+        unsafe { std::env::set_var("VGEO_SHADER_DIR", dir) };
+    }
     let result = match cli.command {
         None => render(&RenderArgs {
             input: demo_scene(),
@@ -165,7 +177,24 @@ fn demo_scene() -> PathBuf {
 }
 
 fn context() -> Result<Context> {
-    Context::new(&ContextOptions::from_env()).context("cannot start Vulkan")
+    let mut opts = ContextOptions::from_env();
+    let shader_dir = opts.shader_dir.take();
+    let ctx = Context::new(&opts).context("cannot start Vulkan")?;
+    if let Some(dir) = &shader_dir {
+        let replaced = ctx
+            .use_shader_dir(dir)
+            .with_context(|| format!("--shader-dir {}", dir.display()))?;
+        eprintln!(
+            "shaders from {}: {}",
+            dir.display(),
+            if replaced.is_empty() {
+                "none (no file there replaces a built-in one)".to_string()
+            } else {
+                replaced.join(", ")
+            }
+        );
+    }
+    Ok(ctx)
 }
 
 fn info() -> Result<()> {

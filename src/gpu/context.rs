@@ -18,16 +18,21 @@ pub struct ContextOptions {
     pub sync_validation: bool,
     /// Pick the first device whose name contains this (also: `VGEO_DEVICE=<substring>`).
     pub device_filter: Option<String>,
+    /// Compile the GLSL in this folder at start-up in place of the built-in shaders
+    /// (`--shader-dir`, also `VGEO_SHADER_DIR`; see [`Context::use_shader_dir`]).
+    pub shader_dir: Option<std::path::PathBuf>,
 }
 
 impl ContextOptions {
-    /// Options from the environment: `VGEO_VALIDATION`, `VGEO_SYNC_VALIDATION`, `VGEO_DEVICE`.
+    /// Options from the environment: `VGEO_VALIDATION`, `VGEO_SYNC_VALIDATION`, `VGEO_DEVICE`,
+    /// `VGEO_SHADER_DIR`.
     pub fn from_env() -> Self {
         let flag = |k: &str| std::env::var(k).is_ok_and(|v| !v.is_empty() && v != "0");
         Self {
             validation: flag("VGEO_VALIDATION") || flag("VGEO_SYNC_VALIDATION"),
             sync_validation: flag("VGEO_SYNC_VALIDATION"),
             device_filter: std::env::var("VGEO_DEVICE").ok().filter(|s| !s.is_empty()),
+            shader_dir: shader_dir_from_env(),
         }
     }
 }
@@ -114,6 +119,15 @@ pub(crate) struct Inner {
     owned: bool,
     pub last_pass: Mutex<String>,
     pool: Mutex<vk::CommandPool>,
+    /// Shaders compiled from a folder (`--shader-dir`), set once before pipelines are made.
+    shaders: std::sync::OnceLock<super::shader_dir::ShaderOverrides>,
+}
+
+/// `VGEO_SHADER_DIR`, when set and not empty.
+fn shader_dir_from_env() -> Option<std::path::PathBuf> {
+    std::env::var_os("VGEO_SHADER_DIR")
+        .filter(|s| !s.is_empty())
+        .map(Into::into)
 }
 
 #[derive(Default)]
@@ -291,7 +305,12 @@ impl Context {
         };
         let mut headless = headless;
         match Self::from_host_with(host, &mut headless) {
-            Ok(ctx) => Ok(ctx),
+            Ok(ctx) => {
+                if let Some(dir) = &opts.shader_dir {
+                    ctx.use_shader_dir(dir)?;
+                }
+                Ok(ctx)
+            }
             Err(e) => {
                 // SAFETY: the device is idle and nothing created on it is alive (the failed
                 // constructor destroyed what it made).
@@ -518,7 +537,14 @@ impl Context {
             None
         };
         match Self::from_host_checked(host, validation, false) {
-            Ok(ctx) => Ok(ctx),
+            Ok(ctx) => {
+                // A host gets `--shader-dir` through the environment (or calls
+                // `use_shader_dir` itself).
+                if let Some(dir) = shader_dir_from_env() {
+                    ctx.use_shader_dir(&dir)?;
+                }
+                Ok(ctx)
+            }
             Err((e, v)) => {
                 if let Some(v) = v {
                     v.destroy();
@@ -717,6 +743,7 @@ impl Context {
             owned,
             last_pass: Mutex::new(String::from("(none)")),
             pool: Mutex::new(pool),
+            shaders: std::sync::OnceLock::new(),
         };
         let ctx = Context {
             inner: Arc::new(inner),
@@ -730,6 +757,40 @@ impl Context {
     /// context, false for a host's ([`Context::from_host`]).
     pub fn owns_device(&self) -> bool {
         self.inner.owned
+    }
+
+    /// Compiles the GLSL in `dir` (a folder mirroring `shaders_glsl/`: a pass's file or an
+    /// include placed there replaces the built-in one) for every pipeline made from now on; the
+    /// shaders it changed, by file (and variant macro). Errors name the file and line, or an
+    /// interface block whose size no longer matches vgeo's struct. Once per context, before the
+    /// renderers are made.
+    pub fn use_shader_dir(&self, dir: &std::path::Path) -> GpuResult<Vec<String>> {
+        let debug = std::env::var("SHADER_DEBUG").is_ok_and(|v| v == "1");
+        let compiled =
+            super::shader_dir::ShaderOverrides::compile(dir, debug).map_err(GpuError::Other)?;
+        let names = compiled.names();
+        self.inner.shaders.set(compiled).map_err(|_| {
+            GpuError::Other("a shader folder is set once per context, before any pipeline".into())
+        })?;
+        Ok(names)
+    }
+
+    /// The shaders a shader folder replaced ([`Context::use_shader_dir`]), by file.
+    pub fn replaced_shaders(&self) -> Vec<String> {
+        self.inner
+            .shaders
+            .get()
+            .map(|s| s.names())
+            .unwrap_or_default()
+    }
+
+    /// The SPIR-V to use for the embedded `spirv`: the shader folder's when it changed it.
+    pub(crate) fn shader_spirv<'a>(&'a self, spirv: &'a [u8]) -> &'a [u8] {
+        self.inner
+            .shaders
+            .get()
+            .and_then(|s| s.replacement(spirv))
+            .unwrap_or(spirv)
     }
 
     /// The device's capabilities.

@@ -11,6 +11,7 @@ mod memory;
 mod pipeline;
 mod query;
 mod requirements;
+mod shader_dir;
 mod texture;
 
 pub use ash::vk;

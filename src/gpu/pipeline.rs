@@ -13,14 +13,14 @@ pub struct ShaderStage<'a> {
 }
 
 fn module(ctx: &Context, stage: ShaderStage<'_>) -> GpuResult<vk::ShaderModule> {
-    let words = ash::util::read_spv(&mut std::io::Cursor::new(stage.spirv)).map_err(|e| {
-        GpuError::Shader {
+    let spirv = ctx.shader_spirv(stage.spirv);
+    let words =
+        ash::util::read_spv(&mut std::io::Cursor::new(spirv)).map_err(|e| GpuError::Shader {
             name: stage.name.into(),
             msg: e.to_string(),
-        }
-    })?;
+        })?;
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
-    // SAFETY: `words` is SPIR-V produced by shaderc at build time.
+    // SAFETY: `words` is SPIR-V produced by shaderc (at build time, or from `--shader-dir`).
     let m =
         unsafe { ctx.device().create_shader_module(&info, None) }.call("vkCreateShaderModule")?;
     ctx.set_name(m, stage.name);
