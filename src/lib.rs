@@ -33,6 +33,9 @@ pub mod scene;
 pub mod scene_gpu;
 pub mod shared;
 
+/// RenderDoc's in-application API: load it before creating the Vulkan instance, then capture
+/// exactly one vgeo frame with `start` / `end` (what `vgeo render --capture` does).
+pub use gpu::RenderDoc;
 /// What vgeo requires of a host's Vulkan instance and device (and uses when present); see
 /// [`gpu::HostDevice`] and [`gpu::Context::from_host`] to run vgeo on the host's device.
 pub use gpu::{HostDevice, requirements};

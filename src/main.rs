@@ -101,6 +101,12 @@ struct RenderArgs {
     /// Print per-pass GPU times and counters.
     #[arg(long)]
     stats: bool,
+    /// Capture the (last) frame with RenderDoc into FILE.rdc (also: VGEO_CAPTURE=FILE.rdc), through
+    /// RenderDoc's in-application API: works when RenderDoc launched vgeo and when vgeo runs on its
+    /// own with RenderDoc installed (Debian: `apt install renderdoc`). Open it in qrenderdoc; see
+    /// docs/profiling.md.
+    #[arg(long, value_name = "FILE.rdc")]
+    capture: Option<PathBuf>,
     /// Instead of one view: a strip of `--panels` panels (each `--width` x `--height`, side by
     /// side) of the vgeo path, panel i with the camera 2^i times farther away, coloured by
     /// `--strip-view`. Each panel is magnified to the same apparent size (field of view narrowed by
@@ -119,8 +125,67 @@ struct RenderArgs {
     strip_view: String,
 }
 
+/// RenderDoc, loaded before any Vulkan instance when a capture is asked for.
+static RENDERDOC: std::sync::OnceLock<vgeo::RenderDoc> = std::sync::OnceLock::new();
+
+/// The capture file asked for: `--capture`, else `VGEO_CAPTURE`.
+fn capture_path(a: &RenderArgs) -> Option<PathBuf> {
+    a.capture.clone().or_else(|| {
+        std::env::var_os("VGEO_CAPTURE")
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    })
+}
+
+/// Loads RenderDoc and enables its Vulkan layer for the instance vgeo creates next.
+fn load_renderdoc() -> Result<()> {
+    let rd = vgeo::RenderDoc::load().map_err(|e| anyhow::anyhow!("--capture: {e}"))?;
+    if !rd.launched_by_renderdoc() {
+        // SAFETY: called from `main` before any other thread starts; the Vulkan loader reads it
+        // when vgeo creates its instance.
+        unsafe { std::env::set_var(vgeo::RenderDoc::LAYER_ENV, "1") };
+    }
+    let _ = RENDERDOC.set(rd);
+    Ok(())
+}
+
+/// Runs `frame` as the captured frame when a capture was asked for.
+fn captured<T>(
+    a: &RenderArgs,
+    ctx: &Context,
+    what: &str,
+    frame: impl FnOnce() -> Result<T>,
+) -> Result<T> {
+    let (Some(path), Some(rd)) = (capture_path(a), RENDERDOC.get()) else {
+        return frame();
+    };
+    rd.start(ctx.vk_instance(), &path)
+        .map_err(|e| anyhow::anyhow!("--capture: {e}"))?;
+    let out = frame();
+    let comments = format!(
+        "vgeo {} {what}: {} {}x{}, --error-px {}",
+        env!("CARGO_PKG_VERSION"),
+        a.input.display(),
+        a.width,
+        a.height,
+        a.error_px
+    );
+    let written = rd
+        .end(ctx.vk_instance(), &path, &comments)
+        .map_err(|e| anyhow::anyhow!("--capture: {e}"))?;
+    eprintln!("captured one frame to {}", written.display());
+    out
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(Command::Render(a)) = &cli.command
+        && capture_path(a).is_some()
+        && let Err(e) = load_renderdoc()
+    {
+        eprintln!("error: {e:#}");
+        return ExitCode::FAILURE;
+    }
     if let Some(dir) = &cli.shader_dir {
         // SAFETY: set before any other thread starts; every context reads it through
         // `ContextOptions::from_env`.
@@ -141,6 +206,7 @@ fn main() -> ExitCode {
             no_occlusion: false,
             frames: 1,
             stats: true,
+            capture: None,
             lod_strip: false,
             panels: 5,
             strip_view: "clusters".into(),
@@ -180,6 +246,14 @@ fn context() -> Result<Context> {
     let mut opts = ContextOptions::from_env();
     let shader_dir = opts.shader_dir.take();
     let ctx = Context::new(&opts).context("cannot start Vulkan")?;
+    // Under a capture tool (RenderDoc hides what it cannot capture), say what vgeo falls back to.
+    let caps = ctx.caps();
+    if !caps.tools.is_empty() {
+        eprintln!("note: running under {}", caps.tools.join(", "));
+        for f in &caps.fallbacks {
+            eprintln!("note: {f}");
+        }
+    }
     if let Some(dir) = &shader_dir {
         let replaced = ctx
             .use_shader_dir(dir)
@@ -259,8 +333,16 @@ fn render(a: &RenderArgs) -> Result<()> {
             occlusion: !a.no_occlusion,
         };
         let mut last = None;
-        for _ in 0..a.frames {
-            last = Some(r.render(&camera, a.width, a.height, &settings, view, &loaded.light)?);
+        for i in 0..a.frames {
+            let mut frame = || {
+                r.render(&camera, a.width, a.height, &settings, view, &loaded.light)
+                    .map_err(anyhow::Error::from)
+            };
+            last = Some(if i + 1 == a.frames {
+                captured(a, &ctx, "vgeo frame", frame)?
+            } else {
+                frame()?
+            });
         }
         let vf = last.context("no frame rendered")?;
         vf.check()
@@ -306,7 +388,9 @@ fn render(a: &RenderArgs) -> Result<()> {
                 .iter()
                 .for_each(|w| eprintln!("warning: {w}"));
             let size = (a.width, a.height);
-            lod.render_view(&l.placements, c, &l.light, size, a.error_px, shade)?
+            captured(a, &ctx, "lod frame", || {
+                Ok(lod.render_view(&l.placements, c, &l.light, size, a.error_px, shade)?)
+            })?
         }
         _ => {
             let brute = vgeo::baseline::brute::Brute::new(&ctx, &l.meshes())?;
@@ -314,7 +398,9 @@ fn render(a: &RenderArgs) -> Result<()> {
                 .warnings()
                 .iter()
                 .for_each(|w| eprintln!("warning: {w}"));
-            brute.render_view(&l.placements, c, &l.light, a.width, a.height, shade)?
+            captured(a, &ctx, "brute frame", || {
+                Ok(brute.render_view(&l.placements, c, &l.light, a.width, a.height, shade)?)
+            })?
         }
     };
     finish(a, &ctx, &loaded, frame, load_s, &stats_lines)

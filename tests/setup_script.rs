@@ -90,7 +90,10 @@ fn third_party_commented_and_disabled_entries_are_skipped() {
     );
     let (ok, out, err) = print_mirror(&d);
     assert!(ok, "{err}");
-    assert_eq!(out, "http://local.example.org/debian/\nbackports: enabled\n");
+    assert_eq!(
+        out,
+        "http://local.example.org/debian/\nbackports: enabled\n"
+    );
 }
 
 #[test]
@@ -105,7 +108,10 @@ fn no_debian_source_is_a_clear_error() {
     );
     let (ok, out, err) = print_mirror(&d);
     assert!(!ok && out.is_empty(), "{out}");
-    assert!(err.contains("no active apt source for Debian bookworm"), "{err}");
+    assert!(
+        err.contains("no active apt source for Debian bookworm"),
+        "{err}"
+    );
 }
 
 #[test]

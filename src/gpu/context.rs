@@ -59,6 +59,12 @@ pub struct Caps {
     /// `maxImageDimension2D`: the largest side of a 2D image (at least 4096).
     pub max_image_dimension_2d: u32,
     pub validation: bool,
+    /// Tools hooked into Vulkan (`VK_EXT_tooling_info`: RenderDoc, the validation layer), by name
+    /// and version.
+    pub tools: Vec<String>,
+    /// What vgeo does without an optional extension or feature it uses (a tool such as RenderDoc
+    /// may hide one it cannot capture): one line each.
+    pub fallbacks: Vec<String>,
 }
 
 impl std::fmt::Display for Caps {
@@ -89,6 +95,12 @@ impl std::fmt::Display for Caps {
         writeln!(f, "mesh shaders:          {}", yn(self.mesh_shader))?;
         writeln!(f, "multiDrawIndirect:     {}", yn(self.multi_draw_indirect))?;
         writeln!(f, "drawIndirectCount:     {}", yn(self.draw_indirect_count))?;
+        if !self.tools.is_empty() {
+            writeln!(f, "tools:                 {}", self.tools.join(", "))?;
+        }
+        for fb in &self.fallbacks {
+            writeln!(f, "fallback:              {fb}")?;
+        }
         match self.timestamp_period_ns {
             Some(p) => writeln!(f, "timestamps:            yes ({p} ns/tick)")?,
             None => writeln!(f, "timestamps:            no")?,
@@ -666,6 +678,37 @@ impl Context {
 
         let ts_bits = families[queue_family as usize].timestamp_valid_bits;
         let v = props.api_version;
+        // Tools hooked in (RenderDoc's layer reports itself here and hides what it cannot
+        // capture), and what vgeo does without the optional parts.
+        let tools: Vec<String> = if supports(ash::ext::tooling_info::NAME) {
+            let ti = ash::ext::tooling_info::Instance::new(&entry, &instance);
+            // SAFETY: VK_EXT_tooling_info is supported by the physical device (a
+            // physical-device-level query).
+            unsafe { ti.get_physical_device_tool_properties(physical) }
+                .unwrap_or_default()
+                .iter()
+                .map(|t| format!("{} {}", cstr_array(&t.name), cstr_array(&t.version)))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let hidden = if tools.is_empty() {
+            String::new()
+        } else {
+            format!(" (a tool may hide it: {})", tools.join(", "))
+        };
+        let mut fallbacks = Vec::new();
+        if !image_int64 {
+            fallbacks.push(format!(
+                "no 64-bit image atomics (VK_EXT_shader_image_atomic_int64){hidden}: the \
+                 visibility buffer uses 64-bit buffer atomics"
+            ));
+        }
+        if !debug_utils {
+            fallbacks.push(format!(
+                "no VK_EXT_debug_utils{hidden}: objects are not named and passes not labelled"
+            ));
+        }
         let caps = Caps {
             device_name: cstr_array(&props.device_name),
             device_type: format!("{:?}", props.device_type)
@@ -692,6 +735,8 @@ impl Context {
             max_compute_workgroups: props.limits.max_compute_work_group_count,
             max_image_dimension_2d: props.limits.max_image_dimension2_d,
             validation: validation.is_some(),
+            tools,
+            fallbacks,
         };
 
         let allocator = match Allocator::new(&AllocatorCreateDesc {
@@ -791,6 +836,11 @@ impl Context {
             .get()
             .and_then(|s| s.replacement(spirv))
             .unwrap_or(spirv)
+    }
+
+    /// The instance's handle (for RenderDoc's [`super::RenderDoc::start`], or a host's own calls).
+    pub fn vk_instance(&self) -> vk::Instance {
+        self.inner.instance.handle()
     }
 
     /// The device's capabilities.

@@ -5,6 +5,7 @@
 //! [`Timer`] measures passes with timestamp queries. Every object gets a debug name and every pass a
 //! labelled region (`VK_EXT_debug_utils`), so a RenderDoc capture reads like the design.
 
+mod capture;
 mod cmd;
 mod context;
 mod memory;
@@ -15,6 +16,7 @@ mod shader_dir;
 mod texture;
 
 pub use ash::vk;
+pub use capture::RenderDoc;
 pub use cmd::{Cmd, Desc, RenderTarget};
 pub use context::{Caps, Context, ContextOptions, HostDevice};
 pub use memory::{Buffer, Image, MemoryKind};
