@@ -1064,10 +1064,10 @@ mod tests {
     }
 
     #[test]
-    fn demo_scene_parses_and_frames_its_instances() {
+    fn herd_scene_parses_and_frames_its_instances() {
         let path = Path::new(concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/assets/scenes/demo.toml"
+            "/assets/scenes/herd.toml"
         ));
         let s = Scene::load(path).unwrap_or_else(|e| panic!("{e}"));
         let names: Vec<&str> = s.meshes.iter().map(|m| m.name.as_str()).collect();

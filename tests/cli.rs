@@ -47,11 +47,16 @@ fn render_mesh_writes_png() {
     let png = dir.join("bunny.png");
     let bunny = shared_assets().join("scanned/bunny.ply");
     let (ok, out, err) = run(vgeo()
-        .args(["render", "--width", "96", "--height", "64", "--out"])
+        .args([
+            "render", "--mode", "brute", "--width", "96", "--height", "64", "--out",
+        ])
         .arg(&png)
         .arg(&bunny));
     assert!(ok, "render failed: {err}");
-    assert!(out.contains("triangles:  69451"), "{out}");
+    assert!(
+        out.contains("triangles:  69451 drawn (100.0 % of the scene)"),
+        "{out}"
+    );
     let img = image::open(&png).expect("a readable PNG").to_rgba8();
     assert_eq!(img.dimensions(), (96, 64));
     let bg = img.get_pixel(0, 0);
@@ -184,4 +189,41 @@ fn help_explains_commands() {
     for opt in ["--reference-spp", "--psnr-margin", "4x4", "floor"] {
         assert!(out.contains(opt), "bench --help lacks `{opt}`:\n{out}");
     }
+}
+
+/// `vgeo` with no arguments: the demo (a field of bunnies, over 100 M instanced triangles) in vgeo
+/// mode, the image and its clusters view, scene triangles against triangles drawn.
+#[test]
+fn no_arguments_render_the_demo_in_vgeo_mode() {
+    let dir = std::env::temp_dir().join(format!("vgeo-demo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (ok, out, err) = run(vgeo().current_dir(&dir));
+    assert!(ok, "vgeo failed: {err}");
+    assert!(out.contains("(vgeo mode)"), "{out}");
+    let number = |key: &str| -> u64 {
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(key))
+            .unwrap_or_else(|| panic!("{key} in {out}"));
+        line.split(|c: char| !c.is_ascii_digit())
+            .filter(|w| !w.is_empty())
+            .map(|w| w.parse().unwrap())
+            .collect::<Vec<u64>>()[if key == "scene:" { 2 } else { 0 }]
+    };
+    let scene = number("scene:");
+    let drawn = number("triangles:");
+    let clusters = number("clusters:");
+    assert!(scene >= 100_000_000, "the demo has {scene} triangles");
+    assert!(drawn > 0 && drawn * 10 < scene, "drew {drawn} of {scene}");
+    assert!(
+        clusters > 0 && clusters * 128 >= drawn,
+        "{clusters} clusters for {drawn}"
+    );
+    for png in ["vgeo.png", "vgeo_clusters.png"] {
+        let img = image::open(dir.join(png))
+            .expect("a readable PNG")
+            .to_rgba8();
+        assert_eq!(img.dimensions(), (1280, 720));
+    }
+    assert!(!err.contains("validation error"), "{err}");
 }

@@ -96,8 +96,8 @@ fn flight_helmet_multi_node_gltf_matches_reference_rasterizer() {
 }
 
 #[test]
-fn demo_scene_renders_and_matches_reference() {
-    let path = assets().join("scenes/demo.toml");
+fn herd_scene_renders_and_matches_reference() {
+    let path = assets().join("scenes/herd.toml");
     let (coverage, depth, covered, frame) = compare_with_reference(&path, 240, 135);
     assert!(covered > 2_000, "covered {covered}");
     assert!(coverage >= 0.995, "coverage agreement {coverage:.5}");
@@ -150,7 +150,7 @@ fn validation_errors_are_caught() {
 #[test]
 fn supersampled_reference_in_tiles_matches_one_piece() {
     use vgeo::imgerr::{Reference, image_error};
-    let scene = LoadedScene::load(&assets().join("scenes/demo.toml")).expect("demo loads");
+    let scene = LoadedScene::load(&assets().join("scenes/herd.toml")).expect("herd loads");
     let (w, h, n) = (40, 30, 3);
     let camera = scene.camera(w, h);
     let ctx = gpu();

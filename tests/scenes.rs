@@ -55,7 +55,10 @@ fn every_scene_renders_in_every_mode() {
         .iter()
         .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
         .collect();
-    for s in vgeo::bench::SCENES.iter().chain(&["stress", "demo"]) {
+    for s in vgeo::bench::SCENES
+        .iter()
+        .chain(&["stress", "demo", "herd"])
+    {
         assert!(names.iter().any(|n| n == s), "{s} missing from {names:?}");
     }
     // One cache, as the benchmark has: meshes shared by scenes are imported and built once.
