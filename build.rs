@@ -7,6 +7,9 @@
 //! compiled once more with that macro defined, as `<PASS>_<STAGE>_<SUFFIX>` (e.g. the visibility
 //! buffer's image path: `//! variant image VISBUFFER_IMAGE` gives `RASTER_SW_COMP_IMAGE`).
 
+#[path = "src/gpu/shaderc_options.rs"]
+mod shaderc_options;
+
 use std::fmt::Write as _;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -82,16 +85,9 @@ fn main() {
             failed.push(format!("{file}: expected <pass>.<stage>.glsl"));
             continue;
         };
-        let kind = match stage {
-            "vert" => shaderc::ShaderKind::Vertex,
-            "frag" => shaderc::ShaderKind::Fragment,
-            "comp" => shaderc::ShaderKind::Compute,
-            "mesh" => shaderc::ShaderKind::Mesh,
-            "task" => shaderc::ShaderKind::Task,
-            other => {
-                failed.push(format!("{file}: unknown stage `{other}`"));
-                continue;
-            }
+        let Some(kind) = shaderc_options::shader_kind(stage) else {
+            failed.push(format!("{file}: unknown stage `{stage}`"));
+            continue;
         };
         let source = fs::read_to_string(path).expect("read shader");
         let mut variants: Vec<(String, Option<(String, String)>)> = vec![(String::new(), None)];
@@ -109,25 +105,15 @@ fn main() {
             }
         }
         for (suffix, define) in variants {
-            let mut opts = shaderc::CompileOptions::new().expect("shaderc options");
-            opts.set_target_env(
-                shaderc::TargetEnv::Vulkan,
-                shaderc::EnvVersion::Vulkan1_2 as u32,
-            );
-            opts.set_target_spirv(shaderc::SpirvVersion::V1_5);
-            opts.set_source_language(shaderc::SourceLanguage::GLSL);
-            if debug {
-                opts.set_generate_debug_info();
-                opts.set_optimization_level(shaderc::OptimizationLevel::Zero);
-            } else {
-                opts.set_optimization_level(shaderc::OptimizationLevel::Performance);
-            }
-            for (k, v) in &constants {
-                opts.add_macro_definition(k, Some(v));
-            }
+            let mut macros: Vec<(&str, &str)> = constants
+                .iter()
+                .map(|(k, v)| (k.as_str(), v.as_str()))
+                .collect();
             if let Some((k, v)) = &define {
-                opts.add_macro_definition(k, Some(v));
+                macros.push((k.as_str(), v.as_str()));
             }
+            let mut opts =
+                shaderc_options::compile_options(debug, &macros).expect("shaderc options");
             let dir = shader_dir.clone();
             opts.set_include_callback(move |requested, _ty, requester, _depth| {
                 let base = Path::new(requester)

@@ -13,6 +13,7 @@ mod pipeline;
 mod query;
 mod requirements;
 mod shader_dir;
+mod shaderc_options;
 mod texture;
 
 pub use ash::vk;

@@ -211,34 +211,13 @@ fn compile_one(
         .get(file)
         .ok_or_else(|| format!("{file}: no such shader source"))?;
     let stage = file.trim_end_matches(".glsl").rsplit('.').next();
-    let kind = match stage {
-        Some("vert") => shaderc::ShaderKind::Vertex,
-        Some("frag") => shaderc::ShaderKind::Fragment,
-        Some("comp") => shaderc::ShaderKind::Compute,
-        Some("mesh") => shaderc::ShaderKind::Mesh,
-        Some("task") => shaderc::ShaderKind::Task,
-        _ => return Err(format!("{file}: unknown shader stage")),
-    };
-    let mut opts = shaderc::CompileOptions::new()
+    let kind = stage
+        .and_then(super::shaderc_options::shader_kind)
+        .ok_or_else(|| format!("{file}: unknown shader stage"))?;
+    let mut macros: Vec<(&str, &str)> = DEFINES.to_vec();
+    macros.extend(define);
+    let mut opts = super::shaderc_options::compile_options(debug, &macros)
         .ok_or_else(|| "shaderc options could not be created".to_string())?;
-    opts.set_target_env(
-        shaderc::TargetEnv::Vulkan,
-        shaderc::EnvVersion::Vulkan1_2 as u32,
-    );
-    opts.set_target_spirv(shaderc::SpirvVersion::V1_5);
-    opts.set_source_language(shaderc::SourceLanguage::GLSL);
-    if debug {
-        opts.set_generate_debug_info();
-        opts.set_optimization_level(shaderc::OptimizationLevel::Zero);
-    } else {
-        opts.set_optimization_level(shaderc::OptimizationLevel::Performance);
-    }
-    for (k, v) in DEFINES {
-        opts.add_macro_definition(k, Some(v));
-    }
-    if let Some((k, v)) = define {
-        opts.add_macro_definition(k, Some(v));
-    }
     // shaderc names includes by what the callback returns; keep the relative path there (for
     // further includes) and map it back to a readable name in errors.
     let mut names: Vec<(String, String)> = Vec::new();
