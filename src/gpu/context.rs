@@ -828,6 +828,25 @@ impl Context {
         result
     }
 
+    /// Records commands with `record` into `cb`, a command buffer the host owns and submits:
+    /// nothing is submitted or waited for. Labels `record` leaves open are closed.
+    ///
+    /// # Safety
+    /// `cb` must be a primary command buffer of this context's device, in the recording state, from
+    /// a pool of a queue family with graphics and compute; the host submits it (to a queue of that
+    /// family) only after this returns, and keeps every resource the commands use alive until the
+    /// submission completes.
+    pub unsafe fn record_into<R>(
+        &self,
+        cb: vk::CommandBuffer,
+        record: impl FnOnce(&mut Cmd) -> R,
+    ) -> R {
+        let mut cmd = Cmd::new(self.clone(), cb);
+        let r = record(&mut cmd);
+        cmd.finish();
+        r
+    }
+
     fn check_lost(&self, r: Result<(), vk::Result>, call: &'static str) -> GpuResult<()> {
         match r {
             Err(vk::Result::ERROR_DEVICE_LOST) => Err(GpuError::DeviceLost {

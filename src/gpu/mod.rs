@@ -16,7 +16,7 @@ mod texture;
 pub use ash::vk;
 pub use cmd::{Cmd, Desc, RenderTarget};
 pub use context::{Caps, Context, ContextOptions, HostDevice};
-pub use memory::{Buffer, Image, MemoryKind};
+pub use memory::{Buffer, HostImage, Image, MemoryKind};
 pub use pipeline::{ComputePipeline, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage};
 pub use query::Timer;
 pub use requirements::{

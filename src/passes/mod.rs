@@ -12,6 +12,8 @@
 
 pub mod cluster_cull;
 pub mod debug_view;
+pub mod depth_export;
+pub mod depth_import;
 pub mod depth_pyramid;
 pub mod emit_gbuffer;
 pub mod instance_cull;
