@@ -7,6 +7,12 @@
 
 use std::borrow::Borrow;
 
+mod embed;
+pub use embed::{
+    DEFAULT_FRAMES_IN_FLIGHT, FrameStats, HOST_COLOR_FORMAT, HOST_DEPTH_FORMAT, HostTargets, View,
+    ViewFrame,
+};
+
 use crate::builder::BuiltMesh;
 use crate::camera::Camera;
 use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Image, Timer, vk};
@@ -668,6 +674,7 @@ impl VgeoRenderer {
                 light_dir,
                 inputs.overdraw,
             ),
+            Finish::Nothing => Ok(()),
         }
     }
 
@@ -735,6 +742,8 @@ enum Finish<'a> {
         targets: &'a MaterialTargets,
         output: Option<&'a Image>,
     },
+    /// Nothing more: the visibility buffer (and the host's depth) is the output.
+    Nothing,
 }
 
 /// The occlusion view of a camera (what its HZB is tested with).

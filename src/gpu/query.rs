@@ -129,15 +129,16 @@ impl Timer {
             Err(vk::Result::NOT_READY) if !wait => return Ok(None),
             r => r.call("vkGetQueryPoolResults")?,
         }
-        Ok(Some(self
-            .names
-            .iter()
-            .enumerate()
-            .map(|(i, name)| {
-                let ticks = data[2 * i + 1].wrapping_sub(data[2 * i]);
-                (name.clone(), ticks as f64 * period as f64 / 1e6)
-            })
-            .collect()))
+        Ok(Some(
+            self.names
+                .iter()
+                .enumerate()
+                .map(|(i, name)| {
+                    let ticks = data[2 * i + 1].wrapping_sub(data[2 * i]);
+                    (name.clone(), ticks as f64 * period as f64 / 1e6)
+                })
+                .collect(),
+        ))
     }
 }
 
