@@ -9,7 +9,7 @@
 //! ```
 //!
 //! Options: `--frames N`, `--instances N`, `--size WxH`, `--mesh PATH` (twice; `generated:box` is
-//! a unit cube), `--no-host-draws`, `--validate` (Khronos validation with synchronization
+//! a unit cube), `--no-host-draws`, `--no-vgeo`, `--validate` (Khronos validation with synchronization
 //! validation; errors are counted and make the program fail).
 //!
 //! tests/embed.rs runs this same code (`run`) on lavapipe and checks its image against vgeo's own
@@ -24,7 +24,7 @@ use ash::vk;
 use glam::{DMat4, DVec3, Vec3};
 use vgeo::builder::{BuildOptions, BuiltMesh};
 use vgeo::camera::Camera;
-use vgeo::frame::{HostTargets, View, ViewFrame, VgeoRenderer};
+use vgeo::frame::{HostTargets, VgeoRenderer, View, ViewFrame};
 use vgeo::gpu::{Context, DeviceFeatures, HostDevice, HostImage, device_extensions_for_vgeo};
 use vgeo::material::ShadeMode;
 use vgeo::passes::view::FrameSettings;
@@ -42,6 +42,8 @@ pub struct Options {
     pub meshes: Vec<String>,
     /// Whether the host draws its triangles (before vgeo: occluding it; after: occluded by it).
     pub host_draws: bool,
+    /// Whether vgeo's frame is recorded (off: the host's triangles alone, for comparisons).
+    pub vgeo_draws: bool,
     /// Khronos validation (and synchronization validation where the layer has it).
     pub validate: bool,
     pub out: Option<PathBuf>,
@@ -58,6 +60,7 @@ impl Default for Options {
             height: 360,
             meshes: vec![asset("spot.obj"), asset("bunny.ply")],
             host_draws: true,
+            vgeo_draws: true,
             validate: false,
             out: None,
         }
@@ -94,11 +97,11 @@ const DEPTH_FORMAT: vk::Format = vgeo::frame::HOST_DEPTH_FORMAT;
 pub fn host_triangles() -> [([[f32; 3]; 3], [f32; 4]); 2] {
     [
         (
-            [[-14.0, -0.5, -6.0], [14.0, -0.5, -2.0], [0.0, 3.0, 4.0]],
+            [[-9.0, -0.3, 6.0], [9.0, -0.3, -6.0], [-1.0, 3.5, 1.0]],
             [1.0, 0.15, 0.1, 1.0],
         ),
         (
-            [[-12.0, 2.5, 6.0], [12.0, 2.5, -6.0], [0.0, -0.8, 0.0]],
+            [[-3.0, -0.3, -9.0], [9.0, -0.3, 5.0], [4.0, 2.5, -1.0]],
             [0.1, 0.35, 1.0, 1.0],
         ),
     ]
@@ -109,7 +112,13 @@ pub fn host_triangles() -> [([[f32; 3]; 3], [f32; 4]); 2] {
 pub fn camera_at(i: u32) -> Camera {
     let a = 0.6 + i as f64 * 0.01;
     let eye = DVec3::new(a.sin() * 16.0, 7.0, a.cos() * 16.0);
-    Camera::look_at(eye, DVec3::new(0.0, 0.5, 0.0), Vec3::Y, 50f32.to_radians(), 0.05)
+    Camera::look_at(
+        eye,
+        DVec3::new(0.0, 0.5, 0.0),
+        Vec3::Y,
+        50f32.to_radians(),
+        0.05,
+    )
 }
 
 /// The instances: a grid on the ground, alternating meshes, each scaled to about one unit.
@@ -167,9 +176,11 @@ pub fn build_meshes(sources: &[String]) -> Result<Vec<BuiltMesh>> {
             let mesh = match s.strip_prefix("generated:") {
                 Some(name) => vgeo::scene::generated::generated_mesh(name)
                     .ok_or_else(|| anyhow!("unknown generated mesh {name}"))?,
-                None => vgeo::mesh::load_mesh(Path::new(s))
-                    .with_context(|| format!("loading {s}"))?
-                    .0,
+                None => {
+                    vgeo::mesh::load_mesh(Path::new(s))
+                        .with_context(|| format!("loading {s}"))?
+                        .0
+                }
             };
             vgeo::builder::build(&mesh, &BuildOptions::default())
                 .map_err(|e| anyhow!("building {s}: {e}"))
@@ -250,9 +261,8 @@ impl Host {
         // Synchronization validation: VK_EXT_validation_features, offered by the layer.
         let sync_validation = validate && {
             // SAFETY: enumeration query of the layer's extensions.
-            let exts = unsafe {
-                entry.enumerate_instance_extension_properties(Some(validation_layer))
-            }?;
+            let exts =
+                unsafe { entry.enumerate_instance_extension_properties(Some(validation_layer)) }?;
             exts.iter()
                 .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::validation_features::NAME))
         };
@@ -272,7 +282,8 @@ impl Host {
             .application_name(c"vgeo embed example")
             .api_version(reqs.api_version);
         let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
-        let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+        let mut features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
         let mut info = vk::InstanceCreateInfo::default()
             .application_info(&app)
             .enabled_layer_names(&layer_names)
@@ -316,7 +327,9 @@ impl Host {
                 .device_name_as_c_str()
                 .map(|n| n.to_string_lossy().to_lowercase())
                 .unwrap_or_default();
-            if filter.as_ref().is_some_and(|f| !name.contains(&f.to_lowercase()))
+            if filter
+                .as_ref()
+                .is_some_and(|f| !name.contains(&f.to_lowercase()))
                 || props.api_version < reqs.api_version
             {
                 continue;
@@ -397,7 +410,9 @@ impl Host {
         (0..props.memory_type_count)
             .find(|&i| {
                 bits & (1 << i) != 0
-                    && props.memory_types[i as usize].property_flags.contains(flags)
+                    && props.memory_types[i as usize]
+                        .property_flags
+                        .contains(flags)
             })
             .ok_or_else(|| anyhow!("no memory type {flags:?}"))
     }
@@ -429,7 +444,8 @@ impl Host {
         unsafe {
             let image = d.create_image(&info, None)?;
             let req = d.get_image_memory_requirements(image);
-            let mt = self.memory_type(req.memory_type_bits, vk::MemoryPropertyFlags::DEVICE_LOCAL)?;
+            let mt =
+                self.memory_type(req.memory_type_bits, vk::MemoryPropertyFlags::DEVICE_LOCAL)?;
             let memory = d.allocate_memory(
                 &vk::MemoryAllocateInfo::default()
                     .allocation_size(req.size)
@@ -628,7 +644,9 @@ fn image_barrier(
         .image(image)
         .subresource_range(range(aspect))];
     // SAFETY: recording command buffer; synchronization2 is enabled (vgeo requires it).
-    unsafe { sync2.cmd_pipeline_barrier2(cb, &vk::DependencyInfo::default().image_memory_barriers(&b)) };
+    unsafe {
+        sync2.cmd_pipeline_barrier2(cb, &vk::DependencyInfo::default().image_memory_barriers(&b))
+    };
 }
 
 /// Renders `opts.frames` frames as a host would and returns the last one.
@@ -883,9 +901,11 @@ pub fn run(opts: &Options) -> Result<Output> {
                     }),
                 },
             };
-            // SAFETY: `cb` is recording, outside a render pass; the images and vgeo's objects
-            // live until the device is idle at the end.
-            unsafe { renderer.record(cb, &mut view, &frame) }?;
+            if opts.vgeo_draws {
+                // SAFETY: `cb` is recording, outside a render pass; the images and vgeo's objects
+                // live until the device is idle at the end.
+                unsafe { renderer.record(cb, &mut view, &frame) }?;
+            }
             // The host's pass after vgeo: the second triangle, depth-tested against vgeo's.
             if opts.host_draws {
                 draw(true, &[1]);
@@ -1048,6 +1068,7 @@ fn parse_args() -> Result<Options> {
             }
             "--mesh" => meshes.push(value()?),
             "--no-host-draws" => o.host_draws = false,
+            "--no-vgeo" => o.vgeo_draws = false,
             "--validate" => o.validate = true,
             other => bail!("unknown argument {other}"),
         }

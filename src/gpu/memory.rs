@@ -372,6 +372,21 @@ impl Image {
         }
     }
 
+    /// The image described as a host's image ([`HostImage`]) in its current layout: a vgeo-made
+    /// image handed to an API that takes the host's images (tests, or a host that lets vgeo
+    /// allocate its targets). Commands recorded with the description must leave the image in that
+    /// layout (vgeo's embedded frame does).
+    pub fn as_host(&self) -> HostImage {
+        HostImage {
+            image: self.raw,
+            view: self.view,
+            format: self.format,
+            width: self.width,
+            height: self.height,
+            layout: self.current_layout(),
+        }
+    }
+
     /// The layout the image is in, in recording order.
     pub fn current_layout(&self) -> vk::ImageLayout {
         vk::ImageLayout::from_raw(self.layout.load(std::sync::atomic::Ordering::Relaxed))
