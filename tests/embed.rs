@@ -10,6 +10,9 @@ mod common;
 #[path = "../examples/embed.rs"]
 mod example;
 
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
 use common::{assert_no_validation_errors, assets, gpu};
 use vgeo::camera::Camera;
 use vgeo::frame::{HostTargets, VgeoRenderer, ViewFrame};
@@ -19,6 +22,49 @@ use vgeo::material::ShadeMode;
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
 use vgeo::render::{Light, Placement};
+
+/// Counts heap allocations of the current thread while `COUNTING` is on (recording must make none).
+struct CountingAlloc;
+
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards to the system allocator; the counters are thread-local `Cell`s with const
+// initializers (no allocation of their own).
+unsafe impl GlobalAlloc for CountingAlloc {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        }
+        // SAFETY: the caller's layout is passed on unchanged.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: `ptr` came from `System.alloc` with this layout.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        }
+        // SAFETY: as for `alloc` and `dealloc`.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static ALLOC: CountingAlloc = CountingAlloc;
+
+/// Heap allocations `f` makes on this thread.
+fn allocations<R>(f: impl FnOnce() -> R) -> (R, u64) {
+    ALLOCATIONS.with(|a| a.set(0));
+    COUNTING.with(|c| c.set(true));
+    let r = f();
+    COUNTING.with(|c| c.set(false));
+    (r, ALLOCATIONS.with(|a| a.get()))
+}
 
 /// The example's host at a test size: spot and a cube, 300 instances, 8 frames with 2 in flight.
 fn options(host_draws: bool, vgeo_draws: bool) -> example::Options {
@@ -203,7 +249,9 @@ fn two_views_in_one_frame_each_equal_a_single_view_render() {
         targets(&ctx, sizes[1].0, sizes[1].1),
     ];
     let bg = vgeo::render::BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
-    // Three frames, both views in each, one submission per frame.
+    // Three frames, both views in each, one submission per frame. Recording allocates nothing on
+    // the heap.
+    let mut recorded_allocations = Vec::new();
     for frame in 0..3u64 {
         ctx.submit_and_wait("two views", |cmd| {
             for (k, view) in views.iter_mut().enumerate() {
@@ -230,7 +278,9 @@ fn two_views_in_one_frame_each_equal_a_single_view_render() {
                         color: Some(color.as_host()),
                     },
                 };
-                r.record_cmd(cmd, view, &f).unwrap();
+                let (res, n) = allocations(|| r.record_cmd(cmd, view, &f));
+                res.unwrap();
+                recorded_allocations.push(n);
             }
         })
         .unwrap();
@@ -244,6 +294,16 @@ fn two_views_in_one_frame_each_equal_a_single_view_render() {
         }
     }
     assert_no_validation_errors(&ctx);
+    eprintln!("heap allocations per recorded view-frame: {recorded_allocations:?}");
+    assert!(
+        recorded_allocations.iter().all(|n| *n == 0),
+        "recording allocated: {recorded_allocations:?}"
+    );
+    // The allocation counter works (it would catch an allocation in the recording).
+    assert!(allocations(|| vec![1u8; 3]).1 >= 1);
+    // Frame 0's slot has been recorded again by frame 2 (2 frames in flight): its stats are gone.
+    assert!(views[0].try_stats(0).unwrap().is_none());
+    assert!(views[0].try_stats(2).unwrap().is_some());
     for k in 0..2 {
         let (w, h) = sizes[k];
         let got = imgs[k].0.download().unwrap();

@@ -715,7 +715,12 @@ impl Context {
             caps,
             validation,
             owned,
-            last_pass: Mutex::new(String::from("(none)")),
+            // Room for any label (`Cmd::begin_label` cuts at 127 bytes): recording never grows it.
+            last_pass: Mutex::new({
+                let mut s = String::with_capacity(128);
+                s.push_str("(none)");
+                s
+            }),
             pool: Mutex::new(pool),
         };
         let ctx = Context {

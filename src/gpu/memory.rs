@@ -239,7 +239,7 @@ pub struct Image {
     pub mip_levels: u32,
     /// Current layout, tracked in recording order (commands are recorded in execution order).
     pub(crate) layout: std::sync::atomic::AtomicI32,
-    name: String,
+    name: std::borrow::Cow<'static, str>,
     /// False for a host's image ([`Image::from_host`]): vgeo neither names nor destroys it.
     owned: bool,
 }
@@ -343,7 +343,7 @@ impl Image {
             aspect,
             mip_levels,
             layout: std::sync::atomic::AtomicI32::new(vk::ImageLayout::UNDEFINED.as_raw()),
-            name: name.into(),
+            name: name.to_string().into(),
             owned: true,
         })
     }
@@ -351,7 +351,7 @@ impl Image {
     /// Wraps a host's image for recording (barriers, copies, storage writes). vgeo does not name,
     /// destroy or free it; the wrapper's layout starts at `host.layout`. The caller keeps the image
     /// alive while commands recorded with the wrapper may run.
-    pub fn from_host(ctx: &Context, name: &str, host: &HostImage) -> Self {
+    pub fn from_host(ctx: &Context, name: &'static str, host: &HostImage) -> Self {
         let aspect = match host.format {
             vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
             _ => vk::ImageAspectFlags::COLOR,

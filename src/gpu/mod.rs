@@ -14,7 +14,7 @@ mod requirements;
 mod texture;
 
 pub use ash::vk;
-pub use cmd::{Cmd, Desc, RenderTarget};
+pub use cmd::{Cmd, Desc, DescList, MAX_DESCRIPTORS, RenderTarget};
 pub use context::{Caps, Context, ContextOptions, HostDevice};
 pub use memory::{Buffer, HostImage, Image, MemoryKind};
 pub use pipeline::{ComputePipeline, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage};

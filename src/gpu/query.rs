@@ -8,7 +8,8 @@ use super::{Cmd, Context, GpuResult, VkResultExt};
 pub struct Timer {
     ctx: Context,
     pool: Option<vk::QueryPool>,
-    names: Vec<String>,
+    /// Pass names (static: recording allocates nothing; capacity reserved at creation).
+    names: Vec<&'static str>,
     capacity: u32,
     open: Option<u32>,
 }
@@ -31,7 +32,7 @@ impl Timer {
         Ok(Self {
             ctx: ctx.clone(),
             pool,
-            names: Vec::new(),
+            names: Vec::with_capacity(max_passes as usize),
             capacity: max_passes,
             open: None,
         })
@@ -52,11 +53,11 @@ impl Timer {
     }
 
     /// Begins pass `name`: a labelled region and a start timestamp.
-    pub fn begin(&mut self, cmd: &mut Cmd, name: &str) {
+    pub fn begin(&mut self, cmd: &mut Cmd, name: &'static str) {
         cmd.begin_label(name);
         let i = self.names.len() as u32;
         if i < self.capacity {
-            self.names.push(name.to_string());
+            self.names.push(name);
             self.open = Some(i);
             if let Some(pool) = self.pool {
                 // SAFETY: query 2i was reset in `reset` and is written once.
@@ -135,7 +136,7 @@ impl Timer {
                 .enumerate()
                 .map(|(i, name)| {
                     let ticks = data[2 * i + 1].wrapping_sub(data[2 * i]);
-                    (name.clone(), ticks as f64 * period as f64 / 1e6)
+                    (name.to_string(), ticks as f64 * period as f64 / 1e6)
                 })
                 .collect(),
         ))

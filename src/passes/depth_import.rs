@@ -69,7 +69,7 @@ pub(crate) fn pipeline(
 /// Records one dispatch of `pipeline` over the frame (binding 0 visibility buffer, 1 `depth`).
 pub(crate) fn record_pass(
     pipeline: &ComputePipeline,
-    name: &str,
+    name: &'static str,
     cmd: &mut Cmd,
     timer: &mut Timer,
     fb: &FrameBuffers,

@@ -13,8 +13,8 @@
 //! with the pixels of each material).
 
 use crate::gpu::{
-    Cmd, ComputePipeline, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc,
-    RenderTarget, ShaderStage, Timer, vk,
+    Cmd, ComputePipeline, Context, Desc, DescList, GpuResult, GraphicsPipeline,
+    GraphicsPipelineDesc, RenderTarget, ShaderStage, Timer, vk,
 };
 use crate::material::GpuMaterials;
 use crate::passes::material_classify::{MATERIAL_DEPTH_FORMAT, MaterialTargets};
@@ -193,7 +193,7 @@ fn descriptors<'a>(
     fb: &'a FrameBuffers,
     t: &'a MaterialTargets,
     vis: Desc<'a>,
-) -> Vec<Desc<'a>> {
+) -> DescList<'a> {
     with_geometry(
         &[
             Desc::Uniform(&t.gbuffer.view),
