@@ -899,6 +899,7 @@ pub fn run(opts: &Options) -> Result<Output> {
                         height: h,
                         layout: L::COLOR_ATTACHMENT_OPTIMAL,
                     }),
+                    gbuffer: None,
                 },
             };
             if opts.vgeo_draws {

@@ -9,8 +9,8 @@ use std::borrow::Borrow;
 
 mod embed;
 pub use embed::{
-    DEFAULT_FRAMES_IN_FLIGHT, FrameStats, HOST_COLOR_FORMAT, HOST_DEPTH_FORMAT, HostTargets, View,
-    ViewFrame,
+    DEFAULT_FRAMES_IN_FLIGHT, FrameStats, HOST_COLOR_FORMAT, HOST_DEPTH_FORMAT,
+    HOST_GBUFFER_FORMATS, HostTargets, View, ViewFrame,
 };
 
 use crate::builder::BuiltMesh;
@@ -26,7 +26,7 @@ use crate::passes::depth_pyramid::DepthPyramid;
 use crate::passes::emit_gbuffer::EmitPath;
 use crate::passes::instance_cull::InstanceCull;
 use crate::passes::material_classify::MaterialTargets;
-use crate::passes::materials::MaterialPasses;
+use crate::passes::materials::{MaterialOutput, MaterialPasses};
 use crate::passes::raster_hw::RasterHw;
 use crate::passes::raster_sw::RasterSw;
 use crate::passes::view::{FrameSettings, MaterialViewGpu, view_gpu};
@@ -552,7 +552,7 @@ impl VgeoRenderer {
                 let finish = match materials.and_then(|m| m.targets()) {
                     Some(targets) => Finish::Materials {
                         targets,
-                        output: None,
+                        output: MaterialOutput::Shaded(None),
                     },
                     None => Finish::Debug {
                         view: debug_view,
@@ -737,10 +737,10 @@ enum Finish<'a> {
         mode: ViewMode,
         light_dir: glam::Vec3,
     },
-    /// The material passes into `targets`, `shade` into `output` (default: the targets' own).
+    /// The material passes into `targets` and `output`.
     Materials {
         targets: &'a MaterialTargets,
-        output: Option<&'a Image>,
+        output: MaterialOutput<'a>,
     },
     /// Nothing more: the visibility buffer (and the host's depth) is the output.
     Nothing,

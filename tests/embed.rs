@@ -276,6 +276,7 @@ fn two_views_in_one_frame_each_equal_a_single_view_render() {
                     targets: HostTargets {
                         depth: Some(depth.as_host()),
                         color: Some(color.as_host()),
+                        gbuffer: None,
                     },
                 };
                 let (res, n) = allocations(|| r.record_cmd(cmd, view, &f));
@@ -328,5 +329,115 @@ fn two_views_in_one_frame_each_equal_a_single_view_render() {
         imgs[0].0.download().unwrap().len(),
         imgs[1].0.download().unwrap().len()
     );
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn the_gbuffer_into_the_hosts_targets_equals_vgeos_own() {
+    let ctx = gpu();
+    let built = example::build_meshes(&[
+        assets().join("spot.obj").to_string_lossy().into_owned(),
+        "generated:box".into(),
+    ])
+    .unwrap();
+    let placements = example::placements(&built, 100);
+    let (w, h) = (112u32, 80u32);
+    let camera = example::camera_at(40);
+    let mut r = VgeoRenderer::new(&ctx, &built, &placements).unwrap();
+    let mut view = r.create_view("gbuffer", w, h, 2).unwrap();
+    let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+        | vk::ImageUsageFlags::STORAGE
+        | vk::ImageUsageFlags::TRANSFER_SRC;
+    let names = ["host albedo", "host normal", "host params"];
+    let gb: Vec<Image> = vgeo::frame::HOST_GBUFFER_FORMATS
+        .iter()
+        .zip(names)
+        .map(|(f, n)| Image::new(&ctx, n, w, h, *f, usage).unwrap())
+        .collect();
+    let (_, depth) = targets(&ctx, w, h);
+    ctx.submit_and_wait("host gbuffer", |cmd| {
+        // The host's GBuffer cleared to a marker the host's own pixels would carry.
+        let clear = Some([0.0, 0.0, 0.0, 0.0]);
+        cmd.begin_rendering(
+            &[
+                RenderTarget {
+                    image: &gb[0],
+                    clear,
+                },
+                RenderTarget {
+                    image: &gb[1],
+                    clear,
+                },
+                RenderTarget {
+                    image: &gb[2],
+                    clear,
+                },
+            ],
+            Some(RenderTarget {
+                image: &depth,
+                clear: Some([0.0; 4]),
+            }),
+        );
+        cmd.end_rendering();
+        let f = ViewFrame {
+            frame: 0,
+            camera: &camera,
+            settings: FrameSettings::default(),
+            light: Light::default(),
+            shade: ShadeMode::Lit,
+            targets: HostTargets {
+                depth: Some(depth.as_host()),
+                color: None,
+                gbuffer: Some([gb[0].as_host(), gb[1].as_host(), gb[2].as_host()]),
+            },
+        };
+        r.record_cmd(cmd, &mut view, &f).unwrap();
+    })
+    .unwrap();
+    assert_no_validation_errors(&ctx);
+    // vgeo's own frame: its GBuffer (albedo cleared, normal and params valid where covered).
+    let mut single = VgeoRenderer::new(&ctx, &built, &placements).unwrap();
+    single
+        .render(
+            &camera,
+            w,
+            h,
+            &FrameSettings::default(),
+            ViewMode::Lit,
+            &Light::default(),
+        )
+        .unwrap();
+    let own = &single.material_passes().unwrap().targets().unwrap().gbuffer;
+    let own_albedo = own.albedo.download().unwrap();
+    let host_albedo = gb[0].download().unwrap();
+    assert_eq!(host_albedo, own_albedo, "albedo");
+    let covered: Vec<usize> = (0..(w * h) as usize)
+        .filter(|i| own_albedo[4 * i + 3] > 127)
+        .collect();
+    assert!(
+        covered.len() > (w * h / 4) as usize,
+        "{} covered",
+        covered.len()
+    );
+    for (k, (own_img, texel)) in [(&own.normal, 8usize), (&own.params, 4)]
+        .into_iter()
+        .enumerate()
+    {
+        let a = own_img.download().unwrap();
+        let b = gb[k + 1].download().unwrap();
+        for &i in &covered {
+            assert_eq!(
+                a[texel * i..texel * (i + 1)],
+                b[texel * i..texel * (i + 1)],
+                "{} at pixel {i}",
+                names[k + 1]
+            );
+        }
+        // Where vgeo draws nothing, the host's GBuffer keeps what the host put there.
+        let untouched = (0..(w * h) as usize)
+            .filter(|i| own_albedo[4 * i + 3] <= 127)
+            .all(|i| b[texel * i..texel * (i + 1)].iter().all(|x| *x == 0));
+        assert!(untouched, "{}: uncovered pixels untouched", names[k + 1]);
+    }
     assert_no_validation_errors(&ctx);
 }

@@ -34,7 +34,8 @@ use crate::passes::FrameBuffers;
 use crate::passes::depth_import::HostDepthBuffer;
 use crate::passes::depth_pyramid::DepthPyramid;
 use crate::passes::material_classify::MaterialTargets;
-use crate::passes::shade::OUTPUT_FORMAT;
+use crate::passes::materials::MaterialOutput;
+use crate::passes::shade::{ALBEDO_FORMAT, NORMAL_FORMAT, OUTPUT_FORMAT, PARAMS_FORMAT};
 use crate::passes::view::{FrameSettings, view_gpu};
 use crate::render::Light;
 use crate::shared::{
@@ -49,6 +50,10 @@ pub const HOST_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// The colour format vgeo's `shade` writes into a host's image (sRGB-encoded values).
 pub const HOST_COLOR_FORMAT: vk::Format = OUTPUT_FORMAT;
+
+/// The formats of a host's GBuffer: albedo (sRGB-encoded colour, alpha 1 where covered), normal
+/// (world space, facing the camera), params (metallic, roughness, material id low and high byte).
+pub const HOST_GBUFFER_FORMATS: [vk::Format; 3] = [ALBEDO_FORMAT, NORMAL_FORMAT, PARAMS_FORMAT];
 
 /// Most timed passes of one recorded frame.
 const MAX_PASSES: u32 = 32;
@@ -123,8 +128,11 @@ pub struct HostTargets {
     /// occluder, written back with vgeo's geometry. `None`: vgeo's depth stays its own.
     pub depth: Option<HostImage>,
     /// The host's colour ([`HOST_COLOR_FORMAT`], storage): lit where vgeo's geometry is visible.
-    /// `None`: no material passes (the visibility buffer and depth only).
     pub color: Option<HostImage>,
+    /// The host's GBuffer (albedo, normal, params in [`HOST_GBUFFER_FORMATS`], storage), written
+    /// where vgeo's geometry is visible, for the host's lighting (instead of `color`: one or the
+    /// other). Neither: no material passes (the visibility buffer and depth only).
+    pub gbuffer: Option<[HostImage; 3]>,
 }
 
 /// One frame of one view, as the host records it.
@@ -306,13 +314,24 @@ impl VgeoRenderer {
         if let Some(c) = &frame.targets.color {
             check(c, "colour", HOST_COLOR_FORMAT)?;
         }
-        let materials = match frame.targets.color {
-            Some(_) => Some(
+        if let Some(g) = &frame.targets.gbuffer {
+            for (h, f) in g.iter().zip(HOST_GBUFFER_FORMATS) {
+                check(h, "GBuffer", f)?;
+            }
+            if frame.targets.color.is_some() {
+                return Err(GpuError::Other(format!(
+                    "view `{}`: lit colour or the GBuffer, not both",
+                    view.name
+                )));
+            }
+        }
+        let materials = match (frame.targets.color, frame.targets.gbuffer) {
+            (None, None) => None,
+            _ => Some(
                 self.materials
                     .as_ref()
                     .ok_or_else(|| GpuError::Other("material passes missing".into()))?,
             ),
-            None => None,
         };
         let depth = frame
             .targets
@@ -322,6 +341,13 @@ impl VgeoRenderer {
             .targets
             .color
             .map(|h| Image::from_host(&self.ctx, "host colour", &h));
+        let gbuffer = frame.targets.gbuffer.map(|[a, n, p]| {
+            [
+                Image::from_host(&self.ctx, "host gbuffer albedo", &a),
+                Image::from_host(&self.ctx, "host gbuffer normal", &n),
+                Image::from_host(&self.ctx, "host gbuffer params", &p),
+            ]
+        });
 
         let mut settings = frame.settings;
         if self.direct_visible() {
@@ -378,12 +404,17 @@ impl VgeoRenderer {
             overdraw: None,
             host_depth: depth.as_ref().map(|d| (&*host_depth, d)),
         };
-        let finish = match (&color, materials) {
-            (Some(out), Some(_)) => Finish::Materials {
+        let finish = match (&color, &gbuffer) {
+            (Some(out), None) => Finish::Materials {
                 targets,
-                output: Some(out),
+                output: MaterialOutput::Shaded(Some(out)),
             },
-            _ => Finish::Nothing,
+            (None, Some([a, n, p])) => Finish::Materials {
+                targets,
+                output: MaterialOutput::Gbuffer([a, n, p]),
+            },
+            // Both were refused above.
+            (None, None) | (Some(_), Some(_)) => Finish::Nothing,
         };
         self.record_frame(cmd, &mut slot.timer, &inputs, &data, finish)?;
         // The frame's counters and number into the slot's read-back.
@@ -404,9 +435,14 @@ impl VgeoRenderer {
             (S::HOST, A::HOST_READ),
         );
         // The host's images back in their entry layouts.
+        let g = |i: usize| gbuffer.as_ref().map(|g| &g[i]);
+        let gh = |i: usize| frame.targets.gbuffer.map(|g| g[i]);
         for (img, host) in [
             (depth.as_ref(), frame.targets.depth),
             (color.as_ref(), frame.targets.color),
+            (g(0), gh(0)),
+            (g(1), gh(1)),
+            (g(2), gh(2)),
         ] {
             if let (Some(img), Some(host)) = (img, host)
                 && img.current_layout() != host.layout

@@ -16,6 +16,17 @@ use crate::passes::view::MaterialViewGpu;
 use crate::passes::{FrameBuffers, VisPath};
 use crate::scene_gpu::GpuScene;
 
+/// What the material passes write.
+#[derive(Clone, Copy)]
+pub enum MaterialOutput<'a> {
+    /// `shade` into this image (an [`crate::passes::shade::OUTPUT_FORMAT`] storage image), or
+    /// into the targets' own output.
+    Shaded(Option<&'a Image>),
+    /// The GBuffer (albedo, normal, params) into these images instead of `shade` (embedding: the
+    /// host lights it); `emit_gbuffer` runs as compute and writes only vgeo's pixels.
+    Gbuffer([&'a Image; 3]),
+}
+
 /// The material passes of a frame (`material_classify`, `material_depth`, `emit_gbuffer`, `shade`)
 /// with the scene's materials on the GPU and the targets for the current resolution.
 pub struct MaterialPasses {
@@ -138,11 +149,10 @@ impl MaterialPasses {
             .as_ref()
             .filter(|t| t.width == fb.width && t.height == fb.height)
             .ok_or_else(|| GpuError::Other("material passes not prepared for this frame".into()))?;
-        self.record_with(cmd, timer, scene, fb, t, None)
+        self.record_with(cmd, timer, scene, fb, t, MaterialOutput::Shaded(None))
     }
 
-    /// [`MaterialPasses::record`] into explicit targets (`t`, of `fb`'s size) and `shade` into
-    /// `output` (an [`crate::passes::shade::OUTPUT_FORMAT`] storage image; default: `t`'s own).
+    /// [`MaterialPasses::record`] into explicit targets (`t`, of `fb`'s size) and `output`.
     pub fn record_with(
         &self,
         cmd: &mut Cmd,
@@ -150,7 +160,7 @@ impl MaterialPasses {
         scene: &GpuScene,
         fb: &FrameBuffers,
         t: &MaterialTargets,
-        output: Option<&Image>,
+        output: MaterialOutput<'_>,
     ) -> GpuResult<()> {
         use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         if t.width != fb.width || t.height != fb.height {
@@ -176,6 +186,19 @@ impl MaterialPasses {
                 A::SHADER_STORAGE_READ,
             ),
         );
+        if let MaterialOutput::Gbuffer(images) = output {
+            self.emit
+                .record_compute_into(cmd, timer, scene, &self.gpu, fb, t, Some(images));
+            cmd.barrier(
+                (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+                (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+            );
+            return Ok(());
+        }
+        let shaded = match output {
+            MaterialOutput::Shaded(o) => o,
+            MaterialOutput::Gbuffer(_) => None,
+        };
         match self.emit_path {
             EmitPath::Compute => {
                 self.emit
@@ -191,7 +214,7 @@ impl MaterialPasses {
             }
         }
         self.shade
-            .record_to(cmd, timer, &t.gbuffer, output.unwrap_or(&t.gbuffer.output));
+            .record_to(cmd, timer, &t.gbuffer, shaded.unwrap_or(&t.gbuffer.output));
         cmd.barrier(
             (
                 S::COMPUTE_SHADER | S::FRAGMENT_SHADER,
