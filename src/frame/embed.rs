@@ -17,6 +17,8 @@
 //!   nearer of the two per pixel (so the host's later draws are occluded by vgeo's geometry).
 //! - colour: `R8G8B8A8_UNORM` with `STORAGE` usage; vgeo's `shade` writes sRGB-encoded values only
 //!   where its own geometry is visible (the host's pixels and background stay as they were).
+//! - or the GBuffer ([`HOST_GBUFFER_FORMATS`], `STORAGE` usage): written only where vgeo's
+//!   geometry is visible, for the host's lighting.
 //! - layouts: each image is in [`HostImage::layout`] at entry and is left in it at exit. vgeo's
 //!   first command is a global barrier from all earlier commands (all stages, memory read and
 //!   write); its first barrier on each image has the source scope its layout implies
@@ -258,11 +260,13 @@ impl VgeoRenderer {
 
     /// Records one frame of `view` into `cb`, a command buffer the host owns, begins, ends and
     /// submits: both culling phases, both rasterizers, the HZBs, the host's depth in and out and
-    /// the material passes into the host's colour (see [`HostTargets`] and the module's contract on
-    /// formats, layouts and barriers). Nothing is submitted or waited for and no Vulkan object is
-    /// created. Frames of one view must be submitted in the order they were recorded (the
+    /// the material passes into the host's colour or GBuffer (see [`HostTargets`] and the module's
+    /// contract on formats, layouts and barriers). Nothing is submitted, waited for, created or
+    /// heap-allocated. Frames of one view must be submitted in the order they were recorded (the
     /// occlusion history flows from each to the next); the frame's stats come back with
-    /// [`View::try_stats`].
+    /// [`View::try_stats`]. Targets that do not match the view (format, size, an undefined layout,
+    /// colour and GBuffer both) are refused before anything is recorded; any other error leaves
+    /// `cb` partly recorded, to be reset by the host.
     ///
     /// # Safety
     /// `cb` must be a primary command buffer of the renderer's device in the recording state,
