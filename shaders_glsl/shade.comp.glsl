@@ -1,7 +1,8 @@
 #version 460
 // Pass `shade`: one directional light plus ambient from the GBuffer into the output image (RGBA8,
 // sRGB-encoded), background where the GBuffer is empty (albedo alpha 0). Modes: 0 shaded,
-// 1 albedo, 2 normals, 3 materials (a hashed colour per material id).
+// 1 albedo, 2 normals, 3 materials (a hashed colour per material id). With SHADE_FLAG_COVERED_ONLY
+// (embedding) only pixels vgeo's geometry covers are written.
 // Shading (mirrored by the CPU reference in tests/material.rs): n faces the camera, l towards the
 // light, v towards the camera; f0 = mix(0.04, albedo, metallic);
 // colour = albedo (1 - metallic) (0.2 + 0.8 |n.l|) + f0 (0.2 + 0.8 max(n.l, 0) blinn(n.h)),
@@ -24,6 +25,9 @@ void main() {
         return;
     }
     vec4 a = imageLoad(albedo_image, px);
+    if ((mview.flags & SHADE_FLAG_COVERED_ONLY) != 0u && a.a <= 0.5) {
+        return;  // the host's pixel (its geometry or its background)
+    }
     vec3 color = mview.background.rgb;
     if (a.a > 0.5) {
         vec3 n = imageLoad(normal_image, px).xyz;

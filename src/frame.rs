@@ -7,29 +7,39 @@
 
 use std::borrow::Borrow;
 
+mod embed;
+pub use embed::{
+    DEFAULT_FRAMES_IN_FLIGHT, FrameStats, HOST_COLOR_FORMAT, HOST_DEPTH_FORMAT,
+    HOST_GBUFFER_FORMATS, HostTargets, View, ViewFrame,
+};
+
 use crate::builder::BuiltMesh;
 use crate::camera::Camera;
-use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Timer, vk};
+use crate::gpu::{Buffer, Cmd, Context, GpuError, GpuResult, Image, Timer, vk};
 use crate::material::SceneMaterials;
 use crate::passes::cluster_cull::{ClusterCull, default_workgroups};
 use crate::passes::cull::Phase;
 use crate::passes::debug_view::{DebugView, ViewMode};
+use crate::passes::depth_export::DepthExport;
+use crate::passes::depth_import::{DepthImport, HostDepthBuffer};
 use crate::passes::depth_pyramid::DepthPyramid;
 use crate::passes::emit_gbuffer::EmitPath;
 use crate::passes::instance_cull::InstanceCull;
-use crate::passes::materials::MaterialPasses;
+use crate::passes::material_classify::MaterialTargets;
+use crate::passes::materials::{MaterialOutput, MaterialPasses};
 use crate::passes::raster_hw::RasterHw;
 use crate::passes::raster_sw::RasterSw;
-use crate::passes::view::{FrameSettings, view_gpu};
+use crate::passes::view::{FrameSettings, MaterialViewGpu, view_gpu};
 use crate::passes::{FrameBuffers, VisPath, visbuffer};
 use crate::render::{Frame, Light, Placement};
 use crate::scene_gpu::GpuScene;
 use crate::shared::{
-    CullCounters, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_DIRECT_VISIBLE,
+    CullCounters, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_DIRECT_VISIBLE, ViewGpu,
 };
 
-/// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits.
-pub const MAX_VISIBLE: u32 = 1 << crate::shared::VISBUFFER_CLUSTER_BITS;
+/// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits, and its
+/// largest value belongs to the host's pixels ([`crate::shared::VISBUFFER_HOST`]).
+pub const MAX_VISIBLE: u32 = (1 << crate::shared::VISBUFFER_CLUSTER_BITS) - 1;
 /// Largest cull work queue (items of 8 bytes).
 pub const MAX_QUEUE: u32 = 1 << 25;
 
@@ -79,6 +89,8 @@ pub struct VgeoRenderer {
     cluster_cull: ClusterCull,
     raster_sw: RasterSw,
     raster_hw: RasterHw,
+    depth_import: DepthImport,
+    depth_export: DepthExport,
     fb: Option<FrameBuffers>,
     pyramid: Option<DepthPyramid>,
     debug_view: Option<DebugView>,
@@ -143,6 +155,8 @@ impl VgeoRenderer {
             cluster_cull: ClusterCull::new(ctx, default_workgroups(ctx.caps()))?,
             raster_sw: RasterSw::new(ctx, vis_path)?,
             raster_hw: RasterHw::new(ctx, vis_path)?,
+            depth_import: DepthImport::new(ctx, vis_path)?,
+            depth_export: DepthExport::new(ctx, vis_path)?,
             fb: None,
             pyramid: None,
             debug_view: None,
@@ -451,7 +465,6 @@ impl VgeoRenderer {
         mode: ViewMode,
         light: &Light,
     ) -> GpuResult<Vec<Vec<(String, f64)>>> {
-        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         let Some(first) = cameras.first() else {
             return Ok(Vec::new());
         };
@@ -497,7 +510,7 @@ impl VgeoRenderer {
         // Per frame: view, occlusion of the main phase (the previous frame's) and of the post
         // phase (this frame's), material view.
         let mut history = self.history;
-        let mut data = Vec::with_capacity(cameras.len());
+        let mut data: Vec<FrameData> = Vec::with_capacity(cameras.len());
         for cam in cameras {
             let current = occlusion_of(cam, width, height, levels, settings.occlusion);
             let main = match (history, settings.occlusion) {
@@ -517,7 +530,12 @@ impl VgeoRenderer {
                 (Some(sm), Some(m)) => Some(m.view_for(fb, cam, light.direction, sm)?),
                 _ => None,
             };
-            data.push((view, main, current, mview));
+            data.push(FrameData {
+                view,
+                main,
+                current,
+                mview,
+            });
             history = settings.occlusion.then_some(current);
         }
         let pyramid = present(self.pyramid.as_ref(), "HZB")?;
@@ -529,68 +547,27 @@ impl VgeoRenderer {
         let mut result = Ok(());
         self.ctx.submit_and_wait("vgeo frame", |cmd| {
             timer.reset(cmd);
-            for (view, main, current, mview) in &data {
+            for d in &data {
                 starts.push(timer.count());
-                // The previous frame is done with this frame's inputs before they are rewritten.
-                cmd.barrier(
-                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
-                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-                );
-                cmd.update_buffer(&fb.view, 0, bytemuck::bytes_of(view));
-                cmd.update_buffer(&fb.occ_main, 0, bytemuck::bytes_of(main));
-                cmd.update_buffer(&fb.occ_post, 0, bytemuck::bytes_of(current));
-                if let (Some(mv), Some(buf)) = (mview, material_view) {
-                    cmd.update_buffer(buf, 0, bytemuck::bytes_of(mv));
-                }
-                visbuffer::clear(cmd, fb);
-                // Direct slots leave holes: empty entries read as all ones.
-                cmd.fill_buffer(&fb.visible, u32::MAX);
-                if let Some(o) = overdraw {
-                    cmd.fill_buffer(o, 0);
-                }
-                let rw = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
-                let raster_stages = S::COMPUTE_SHADER | S::FRAGMENT_SHADER;
-                cmd.barrier(
-                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
-                );
-                for phase in [Phase::Main, Phase::Post] {
-                    self.record_cull(cmd, &mut timer, fb, &pyramid.hzb, phase);
-                    self.raster_sw.record_counting(
-                        cmd,
-                        &mut timer,
-                        &self.scene,
-                        fb,
-                        phase,
-                        overdraw,
-                    );
-                    // Both rasterizers do atomics on the visibility buffer.
-                    cmd.barrier((raster_stages, rw), (raster_stages, rw));
-                    self.raster_hw.record_counting(
-                        cmd,
-                        &mut timer,
-                        &self.scene,
-                        fb,
-                        phase,
-                        overdraw,
-                    );
-                    cmd.barrier((raster_stages, rw), (S::COMPUTE_SHADER, rw));
-                    // After the main phase: this frame's HZB for the post phase; after the post
-                    // phase: the HZB the next frame's main phase tests against.
-                    pyramid.record(cmd, &mut timer, fb);
-                }
-                result = match materials {
-                    Some(m) => m.record(cmd, &mut timer, &self.scene, fb),
-                    None => debug_view.record_with_overdraw(
-                        cmd,
-                        &mut timer,
-                        &self.scene,
-                        fb,
+                let finish = match materials.and_then(|m| m.targets()) {
+                    Some(targets) => Finish::Materials {
+                        targets,
+                        output: MaterialOutput::Shaded(None),
+                    },
+                    None => Finish::Debug {
+                        view: debug_view,
                         mode,
-                        light.direction,
-                        overdraw,
-                    ),
+                        light_dir: light.direction,
+                    },
                 };
+                let inputs = FrameInputs {
+                    fb,
+                    pyramid,
+                    material_view,
+                    overdraw,
+                    host_depth: None,
+                };
+                result = self.record_frame(cmd, &mut timer, &inputs, d, finish);
                 if result.is_err() {
                     break;
                 }
@@ -609,6 +586,96 @@ impl VgeoRenderer {
             .zip(ends)
             .map(|(&a, b)| all[a.min(all.len())..b.min(all.len())].to_vec())
             .collect())
+    }
+
+    /// Records one frame (the one frame recording: `render`, `render_path_timed` and the embedded
+    /// [`VgeoRenderer::record`] all go through it): the frame's uniforms written in command order
+    /// behind a barrier on everything before (so frames and views recorded back to back, and frames
+    /// in flight on one queue, never race), the visibility buffer cleared or seeded from the host's
+    /// depth, both culling phases with their rasterizers and HZBs, the host's depth written back,
+    /// then `finish`.
+    fn record_frame(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        inputs: &FrameInputs<'_>,
+        d: &FrameData,
+        finish: Finish<'_>,
+    ) -> GpuResult<()> {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        let fb = inputs.fb;
+        // The previous frame is done with this frame's inputs before they are rewritten.
+        cmd.barrier(
+            (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+            (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+        );
+        cmd.update_buffer(&fb.view, 0, bytemuck::bytes_of(&d.view));
+        cmd.update_buffer(&fb.occ_main, 0, bytemuck::bytes_of(&d.main));
+        cmd.update_buffer(&fb.occ_post, 0, bytemuck::bytes_of(&d.current));
+        if let (Some(mv), Some(buf)) = (&d.mview, inputs.material_view) {
+            cmd.update_buffer(buf, 0, bytemuck::bytes_of(mv));
+        }
+        match inputs.host_depth {
+            // The host's depth into a float buffer; `depth_import` seeds the visibility buffer.
+            Some((buf, image)) => cmd.copy_image_to_buffer(image, &buf.buffer),
+            None => visbuffer::clear(cmd, fb),
+        }
+        // Direct slots leave holes: empty entries read as all ones.
+        cmd.fill_buffer(&fb.visible, u32::MAX);
+        if let Some(o) = inputs.overdraw {
+            cmd.fill_buffer(o, 0);
+        }
+        let rw = A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE;
+        let raster_stages = S::COMPUTE_SHADER | S::FRAGMENT_SHADER;
+        cmd.barrier(
+            (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+        );
+        if let Some((buf, _)) = inputs.host_depth {
+            self.depth_import.record(cmd, timer, fb, buf);
+            cmd.barrier((S::COMPUTE_SHADER, rw), (raster_stages, rw));
+        }
+        for phase in [Phase::Main, Phase::Post] {
+            self.record_cull(cmd, timer, fb, &inputs.pyramid.hzb, phase);
+            self.raster_sw
+                .record_counting(cmd, timer, &self.scene, fb, phase, inputs.overdraw);
+            // Both rasterizers do atomics on the visibility buffer.
+            cmd.barrier((raster_stages, rw), (raster_stages, rw));
+            self.raster_hw
+                .record_counting(cmd, timer, &self.scene, fb, phase, inputs.overdraw);
+            cmd.barrier((raster_stages, rw), (S::COMPUTE_SHADER, rw));
+            // After the main phase: this frame's HZB for the post phase; after the post
+            // phase: the HZB the next frame's main phase tests against.
+            inputs.pyramid.record(cmd, timer, fb);
+        }
+        if let Some((buf, image)) = inputs.host_depth {
+            self.depth_export.record(cmd, timer, fb, buf);
+            cmd.barrier(
+                (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+                (S::ALL_TRANSFER, A::TRANSFER_READ),
+            );
+            cmd.copy_buffer_to_image(&buf.buffer, image, &[(0, fb.width, fb.height)]);
+        }
+        match finish {
+            Finish::Materials { targets, output } => {
+                let m = present(self.materials.as_ref(), "material passes")?;
+                m.record_with(cmd, timer, &self.scene, fb, targets, output)
+            }
+            Finish::Debug {
+                view,
+                mode,
+                light_dir,
+            } => view.record_with_overdraw(
+                cmd,
+                timer,
+                &self.scene,
+                fb,
+                mode,
+                light_dir,
+                inputs.overdraw,
+            ),
+            Finish::Nothing => Ok(()),
+        }
     }
 
     /// The overdraw counters as the last counting frame left them (`None` before any frame
@@ -640,6 +707,43 @@ impl VgeoRenderer {
         let gpu_ms = timer.results()?;
         read_cull(fb, Phase::Main, gpu_ms)
     }
+}
+
+/// What one frame's recording reads and writes besides the renderer's pipelines.
+struct FrameInputs<'a> {
+    fb: &'a FrameBuffers,
+    pyramid: &'a DepthPyramid,
+    /// Where the material view goes (the material targets' uniform), for the material views.
+    material_view: Option<&'a Buffer>,
+    overdraw: Option<&'a Buffer>,
+    /// Embedding: the host's D32 depth image and the float buffer it is copied through.
+    host_depth: Option<(&'a HostDepthBuffer, &'a Image)>,
+}
+
+/// The uniforms of one frame, written into the command buffer.
+struct FrameData {
+    view: ViewGpu,
+    /// The HZB the main phase tests (the previous frame's) and the post phase's (this frame's).
+    main: OcclusionGpu,
+    current: OcclusionGpu,
+    mview: Option<MaterialViewGpu>,
+}
+
+/// What a frame ends with after the rasterizers.
+enum Finish<'a> {
+    /// A debug view into the debug view's image.
+    Debug {
+        view: &'a DebugView,
+        mode: ViewMode,
+        light_dir: glam::Vec3,
+    },
+    /// The material passes into `targets` and `output`.
+    Materials {
+        targets: &'a MaterialTargets,
+        output: MaterialOutput<'a>,
+    },
+    /// Nothing more: the visibility buffer (and the host's depth) is the output.
+    Nothing,
 }
 
 /// The occlusion view of a camera (what its HZB is tested with).

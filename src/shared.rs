@@ -18,6 +18,13 @@ pub const MAX_CLUSTER_VERTICES: u32 = 255;
 pub const VISBUFFER_TRIANGLE_BITS: u32 = 7;
 /// Bits of the visible-cluster index in the visibility buffer's low word.
 pub const VISBUFFER_CLUSTER_BITS: u32 = 25;
+/// Visibility buffer low word of a pixel the host's depth covers (`depth_import`): the largest
+/// value, past every visible-cluster index (the visible list holds at most `2^25 - 1` entries), so
+/// readers treat it as "not vgeo's" and a vgeo fragment at exactly the host's depth loses the tie.
+pub const VISBUFFER_HOST: u32 = 0xffffffff;
+/// `MaterialViewGpu::flags`: `shade` writes only the pixels vgeo's geometry covers (embedding: the
+/// host's own pixels and background stay as the host drew them).
+pub const SHADE_FLAG_COVERED_ONLY: u32 = 1;
 /// Workgroup size of simple 2D image passes.
 pub const TILE_WORKGROUP_SIZE: u32 = 8;
 /// Threads of one `instance_cull` workgroup.

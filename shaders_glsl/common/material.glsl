@@ -38,7 +38,7 @@ struct MaterialViewGpu {
     uint visible_capacity;
     uint mode;           // shade: 0 shaded, 1 albedo, 2 normals, 3 materials
     uint count_fragments;
-    uint _pad0;
+    uint flags;          // SHADE_FLAG_*
     uint _pad1;
 };
 

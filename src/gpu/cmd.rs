@@ -1,6 +1,6 @@
 //! A command buffer being recorded, with a small safe API over the commands vgeo uses.
 
-use std::ffi::CString;
+use std::ffi::CStr;
 use std::sync::atomic::Ordering;
 
 use ash::vk;
@@ -13,6 +13,64 @@ pub enum Desc<'a> {
     Storage(&'a Buffer),
     Uniform(&'a Buffer),
     StorageImage(&'a Image),
+}
+
+/// Most descriptors of one push (bindings of a pipeline's set 0) and most mip levels of one copy:
+/// recording keeps them in arrays on the stack, so it allocates nothing.
+pub const MAX_DESCRIPTORS: usize = 32;
+
+/// Descriptors in a fixed-capacity list on the stack (pushing past [`MAX_DESCRIPTORS`] panics:
+/// a pipeline layout with more bindings is a programming error).
+#[derive(Clone, Copy)]
+pub struct DescList<'a> {
+    items: [Option<Desc<'a>>; MAX_DESCRIPTORS],
+    len: usize,
+}
+
+impl Default for DescList<'_> {
+    fn default() -> Self {
+        Self {
+            items: [None; MAX_DESCRIPTORS],
+            len: 0,
+        }
+    }
+}
+
+impl<'a> DescList<'a> {
+    /// Appends `d`.
+    pub fn push(&mut self, d: Desc<'a>) {
+        assert!(
+            self.len < MAX_DESCRIPTORS,
+            "more than {MAX_DESCRIPTORS} descriptors"
+        );
+        self.items[self.len] = Some(d);
+        self.len += 1;
+    }
+
+    /// Appends each of `ds`.
+    pub fn extend(&mut self, ds: impl IntoIterator<Item = Desc<'a>>) {
+        for d in ds {
+            self.push(d);
+        }
+    }
+
+    /// Number of descriptors.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the list is empty.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
+impl<'b, 'a> IntoIterator for &'b DescList<'a> {
+    type Item = &'b Desc<'a>;
+    type IntoIter = std::iter::Flatten<std::slice::Iter<'b, Option<Desc<'a>>>>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.items[..self.len].iter().flatten()
+    }
 }
 
 /// A colour or depth attachment of a rendering pass, with its clear value.
@@ -81,14 +139,28 @@ impl Cmd {
     /// Opens a labelled region (one per pass); also remembered as the last pass for device-loss reports.
     pub fn begin_label(&mut self, name: &str) {
         if let Ok(mut p) = self.ctx.inner.last_pass.lock() {
-            name.clone_into(&mut p);
+            // Within the string's reserved capacity (cut like the label), so no allocation.
+            p.clear();
+            let mut end = name.len().min(127);
+            while !name.is_char_boundary(end) {
+                end -= 1;
+            }
+            p.push_str(&name[..end]);
         }
         if let Some(d) = &self.ctx.inner.debug_device {
-            let Ok(c) = CString::new(name.replace('\0', " ")) else {
+            // The name, NUL-terminated, on the stack (cut at 127 bytes or an inner NUL).
+            let mut buf = [0u8; 128];
+            let n = name
+                .bytes()
+                .take(buf.len() - 1)
+                .take_while(|b| *b != 0)
+                .count();
+            buf[..n].copy_from_slice(&name.as_bytes()[..n]);
+            let Ok(c) = CStr::from_bytes_until_nul(&buf) else {
                 return;
             };
             let label = vk::DebugUtilsLabelEXT::default()
-                .label_name(&c)
+                .label_name(c)
                 .color([0.3, 0.6, 0.9, 1.0]);
             // SAFETY: the command buffer is recording.
             unsafe { d.cmd_begin_debug_utils_label(self.cb, &label) };
@@ -236,10 +308,12 @@ impl Cmd {
                     }
                 })
         };
-        let color_infos: Vec<_> = colors
-            .iter()
-            .map(|c| attach(c, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, false))
-            .collect();
+        assert!(colors.len() <= 8, "at most 8 colour attachments");
+        let mut color_infos = [vk::RenderingAttachmentInfo::default(); 8];
+        for (info, c) in color_infos.iter_mut().zip(colors) {
+            *info = attach(c, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, false);
+        }
+        let color_infos = &color_infos[..colors.len()];
         let depth_info = depth
             .as_ref()
             .map(|d| attach(d, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, true));
@@ -253,7 +327,7 @@ impl Cmd {
         let mut info = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)
-            .color_attachments(&color_infos);
+            .color_attachments(color_infos);
         if let Some(d) = depth_info.as_ref() {
             info = info.depth_attachment(d);
         }
@@ -323,68 +397,83 @@ impl Cmd {
         };
     }
 
-    fn push_descriptors(
+    fn push_descriptors<'b, 'a: 'b>(
         &mut self,
         bind: vk::PipelineBindPoint,
         layout: vk::PipelineLayout,
-        descs: &[Desc<'_>],
+        descs: impl IntoIterator<Item = &'b Desc<'a>>,
     ) {
-        let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = descs
-            .iter()
-            .map(|d| match d {
-                Desc::Storage(b) | Desc::Uniform(b) => [vk::DescriptorBufferInfo {
-                    buffer: b.raw,
-                    offset: 0,
-                    range: vk::WHOLE_SIZE,
-                }],
-                Desc::StorageImage(_) => [vk::DescriptorBufferInfo::default()],
-            })
-            .collect();
-        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = descs
-            .iter()
-            .map(|d| match d {
-                Desc::StorageImage(i) => [vk::DescriptorImageInfo {
-                    sampler: vk::Sampler::null(),
-                    image_view: i.view,
-                    image_layout: vk::ImageLayout::GENERAL,
-                }],
-                _ => [vk::DescriptorImageInfo::default()],
-            })
-            .collect();
-        let writes: Vec<_> = descs
-            .iter()
-            .enumerate()
-            .map(|(i, d)| {
-                let w = vk::WriteDescriptorSet::default().dst_binding(i as u32);
-                match d {
-                    Desc::Storage(_) => w
-                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                        .buffer_info(&buffer_infos[i]),
-                    Desc::Uniform(_) => w
-                        .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                        .buffer_info(&buffer_infos[i]),
-                    Desc::StorageImage(_) => w
-                        .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                        .image_info(&image_infos[i]),
+        // Fixed arrays on the stack: recording allocates nothing.
+        let mut buffer_infos = [[vk::DescriptorBufferInfo::default()]; MAX_DESCRIPTORS];
+        let mut image_infos = [[vk::DescriptorImageInfo::default()]; MAX_DESCRIPTORS];
+        let mut kinds = [vk::DescriptorType::STORAGE_BUFFER; MAX_DESCRIPTORS];
+        let mut n = 0;
+        for d in descs {
+            assert!(
+                n < MAX_DESCRIPTORS,
+                "more than {MAX_DESCRIPTORS} descriptors"
+            );
+            match d {
+                Desc::Storage(b) | Desc::Uniform(b) => {
+                    buffer_infos[n] = [vk::DescriptorBufferInfo {
+                        buffer: b.raw,
+                        offset: 0,
+                        range: vk::WHOLE_SIZE,
+                    }];
+                    kinds[n] = match d {
+                        Desc::Uniform(_) => vk::DescriptorType::UNIFORM_BUFFER,
+                        _ => vk::DescriptorType::STORAGE_BUFFER,
+                    };
                 }
-            })
-            .collect();
+                Desc::StorageImage(i) => {
+                    image_infos[n] = [vk::DescriptorImageInfo {
+                        sampler: vk::Sampler::null(),
+                        image_view: i.view,
+                        image_layout: vk::ImageLayout::GENERAL,
+                    }];
+                    kinds[n] = vk::DescriptorType::STORAGE_IMAGE;
+                }
+            }
+            n += 1;
+        }
+        let mut writes = [vk::WriteDescriptorSet::default(); MAX_DESCRIPTORS];
+        for (i, w) in writes.iter_mut().enumerate().take(n) {
+            let base = vk::WriteDescriptorSet::default()
+                .dst_binding(i as u32)
+                .descriptor_type(kinds[i]);
+            *w = if kinds[i] == vk::DescriptorType::STORAGE_IMAGE {
+                base.image_info(&image_infos[i])
+            } else {
+                base.buffer_info(&buffer_infos[i])
+            };
+        }
         // SAFETY: the writes refer to live resources and match the pipeline's push-descriptor layout.
         unsafe {
-            self.ctx
-                .inner
-                .push_descriptor
-                .cmd_push_descriptor_set(self.cb, bind, layout, 0, &writes)
+            self.ctx.inner.push_descriptor.cmd_push_descriptor_set(
+                self.cb,
+                bind,
+                layout,
+                0,
+                &writes[..n],
+            )
         };
     }
 
     /// Pushes descriptors (binding i = `descs[i]`) for a graphics pipeline.
-    pub fn push_graphics_descriptors(&mut self, p: &GraphicsPipeline, descs: &[Desc<'_>]) {
+    pub fn push_graphics_descriptors<'b, 'a: 'b>(
+        &mut self,
+        p: &GraphicsPipeline,
+        descs: impl IntoIterator<Item = &'b Desc<'a>>,
+    ) {
         self.push_descriptors(vk::PipelineBindPoint::GRAPHICS, p.layout, descs);
     }
 
     /// Pushes descriptors (binding i = `descs[i]`) for a compute pipeline.
-    pub fn push_compute_descriptors(&mut self, p: &ComputePipeline, descs: &[Desc<'_>]) {
+    pub fn push_compute_descriptors<'b, 'a: 'b>(
+        &mut self,
+        p: &ComputePipeline,
+        descs: impl IntoIterator<Item = &'b Desc<'a>>,
+    ) {
         self.push_descriptors(vk::PipelineBindPoint::COMPUTE, p.layout, descs);
     }
 
@@ -580,25 +669,24 @@ impl Cmd {
         levels: &[(u64, u32, u32)],
     ) {
         self.transition(image, vk::ImageLayout::TRANSFER_DST_OPTIMAL);
-        let regions: Vec<vk::BufferImageCopy> = levels
-            .iter()
-            .enumerate()
-            .map(|(i, &(offset, width, height))| {
-                vk::BufferImageCopy::default()
-                    .buffer_offset(offset)
-                    .image_subresource(vk::ImageSubresourceLayers {
-                        aspect_mask: image.aspect,
-                        mip_level: i as u32,
-                        base_array_layer: 0,
-                        layer_count: 1,
-                    })
-                    .image_extent(vk::Extent3D {
-                        width,
-                        height,
-                        depth: 1,
-                    })
-            })
-            .collect();
+        assert!(levels.len() <= MAX_DESCRIPTORS, "too many mip levels");
+        let mut regions = [vk::BufferImageCopy::default(); MAX_DESCRIPTORS];
+        for (r, (i, &(offset, width, height))) in regions.iter_mut().zip(levels.iter().enumerate())
+        {
+            *r = vk::BufferImageCopy::default()
+                .buffer_offset(offset)
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: image.aspect,
+                    mip_level: i as u32,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                })
+                .image_extent(vk::Extent3D {
+                    width,
+                    height,
+                    depth: 1,
+                });
+        }
         // SAFETY: the image is in TRANSFER_DST layout; the buffer holds a whole image (caller).
         unsafe {
             self.dev().cmd_copy_buffer_to_image(
@@ -606,7 +694,7 @@ impl Cmd {
                 buf.raw,
                 image.raw,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &regions,
+                &regions[..levels.len()],
             )
         };
     }

@@ -786,7 +786,12 @@ impl Context {
             caps,
             validation,
             owned,
-            last_pass: Mutex::new(String::from("(none)")),
+            // Room for any label (`Cmd::begin_label` cuts at 127 bytes): recording never grows it.
+            last_pass: Mutex::new({
+                let mut s = String::with_capacity(128);
+                s.push_str("(none)");
+                s
+            }),
             pool: Mutex::new(pool),
             shaders: std::sync::OnceLock::new(),
         };
@@ -937,6 +942,25 @@ impl Context {
             dev.free_command_buffers(*pool, &[cb]);
         }
         result
+    }
+
+    /// Records commands with `record` into `cb`, a command buffer the host owns and submits:
+    /// nothing is submitted or waited for. Labels `record` leaves open are closed.
+    ///
+    /// # Safety
+    /// `cb` must be a primary command buffer of this context's device, in the recording state, from
+    /// a pool of a queue family with graphics and compute; the host submits it (to a queue of that
+    /// family) only after this returns, and keeps every resource the commands use alive until the
+    /// submission completes.
+    pub unsafe fn record_into<R>(
+        &self,
+        cb: vk::CommandBuffer,
+        record: impl FnOnce(&mut Cmd) -> R,
+    ) -> R {
+        let mut cmd = Cmd::new(self.clone(), cb);
+        let r = record(&mut cmd);
+        cmd.finish();
+        r
     }
 
     fn check_lost(&self, r: Result<(), vk::Result>, call: &'static str) -> GpuResult<()> {

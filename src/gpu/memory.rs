@@ -239,7 +239,24 @@ pub struct Image {
     pub mip_levels: u32,
     /// Current layout, tracked in recording order (commands are recorded in execution order).
     pub(crate) layout: std::sync::atomic::AtomicI32,
-    name: String,
+    name: std::borrow::Cow<'static, str>,
+    /// False for a host's image ([`Image::from_host`]): vgeo neither names nor destroys it.
+    owned: bool,
+}
+
+/// An image the host owns, handed to vgeo for the recording of one frame: its handles, format,
+/// size and the layout it is in when vgeo's commands start (vgeo leaves it in that layout).
+#[derive(Clone, Copy, Debug)]
+pub struct HostImage {
+    pub image: vk::Image,
+    /// A 2D view of mip 0 (storage writes go through it); may be null for a depth image, which vgeo
+    /// reads and writes with transfers only.
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub width: u32,
+    pub height: u32,
+    /// The layout at entry, and at exit.
+    pub layout: vk::ImageLayout,
 }
 
 impl Image {
@@ -326,8 +343,53 @@ impl Image {
             aspect,
             mip_levels,
             layout: std::sync::atomic::AtomicI32::new(vk::ImageLayout::UNDEFINED.as_raw()),
-            name: name.into(),
+            name: name.to_string().into(),
+            owned: true,
         })
+    }
+
+    /// Wraps a host's image for recording (barriers, copies, storage writes). vgeo does not name,
+    /// destroy or free it; the wrapper's layout starts at `host.layout`. The caller keeps the image
+    /// alive while commands recorded with the wrapper may run.
+    pub fn from_host(ctx: &Context, name: &'static str, host: &HostImage) -> Self {
+        let aspect = match host.format {
+            vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
+            _ => vk::ImageAspectFlags::COLOR,
+        };
+        Self {
+            ctx: ctx.clone(),
+            raw: host.image,
+            view: host.view,
+            allocation: None,
+            format: host.format,
+            width: host.width,
+            height: host.height,
+            aspect,
+            mip_levels: 1,
+            layout: std::sync::atomic::AtomicI32::new(host.layout.as_raw()),
+            name: name.into(),
+            owned: false,
+        }
+    }
+
+    /// The image described as a host's image ([`HostImage`]) in its current layout: a vgeo-made
+    /// image handed to an API that takes the host's images (tests, or a host that lets vgeo
+    /// allocate its targets). Commands recorded with the description must leave the image in that
+    /// layout (vgeo's embedded frame does).
+    pub fn as_host(&self) -> HostImage {
+        HostImage {
+            image: self.raw,
+            view: self.view,
+            format: self.format,
+            width: self.width,
+            height: self.height,
+            layout: self.current_layout(),
+        }
+    }
+
+    /// The layout the image is in, in recording order.
+    pub fn current_layout(&self) -> vk::ImageLayout {
+        vk::ImageLayout::from_raw(self.layout.load(std::sync::atomic::Ordering::Relaxed))
     }
 
     /// Debug name.
@@ -338,6 +400,9 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
+        if !self.owned {
+            return;
+        }
         let dev = self.ctx.device();
         // SAFETY: GPU work using the image has been waited for (all submissions are waited on).
         unsafe {

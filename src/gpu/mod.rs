@@ -18,9 +18,9 @@ mod texture;
 
 pub use ash::vk;
 pub use capture::RenderDoc;
-pub use cmd::{Cmd, Desc, RenderTarget};
+pub use cmd::{Cmd, Desc, DescList, MAX_DESCRIPTORS, RenderTarget};
 pub use context::{Caps, Context, ContextOptions, HostDevice};
-pub use memory::{Buffer, Image, MemoryKind};
+pub use memory::{Buffer, HostImage, Image, MemoryKind};
 pub use pipeline::{ComputePipeline, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage};
 pub use query::Timer;
 pub use requirements::{

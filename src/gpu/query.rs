@@ -8,7 +8,8 @@ use super::{Cmd, Context, GpuResult, VkResultExt};
 pub struct Timer {
     ctx: Context,
     pool: Option<vk::QueryPool>,
-    names: Vec<String>,
+    /// Pass names (static: recording allocates nothing; capacity reserved at creation).
+    names: Vec<&'static str>,
     capacity: u32,
     open: Option<u32>,
 }
@@ -31,7 +32,7 @@ impl Timer {
         Ok(Self {
             ctx: ctx.clone(),
             pool,
-            names: Vec::new(),
+            names: Vec::with_capacity(max_passes as usize),
             capacity: max_passes,
             open: None,
         })
@@ -52,11 +53,11 @@ impl Timer {
     }
 
     /// Begins pass `name`: a labelled region and a start timestamp.
-    pub fn begin(&mut self, cmd: &mut Cmd, name: &str) {
+    pub fn begin(&mut self, cmd: &mut Cmd, name: &'static str) {
         cmd.begin_label(name);
         let i = self.names.len() as u32;
         if i < self.capacity {
-            self.names.push(name.to_string());
+            self.names.push(name);
             self.open = Some(i);
             if let Some(pool) = self.pool {
                 // SAFETY: query 2i was reset in `reset` and is written once.
@@ -95,33 +96,50 @@ impl Timer {
 
     /// Milliseconds per pass of the last submission (after it completed); empty without timestamps.
     pub fn results(&self) -> GpuResult<Vec<(String, f64)>> {
+        Ok(self.read(true)?.unwrap_or_default())
+    }
+
+    /// Like [`Timer::results`] without waiting: `None` while some timestamp of the last recording
+    /// is not yet available (its submission has not completed, or was never submitted).
+    pub fn try_results(&self) -> GpuResult<Option<Vec<(String, f64)>>> {
+        self.read(false)
+    }
+
+    fn read(&self, wait: bool) -> GpuResult<Option<Vec<(String, f64)>>> {
         let (Some(pool), Some(period)) = (self.pool, self.ctx.caps().timestamp_period_ns) else {
-            return Ok(Vec::new());
+            return Ok(Some(Vec::new()));
         };
         let n = self.names.len();
         if n == 0 {
-            return Ok(Vec::new());
+            return Ok(Some(Vec::new()));
         }
         let mut data = vec![0u64; n * 2];
-        // SAFETY: the queries 0..2n were written by the completed submission.
-        unsafe {
-            self.ctx.device().get_query_pool_results(
-                pool,
-                0,
-                &mut data,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
+        let flags = if wait {
+            vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT
+        } else {
+            vk::QueryResultFlags::TYPE_64
+        };
+        // SAFETY: the queries 0..2n were reset and written by the last recording; without WAIT
+        // the call returns NOT_READY (no data) until all of them are available.
+        let r = unsafe {
+            self.ctx
+                .device()
+                .get_query_pool_results(pool, 0, &mut data, flags)
+        };
+        match r {
+            Err(vk::Result::NOT_READY) if !wait => return Ok(None),
+            r => r.call("vkGetQueryPoolResults")?,
         }
-        .call("vkGetQueryPoolResults")?;
-        Ok(self
-            .names
-            .iter()
-            .enumerate()
-            .map(|(i, name)| {
-                let ticks = data[2 * i + 1].wrapping_sub(data[2 * i]);
-                (name.clone(), ticks as f64 * period as f64 / 1e6)
-            })
-            .collect())
+        Ok(Some(
+            self.names
+                .iter()
+                .enumerate()
+                .map(|(i, name)| {
+                    let ticks = data[2 * i + 1].wrapping_sub(data[2 * i]);
+                    (name.to_string(), ticks as f64 * period as f64 / 1e6)
+                })
+                .collect(),
+        ))
     }
 }
 

@@ -64,7 +64,7 @@ impl ClusterCull {
         hzb: &Buffer,
         phase: Phase,
     ) {
-        timer.begin(cmd, &format!("cluster_cull{}", phase.label()));
+        timer.begin(cmd, phase.name("cluster_cull", "cluster_cull (post)"));
         cull::bind(cmd, &self.pipeline, scene, fb, hzb, phase);
         cmd.dispatch(self.workgroups, 1, 1);
         timer.end(cmd);

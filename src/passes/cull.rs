@@ -27,6 +27,15 @@ impl Phase {
             Phase::Post => " (post)",
         }
     }
+
+    /// A pass's debug label and timer scope in this phase: `main`, or `post` (`main` plus
+    /// [`Phase::label`]), both static so recording allocates nothing.
+    pub fn name(self, main: &'static str, post: &'static str) -> &'static str {
+        match self {
+            Phase::Main => main,
+            Phase::Post => post,
+        }
+    }
 }
 
 /// Descriptor types of the shared layout, binding i = entry i.
@@ -45,7 +54,7 @@ pub fn descriptors<'a>(
     fb: &'a FrameBuffers,
     hzb: &'a Buffer,
     phase: Phase,
-) -> Vec<Desc<'a>> {
+) -> [Desc<'a>; 17] {
     let (counters, sw, hw, occ) = match phase {
         Phase::Main => (&fb.counters, &fb.sw_list, &fb.hw_list, &fb.occ_main),
         Phase::Post => (
@@ -55,7 +64,7 @@ pub fn descriptors<'a>(
             &fb.occ_post,
         ),
     };
-    vec![
+    [
         Desc::Uniform(&fb.view),
         Desc::Storage(&scene.meshes),
         Desc::Storage(&scene.instances),

@@ -13,8 +13,8 @@
 //! with the pixels of each material).
 
 use crate::gpu::{
-    Cmd, ComputePipeline, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc,
-    RenderTarget, ShaderStage, Timer, vk,
+    Cmd, ComputePipeline, Context, Desc, DescList, GpuResult, GraphicsPipeline,
+    GraphicsPipelineDesc, Image, RenderTarget, ShaderStage, Timer, vk,
 };
 use crate::material::GpuMaterials;
 use crate::passes::material_classify::{MATERIAL_DEPTH_FORMAT, MaterialTargets};
@@ -124,13 +124,42 @@ impl EmitGbuffer {
         fb: &FrameBuffers,
         t: &MaterialTargets,
     ) {
+        self.record_compute_into(cmd, timer, scene, materials, fb, t, None);
+    }
+
+    /// [`EmitGbuffer::record_compute`] into `out` (albedo, normal, params: a host's GBuffer in the
+    /// formats of [`crate::passes::shade`], storage images of the frame's size) when given: then
+    /// nothing is cleared and only pixels vgeo's geometry covers are written (the host's own
+    /// pixels stay).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_compute_into(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        materials: &GpuMaterials,
+        fb: &FrameBuffers,
+        t: &MaterialTargets,
+        out: Option<[&Image; 3]>,
+    ) {
         use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         timer.begin(cmd, NAME);
         let g = &t.gbuffer;
-        cmd.clear_image_zero(&g.albedo);
-        for i in [&g.normal, &g.params] {
-            cmd.to_general(i);
-        }
+        let [albedo, normal, params] = match out {
+            Some(images) => {
+                for i in images {
+                    cmd.to_general(i);
+                }
+                images
+            }
+            None => {
+                cmd.clear_image_zero(&g.albedo);
+                for i in [&g.normal, &g.params] {
+                    cmd.to_general(i);
+                }
+                [&g.albedo, &g.normal, &g.params]
+            }
+        };
         cmd.barrier(
             (S::ALL_TRANSFER, A::TRANSFER_WRITE),
             (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
@@ -140,9 +169,9 @@ impl EmitGbuffer {
         let mut descs = descriptors(scene, materials, fb, t, vis);
         descs.extend([
             Desc::Storage(&t.pixel_materials),
-            Desc::StorageImage(&g.albedo),
-            Desc::StorageImage(&g.normal),
-            Desc::StorageImage(&g.params),
+            Desc::StorageImage(albedo),
+            Desc::StorageImage(normal),
+            Desc::StorageImage(params),
         ]);
         cmd.push_compute_descriptors(&self.compute, &descs);
         cmd.bind_compute_textures(&self.compute, &materials.textures);
@@ -193,7 +222,7 @@ fn descriptors<'a>(
     fb: &'a FrameBuffers,
     t: &'a MaterialTargets,
     vis: Desc<'a>,
-) -> Vec<Desc<'a>> {
+) -> DescList<'a> {
     with_geometry(
         &[
             Desc::Uniform(&t.gbuffer.view),

@@ -29,7 +29,7 @@ impl InstanceCull {
         hzb: &Buffer,
         phase: Phase,
     ) {
-        timer.begin(cmd, &format!("instance_cull{}", phase.label()));
+        timer.begin(cmd, phase.name("instance_cull", "instance_cull (post)"));
         cull::bind(cmd, &self.pipeline, scene, fb, hzb, phase);
         let groups = scene.instance_count.div_ceil(INSTANCE_CULL_WORKGROUP_SIZE);
         if groups > 0 {

@@ -6,7 +6,7 @@
 use glam::Vec3;
 
 use crate::camera::Camera;
-use crate::gpu::{Cmd, Context, GpuError, GpuResult, Timer, vk};
+use crate::gpu::{Cmd, Context, GpuError, GpuResult, Image, Timer, vk};
 use crate::material::{GpuMaterials, SceneMaterials, ShadeMode};
 use crate::passes::emit_gbuffer::{EmitGbuffer, EmitPath};
 use crate::passes::material_classify::{MaterialClassify, MaterialTargets};
@@ -15,6 +15,17 @@ use crate::passes::shade::Shade;
 use crate::passes::view::MaterialViewGpu;
 use crate::passes::{FrameBuffers, VisPath};
 use crate::scene_gpu::GpuScene;
+
+/// What the material passes write.
+#[derive(Clone, Copy)]
+pub enum MaterialOutput<'a> {
+    /// `shade` into this image (an [`crate::passes::shade::OUTPUT_FORMAT`] storage image), or
+    /// into the targets' own output.
+    Shaded(Option<&'a Image>),
+    /// The GBuffer (albedo, normal, params) into these images instead of `shade` (embedding: the
+    /// host lights it); `emit_gbuffer` runs as compute and writes only vgeo's pixels.
+    Gbuffer([&'a Image; 3]),
+}
 
 /// The material passes of a frame (`material_classify`, `material_depth`, `emit_gbuffer`, `shade`)
 /// with the scene's materials on the GPU and the targets for the current resolution.
@@ -96,14 +107,32 @@ impl MaterialPasses {
             .targets
             .as_ref()
             .ok_or_else(|| GpuError::Other("material targets missing".into()))?;
-        Ok(MaterialViewGpu {
+        Ok(self.view_for_targets(t, fb, camera, light_dir, mode))
+    }
+
+    /// The material view of a frame seen from `camera` drawn into `t` (a view's own targets,
+    /// [`MaterialPasses::new_targets`]).
+    pub fn view_for_targets(
+        &self,
+        t: &MaterialTargets,
+        fb: &FrameBuffers,
+        camera: &Camera,
+        light_dir: Vec3,
+        mode: ShadeMode,
+    ) -> MaterialViewGpu {
+        MaterialViewGpu {
             tiles_x: t.tiles_x,
             tiles_y: t.tiles_y,
             material_count: self.gpu.count,
             visible_capacity: fb.visible_capacity,
             count_fragments: self.count_fragments as u32,
             ..t.gbuffer.view_for(camera, light_dir, mode)
-        })
+        }
+    }
+
+    /// Targets for a `width` x `height` view of its own (several views, embedding).
+    pub fn new_targets(&self, width: u32, height: u32) -> GpuResult<MaterialTargets> {
+        MaterialTargets::new(&self.ctx, width, height, self.gpu.count)
     }
 
     /// Records the four passes after the rasterizers (the visibility buffer and visible list must
@@ -115,12 +144,30 @@ impl MaterialPasses {
         scene: &GpuScene,
         fb: &FrameBuffers,
     ) -> GpuResult<()> {
-        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         let t = self
             .targets
             .as_ref()
             .filter(|t| t.width == fb.width && t.height == fb.height)
             .ok_or_else(|| GpuError::Other("material passes not prepared for this frame".into()))?;
+        self.record_with(cmd, timer, scene, fb, t, MaterialOutput::Shaded(None))
+    }
+
+    /// [`MaterialPasses::record`] into explicit targets (`t`, of `fb`'s size) and `output`.
+    pub fn record_with(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        scene: &GpuScene,
+        fb: &FrameBuffers,
+        t: &MaterialTargets,
+        output: MaterialOutput<'_>,
+    ) -> GpuResult<()> {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        if t.width != fb.width || t.height != fb.height {
+            return Err(GpuError::Other(
+                "material targets and frame buffers differ in size".into(),
+            ));
+        }
         if self.count_fragments {
             cmd.fill_buffer(&t.fragment_counts, 0);
             cmd.barrier(
@@ -139,6 +186,19 @@ impl MaterialPasses {
                 A::SHADER_STORAGE_READ,
             ),
         );
+        if let MaterialOutput::Gbuffer(images) = output {
+            self.emit
+                .record_compute_into(cmd, timer, scene, &self.gpu, fb, t, Some(images));
+            cmd.barrier(
+                (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+                (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+            );
+            return Ok(());
+        }
+        let shaded = match output {
+            MaterialOutput::Shaded(o) => o,
+            MaterialOutput::Gbuffer(_) => None,
+        };
         match self.emit_path {
             EmitPath::Compute => {
                 self.emit
@@ -153,7 +213,8 @@ impl MaterialPasses {
                 self.emit.record(cmd, timer, scene, &self.gpu, fb, t);
             }
         }
-        self.shade.record(cmd, timer, &t.gbuffer);
+        self.shade
+            .record_to(cmd, timer, &t.gbuffer, shaded.unwrap_or(&t.gbuffer.output));
         cmd.barrier(
             (
                 S::COMPUTE_SHADER | S::FRAGMENT_SHADER,

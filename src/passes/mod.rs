@@ -12,6 +12,8 @@
 
 pub mod cluster_cull;
 pub mod debug_view;
+pub mod depth_export;
+pub mod depth_import;
 pub mod depth_pyramid;
 pub mod emit_gbuffer;
 pub mod instance_cull;
@@ -28,7 +30,7 @@ pub mod visbuffer;
 /// `shaders_glsl/common/cull_bindings.glsl`).
 pub mod cull;
 
-use crate::gpu::{Buffer, Cmd, Context, Desc, GpuResult, Image, MemoryKind, vk};
+use crate::gpu::{Buffer, Cmd, Context, Desc, DescList, GpuResult, Image, MemoryKind, vk};
 use crate::scene_gpu::GpuScene;
 use crate::shared::{CullCounters, OcclusionGpu, ViewGpu};
 
@@ -38,13 +40,12 @@ pub fn with_geometry<'a>(
     before: &[Desc<'a>],
     scene: &'a GpuScene,
     after: &[Desc<'a>],
-) -> Vec<Desc<'a>> {
-    before
-        .iter()
-        .copied()
-        .chain(scene.geometry_descs())
-        .chain(after.iter().copied())
-        .collect()
+) -> DescList<'a> {
+    let mut list = DescList::default();
+    list.extend(before.iter().copied());
+    list.extend(scene.geometry_descs());
+    list.extend(after.iter().copied());
+    list
 }
 
 /// Where the 64-bit visibility buffer lives.

@@ -109,7 +109,7 @@ impl RasterHw {
         overdraw: Option<&Buffer>,
     ) {
         let (counters, _, hw_list) = fb.phase_lists(phase);
-        timer.begin(cmd, &format!("{NAME}{}", phase.label()));
+        timer.begin(cmd, phase.name("raster_hw", "raster_hw (post)"));
         let vis = fb.visbuffer_desc(cmd);
         debug_assert_eq!(
             fb.vis_path(),

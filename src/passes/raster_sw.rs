@@ -88,7 +88,7 @@ impl RasterSw {
         overdraw: Option<&Buffer>,
     ) {
         let (counters, sw_list, _) = fb.phase_lists(phase);
-        timer.begin(cmd, &format!("{NAME}{}", phase.label()));
+        timer.begin(cmd, phase.name("raster_sw", "raster_sw (post)"));
         let vis = fb.visbuffer_desc(cmd);
         debug_assert_eq!(
             fb.vis_path(),

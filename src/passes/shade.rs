@@ -158,8 +158,14 @@ impl Shade {
 
     /// Records the pass (the GBuffer images move to `GENERAL`).
     pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, t: &GbufferTargets) {
+        self.record_to(cmd, timer, t, &t.output);
+    }
+
+    /// Records the pass into `output` (an [`OUTPUT_FORMAT`] storage image of the GBuffer's size,
+    /// moved to `GENERAL`): the GBuffer's own output or a host's image.
+    pub fn record_to(&self, cmd: &mut Cmd, timer: &mut Timer, t: &GbufferTargets, output: &Image) {
         timer.begin(cmd, NAME);
-        for i in [&t.albedo, &t.normal, &t.params, &t.output] {
+        for i in [&t.albedo, &t.normal, &t.params, output] {
             cmd.to_general(i);
         }
         cmd.bind_compute(&self.pipeline);
@@ -170,7 +176,7 @@ impl Shade {
                 Desc::StorageImage(&t.albedo),
                 Desc::StorageImage(&t.normal),
                 Desc::StorageImage(&t.params),
-                Desc::StorageImage(&t.output),
+                Desc::StorageImage(output),
             ],
         );
         cmd.dispatch(t.width.div_ceil(WORKGROUP), t.height.div_ceil(WORKGROUP), 1);

@@ -101,6 +101,8 @@ pub struct MaterialViewGpu {
     pub mode: u32,
     /// Non-zero: `emit_gbuffer` counts its fragments per material.
     pub count_fragments: u32,
-    pub _pad: [u32; 2],
+    /// `SHADE_FLAG_*` (`crate::shared::SHADE_FLAG_COVERED_ONLY`).
+    pub flags: u32,
+    pub _pad: u32,
 }
 const _: () = assert!(size_of::<MaterialViewGpu>() == 144);
