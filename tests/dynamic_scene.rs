@@ -4,6 +4,10 @@
 
 mod common;
 
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use common::shapes::{mesh_from, sphere};
 use common::{assert_no_validation_errors, gpu};
 use glam::{DMat4, DVec3, Vec3};
@@ -16,6 +20,50 @@ use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
 use vgeo::render::{Light, Placement};
 use vgeo::scene_gpu::{InstanceDesc, InstanceHandle, MeshHandle, SceneError};
+
+/// Counts heap allocations of the threads that switch counting on (the other tests' threads
+/// allocate concurrently and are not counted).
+struct CountingAlloc;
+
+static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+// SAFETY: forwards to the system allocator; the counter and the thread-local flag do not allocate.
+unsafe impl GlobalAlloc for CountingAlloc {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: the caller's layout is passed on unchanged.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: `ptr` came from `System.alloc` with this layout.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: as for `alloc` and `dealloc`.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+/// Heap allocations made by `f` on this thread.
+fn allocations(f: impl FnOnce()) -> u64 {
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    ALLOCATIONS.load(Ordering::Relaxed) - before
+}
 
 const W: u32 = 96;
 const H: u32 = 72;
@@ -216,6 +264,8 @@ fn mesh_added_after_the_first_frame_renders_with_its_materials() {
         &lit0,
         &fresh(&ctx, &[&a], &start, ViewMode::Lit),
     );
+    // The added mesh comes from a `.vgeo` file's bytes.
+    let c = vgeo::format::load(&vgeo::format::save(&c)).expect("vgeo loads");
     let mc: MeshHandle = r.scene.add_mesh(&c).expect("mesh added");
     assert_eq!(mc.index(), 1);
     r.scene
@@ -445,5 +495,65 @@ fn buffers_and_capacities_grow_with_the_scene() {
         "the freed ranges are reused"
     );
     assert_eq!(mc2.index(), mc.index());
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn transform_updates_do_not_allocate_once_warm() {
+    let ctx = gpu();
+    let a = ball("a", 12, 0.2, [0.8; 3]);
+    let placements: Vec<Placement> = (0..200)
+        .map(|i| {
+            place(
+                0,
+                at(
+                    (i % 20) as f64 * 0.4 - 4.0,
+                    (i / 20) as f64 * 0.4 - 2.0,
+                    0.0,
+                ),
+                [1.0; 3],
+            )
+        })
+        .collect();
+    let mut r = VgeoRenderer::new(&ctx, &[&a], &placements).expect("renderer");
+    let handles: Vec<InstanceHandle> = (0..200)
+        .map(|i| r.scene.instance_handle(i).expect("handle"))
+        .collect();
+    let step = |r: &mut VgeoRenderer, frame: u32| {
+        // 50 scattered instances move (every fourth), one of them twice.
+        for (k, h) in handles
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| k % 4 == frame as usize % 4)
+        {
+            let t = at(k as f64 * 0.01, frame as f64 * 0.01, 0.0);
+            r.scene.set_transform(*h, &t).expect("live");
+        }
+        r.scene
+            .set_transform(handles[frame as usize % 4], &DMat4::IDENTITY)
+            .expect("live");
+        r.scene.prepare_updates().expect("staged");
+        r.scene.updates_submitted();
+    };
+    // Warm-up: the dirty list, the regions and both ring buffers reach their size.
+    for f in 0..4 {
+        step(&mut r, f);
+    }
+    for f in 4..8 {
+        let n = allocations(|| step(&mut r, f));
+        assert_eq!(
+            n, 0,
+            "frame {f}: {n} heap allocations for 50 transform updates"
+        );
+    }
+    // The counter works: a frame's first growth allocates.
+    for h in &handles {
+        r.scene.set_transform(*h, &DMat4::IDENTITY).expect("live");
+    }
+    let n = allocations(|| r.scene.prepare_updates().expect("staged"));
+    assert!(n > 0, "growing the ring to 200 instances allocates");
+    r.scene.updates_submitted();
+    let f = frame(&mut r, ViewMode::Lambert);
+    assert!(f.frame.covered() > 0);
     assert_no_validation_errors(&ctx);
 }
