@@ -418,6 +418,9 @@ impl GpuScene {
         &mut self,
         built: &[B],
     ) -> SceneResult<Vec<MeshHandle>> {
+        if built.is_empty() {
+            return Ok(Vec::new());
+        }
         // Room for all of them after the last allocated element of each arena.
         let mut totals = [0u64; ARENAS];
         for m in built {
