@@ -107,8 +107,7 @@ pub fn host_triangles() -> [([[f32; 3]; 3], [f32; 4]); 2] {
     ]
 }
 
-/// The camera of frame `i`: an orbit around the grid (the animation until instance transforms
-/// can change; see `placements`).
+/// The camera of frame `i`: an orbit around the grid.
 pub fn camera_at(i: u32) -> Camera {
     let a = 0.6 + i as f64 * 0.01;
     let eye = DVec3::new(a.sin() * 16.0, 7.0, a.cos() * 16.0);
@@ -121,10 +120,15 @@ pub fn camera_at(i: u32) -> Camera {
     )
 }
 
-/// The instances: a grid on the ground, alternating meshes, each scaled to about one unit.
-// TODO(dynamic scene): animate these per frame once the dynamic scene (add/remove instances,
-// transform updates) is merged: compute `placements` for frame i here and hand the changed
-// transforms to the renderer before recording the frame. Until then the camera moves.
+/// Instance `j`'s transform in frame `i`: its place on the grid, bobbing up and down (every
+/// instance moves every frame).
+pub fn transform_at(p: &Placement, j: u32, i: u32) -> DMat4 {
+    let bob = 0.25 * (0.15 * i as f64 + 0.37 * j as f64).sin();
+    DMat4::from_translation(DVec3::new(0.0, bob, 0.0)) * p.transform
+}
+
+/// The instances: a grid on the ground, alternating meshes, each scaled to about one unit (frame
+/// 0's places; [`transform_at`] animates them).
 pub fn placements(built: &[BuiltMesh], count: u32) -> Vec<Placement> {
     let bounds: Vec<(DVec3, DVec3)> = built
         .iter()
@@ -738,6 +742,11 @@ pub fn run(opts: &Options) -> Result<Output> {
     let ctx = Context::from_host(hd, false)?;
     let mut renderer = VgeoRenderer::new(&ctx, &built, &placements)?;
     let mut view: View = renderer.create_view("main", w, h, nf)?;
+    // Handles of the instances, by their placement (slot j is placement j in a new renderer).
+    let handles = (0..placements.len() as u32)
+        .map(|j| renderer.scene.instance_handle(j))
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| anyhow!("an instance without a handle"))?;
     let bg = vgeo::render::BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
     let tris = host_triangles();
     let mut stats_frames = 0;
@@ -903,9 +912,18 @@ pub fn run(opts: &Options) -> Result<Output> {
                 },
             };
             if opts.vgeo_draws {
+                // Every instance moves: O(changed) staging, one copy recorded before the frame.
+                for (j, (&h, p)) in handles.iter().zip(&placements).enumerate() {
+                    renderer
+                        .scene
+                        .set_transform(h, &transform_at(p, j as u32, i))?;
+                }
                 // SAFETY: `cb` is recording, outside a render pass; the images and vgeo's objects
                 // live until the device is idle at the end.
-                unsafe { renderer.record(cb, &mut view, &frame) }?;
+                unsafe {
+                    renderer.update_scene(cb, &mut [&mut view])?;
+                    renderer.record(cb, &mut view, &frame)?;
+                }
             }
             // The host's pass after vgeo: the second triangle, depth-tested against vgeo's.
             if opts.host_draws {
@@ -1031,6 +1049,16 @@ pub fn run(opts: &Options) -> Result<Output> {
     let sync_validation = host.sync_validation;
     host.destroy();
     result?;
+    // The last frame's places (what a fresh render of the same scene must show).
+    let last_frame = opts.frames.saturating_sub(1);
+    let placements = placements
+        .iter()
+        .enumerate()
+        .map(|(j, p)| Placement {
+            transform: transform_at(p, j as u32, last_frame),
+            ..p.clone()
+        })
+        .collect();
     let out = Output {
         width: w,
         height: h,

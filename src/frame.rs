@@ -108,6 +108,12 @@ pub struct VgeoRenderer {
     vis_path: VisPath,
     queue_capacity: u32,
     visible_capacity: u32,
+    /// Set by [`VgeoRenderer::set_capacities`]: the capacities no longer follow the scene.
+    fixed_capacities: bool,
+    /// The scene's mesh epoch the materials were built for.
+    materials_epoch: u64,
+    /// Host frames since the scene retired buffers (freed once no frame in flight uses them).
+    retire_age: u32,
 }
 
 impl VgeoRenderer {
@@ -136,21 +142,10 @@ impl VgeoRenderer {
             ));
         }
         let scene = GpuScene::new(ctx, built, placements)?;
-        let scene_materials = SceneMaterials::new(built).map_err(GpuError::Other)?;
-        // Every BVH node is visited at most once per instance, and at most every cluster drawn.
-        let nodes: u64 = placements
-            .iter()
-            .map(|p| built[p.mesh as usize].borrow().bvh.len() as u64)
-            .sum();
-        let clusters: u64 = placements
-            .iter()
-            .map(|p| built[p.mesh as usize].borrow().clusters.len() as u64)
-            .sum();
-        let queue_capacity = nodes.clamp(64, MAX_QUEUE as u64) as u32;
-        let visible_capacity = clusters.clamp(64, MAX_VISIBLE as u64) as u32;
+        let scene_materials = scene.materials().map_err(GpuError::Other)?;
+        let (queue_capacity, visible_capacity) = scene_capacities(&scene);
         Ok(Self {
             ctx: ctx.clone(),
-            scene,
             instance_cull: InstanceCull::new(ctx)?,
             cluster_cull: ClusterCull::new(ctx, default_workgroups(ctx.caps()))?,
             raster_sw: RasterSw::new(ctx, vis_path)?,
@@ -169,6 +164,10 @@ impl VgeoRenderer {
             vis_path,
             queue_capacity,
             visible_capacity,
+            fixed_capacities: false,
+            materials_epoch: scene.mesh_epoch(),
+            retire_age: 0,
+            scene,
         })
     }
 
@@ -178,7 +177,49 @@ impl VgeoRenderer {
     pub fn set_capacities(&mut self, queue: u32, visible: u32) {
         self.queue_capacity = queue.clamp(1, MAX_QUEUE);
         self.visible_capacity = visible.clamp(1, MAX_VISIBLE);
+        self.fixed_capacities = true;
         self.fb = None;
+    }
+
+    /// Follows the scene's changes before a frame: rebuilds the material table when meshes came
+    /// or went (the material passes are re-created at the next material view), and grows the
+    /// capacities (doubling, unless fixed by [`VgeoRenderer::set_capacities`]) and the per-instance
+    /// frame buffers when the scene outgrew them. O(1) when nothing structural changed.
+    pub(crate) fn follow_scene(&mut self) -> GpuResult<()> {
+        if self.scene.mesh_epoch() != self.materials_epoch {
+            self.scene_materials = self.scene.materials().map_err(GpuError::Other)?;
+            self.materials = None;
+            self.materials_epoch = self.scene.mesh_epoch();
+        }
+        if !self.fixed_capacities {
+            let (queue, visible) = scene_capacities(&self.scene);
+            if queue > self.queue_capacity {
+                self.queue_capacity = queue
+                    .max(self.queue_capacity.saturating_mul(2))
+                    .min(MAX_QUEUE);
+                self.fb = None;
+            }
+            if visible > self.visible_capacity {
+                self.visible_capacity = visible
+                    .max(self.visible_capacity.saturating_mul(2))
+                    .min(MAX_VISIBLE);
+                self.fb = None;
+            }
+        }
+        let instances = 4 * self.scene.instance_capacity().max(1) as u64;
+        if self
+            .fb
+            .as_ref()
+            .is_some_and(|fb| fb.post_instances.size() < instances)
+        {
+            self.fb = None;
+        }
+        Ok(())
+    }
+
+    /// The capacities of the cull work queue and the visible list in use.
+    pub fn capacities(&self) -> (u32, u32) {
+        (self.queue_capacity, self.visible_capacity)
     }
 
     /// Replaces the number of persistent `cluster_cull` workgroups.
@@ -187,7 +228,8 @@ impl VgeoRenderer {
         Ok(())
     }
 
-    /// The scene's material table (global ids: each mesh's ids offset by the meshes before it).
+    /// The scene's material table (global ids: each mesh's ids offset by the mesh slots before it),
+    /// as of construction or the last frame (mesh changes rebuild it before the next frame).
     pub fn scene_materials(&self) -> &SceneMaterials {
         &self.scene_materials
     }
@@ -248,7 +290,7 @@ impl VgeoRenderer {
                 self.vis_path,
                 self.queue_capacity,
                 self.visible_capacity,
-                self.scene.instance_count,
+                self.scene.instance_capacity(),
             )?;
             self.pyramid = Some(DepthPyramid::new(&self.ctx, &fb)?);
             self.debug_view = Some(DebugView::new(&self.ctx, &fb)?);
@@ -331,6 +373,7 @@ impl VgeoRenderer {
         height: u32,
         settings: &FrameSettings,
     ) -> GpuResult<()> {
+        self.follow_scene()?;
         self.frame_buffers(width, height)?;
         let mut settings = *settings;
         if self.direct_visible() {
@@ -545,8 +588,11 @@ impl VgeoRenderer {
         let mut timer = Timer::new(&self.ctx, 24 * cameras.len() as u32)?;
         let mut starts = Vec::with_capacity(cameras.len());
         let mut result = Ok(());
+        self.scene.prepare_updates()?;
+        let scene = &self.scene;
         self.ctx.submit_and_wait("vgeo frame", |cmd| {
             timer.reset(cmd);
+            scene.record_updates(cmd);
             for d in &data {
                 starts.push(timer.count());
                 let finish = match materials.and_then(|m| m.targets()) {
@@ -573,6 +619,8 @@ impl VgeoRenderer {
                 }
             }
         })?;
+        self.scene.updates_submitted();
+        self.scene.release_retired();
         result?;
         let all = timer.results()?;
         self.history = history;
@@ -699,11 +747,16 @@ impl VgeoRenderer {
         let fb = present(self.fb.as_ref(), "frame buffers")?;
         let hzb = &present(self.pyramid.as_ref(), "HZB")?.hzb;
         let mut timer = Timer::new(&self.ctx, 8)?;
+        self.scene.prepare_updates()?;
+        let scene = &self.scene;
         self.ctx.submit_and_wait("vgeo cull", |cmd| {
             timer.reset(cmd);
+            scene.record_updates(cmd);
             cmd.fill_buffer(&fb.visible, u32::MAX);
             self.record_cull(cmd, &mut timer, fb, hzb, Phase::Main);
         })?;
+        self.scene.updates_submitted();
+        self.scene.release_retired();
         let gpu_ms = timer.results()?;
         read_cull(fb, Phase::Main, gpu_ms)
     }
@@ -744,6 +797,15 @@ enum Finish<'a> {
     },
     /// Nothing more: the visibility buffer (and the host's depth) is the output.
     Nothing,
+}
+
+/// What the scene can need at most: every BVH node visited once per instance (cull queue), every
+/// (instance, cluster) pair (visible list), at least 64 each, capped at the maxima.
+fn scene_capacities(scene: &GpuScene) -> (u32, u32) {
+    (
+        scene.instance_nodes().clamp(64, MAX_QUEUE as u64) as u32,
+        scene.instance_clusters.clamp(64, MAX_VISIBLE as u64) as u32,
+    )
 }
 
 /// The occlusion view of a camera (what its HZB is tested with).

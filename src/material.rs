@@ -211,6 +211,37 @@ impl TextureKind {
     }
 }
 
+/// What a mesh brings to the scene's material table (kept by a scene that changes, so that the
+/// table can be rebuilt when meshes come and go).
+#[derive(Clone, Debug)]
+pub struct MeshMaterialSource {
+    pub name: String,
+    pub materials: Vec<Material>,
+    /// Local material per vertex (missing entries: 0).
+    pub vertex_materials: Vec<u16>,
+    pub vertex_count: u32,
+    pub uv_min: [f32; 2],
+    pub uv_max: [f32; 2],
+    pub has_uvs: bool,
+    pub has_normals: bool,
+}
+
+impl MeshMaterialSource {
+    /// The material part of a built mesh.
+    pub fn of(m: &BuiltMesh) -> Self {
+        Self {
+            name: m.name.clone(),
+            materials: m.materials.clone(),
+            vertex_materials: m.vertex_materials.clone(),
+            vertex_count: m.vertices.len() as u32,
+            uv_min: m.quantization.uv_min,
+            uv_max: m.quantization.uv_max,
+            has_uvs: m.has_uvs,
+            has_normals: m.has_normals,
+        }
+    }
+}
+
 /// The scene's materials on the CPU (what [`GpuMaterials`] uploads; also what CPU references read).
 /// Textures are named here and decoded by [`SceneMaterials::load_textures`].
 #[derive(Clone, Debug, Default)]
@@ -269,6 +300,44 @@ impl SceneMaterials {
             s.vertex_materials.extend((0..m.vertices.len()).map(|v| {
                 offset + (m.vertex_materials.get(v).copied().unwrap_or(0) as u32).min(last)
             }));
+        }
+        s.check_count()?;
+        Ok(s)
+    }
+
+    /// The table for a scene whose meshes live at arbitrary places of the vertex buffer (a scene
+    /// that changes, `crate::scene_gpu`): one entry per mesh slot (`None`: a free slot, whose
+    /// [`MeshMaterialGpu`] is all zeros), each mesh with its first vertex; `vertex_count` is the
+    /// vertex buffer's length (holes get material 0). With the slots in order and the meshes'
+    /// vertices concatenated, this equals [`SceneMaterials::new`] of the same meshes.
+    pub fn with_layout<'a>(
+        meshes: impl IntoIterator<Item = Option<(&'a MeshMaterialSource, u32)>>,
+        vertex_count: usize,
+    ) -> Result<Self, String> {
+        let mut s = Self::empty();
+        let mut by_path = BTreeMap::new();
+        s.vertex_materials = vec![0; vertex_count];
+        for m in meshes {
+            let Some((m, first)) = m else {
+                s.meshes.push(MeshMaterialGpu::default());
+                continue;
+            };
+            let (offset, count) = s.push_table(&mut by_path, &m.name, &m.materials);
+            s.meshes.push(MeshMaterialGpu {
+                uv_min: m.uv_min,
+                uv_max: m.uv_max,
+                flags: mesh_flags(m.has_uvs, m.has_normals),
+                material_offset: offset,
+                _pad: [0; 2],
+            });
+            let last = count - 1;
+            let dst = s
+                .vertex_materials
+                .get_mut(first as usize..first as usize + m.vertex_count as usize)
+                .ok_or_else(|| format!("mesh {}: vertices outside the vertex buffer", m.name))?;
+            for (v, out) in dst.iter_mut().enumerate() {
+                *out = offset + (m.vertex_materials.get(v).copied().unwrap_or(0) as u32).min(last);
+            }
         }
         s.check_count()?;
         Ok(s)

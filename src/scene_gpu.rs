@@ -1,14 +1,23 @@
-//! The vgeo path's scene on the GPU: every mesh's cluster DAG in shared buffers (uploaded once) and
-//! the instances. Nothing here changes per frame; the per-frame data is [`crate::shared::ViewGpu`].
+//! The vgeo path's scene on the GPU, a scene that changes: meshes (their cluster DAGs in shared,
+//! growable buffers) and instances come and go at run time behind stable generational handles
+//! ([`MeshHandle`], [`InstanceHandle`]); instance transforms change every frame in O(changed)
+//! through a staging ring copied into the dense instance array at the start of the frame.
+//! See docs/architecture.md, "A scene that changes".
+
+mod arena;
 
 use std::borrow::Borrow;
 
 use glam::{DMat4, DVec3, Mat3};
 
 use crate::builder::BuiltMesh;
-use crate::gpu::{Buffer, Context, Desc, GpuError, GpuResult, vk};
+use crate::gpu::{Buffer, Cmd, Context, Desc, GpuError, GpuResult, MemoryKind, vk};
+use crate::material::{MeshMaterialSource, SceneMaterials};
 use crate::render::Placement;
 use crate::shared::{GpuVertex, InstanceVgeo, MeshGpu, NO_UVS};
+
+pub use arena::RangeAllocator;
+use arena::{Arena, grow_buffer};
 
 /// Splits an f64 into a high f32 and the f32 of the remainder (`hi + lo` is exact to ~1e-14 relative).
 pub fn split_f64(v: f64) -> (f32, f32) {
@@ -18,7 +27,12 @@ pub fn split_f64(v: f64) -> (f32, f32) {
 
 /// The GPU form of one placement.
 pub fn instance_gpu(p: &Placement) -> InstanceVgeo {
-    let m: DMat4 = p.transform;
+    instance_of(p.mesh, &p.transform, p.color)
+}
+
+/// The GPU form of an instance of mesh slot `mesh` (its `visible_base` is 0).
+fn instance_of(mesh: u32, transform: &DMat4, color: [f32; 3]) -> InstanceVgeo {
+    let m: DMat4 = *transform;
     let lin = Mat3::from_cols(
         m.x_axis.truncate().as_vec3(),
         m.y_axis.truncate().as_vec3(),
@@ -36,10 +50,10 @@ pub fn instance_gpu(p: &Placement) -> InstanceVgeo {
             lin.z_axis.extend(0.0).into(),
         ],
         translation_hi: [hx, hy, hz],
-        mesh: p.mesh,
+        mesh,
         translation_lo: [lx, ly, lz],
         max_scale,
-        color: p.color,
+        color,
         visible_base: 0,
     }
 }
@@ -67,9 +81,158 @@ fn mesh_sphere(m: &BuiltMesh) -> ([f32; 3], f32) {
     (c, r * 1.0001)
 }
 
-/// All meshes' DAG data and the instances, in GPU buffers.
+/// Slots of the staging ring: one per frame that may be in flight.
+pub const FRAMES_IN_FLIGHT: usize = 2;
+
+/// A mesh of a [`GpuScene`]: stable until removed (then every use is a [`SceneError::StaleMesh`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MeshHandle {
+    index: u32,
+    generation: u32,
+}
+
+impl MeshHandle {
+    /// The mesh's slot: `InstanceVgeo::mesh` and the index into the mesh table.
+    pub fn index(self) -> u32 {
+        self.index
+    }
+}
+
+/// An instance of a [`GpuScene`]: stable until removed (then every use is a
+/// [`SceneError::StaleInstance`]). Its place in the dense instance array may change
+/// ([`GpuScene::instance_slot`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct InstanceHandle {
+    index: u32,
+    generation: u32,
+}
+
+/// One instance to add: a mesh, object -> world in f64, an albedo tint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InstanceDesc {
+    pub mesh: MeshHandle,
+    pub transform: DMat4,
+    pub color: [f32; 3],
+}
+
+/// Errors of scene changes (never a panic).
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("stale mesh handle {0:?}: the mesh was removed (or is not of this scene)")]
+    StaleMesh(MeshHandle),
+    #[error("stale instance handle {0:?}: the instance was removed (or is not of this scene)")]
+    StaleInstance(InstanceHandle),
+    #[error("mesh {mesh:?} is still used by {instances} instance(s): remove them first")]
+    MeshInUse { mesh: MeshHandle, instances: u32 },
+    #[error("scene limit: {0}")]
+    Limit(String),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
+
+impl From<SceneError> for GpuError {
+    fn from(e: SceneError) -> Self {
+        match e {
+            SceneError::Gpu(g) => g,
+            other => GpuError::Other(other.to_string()),
+        }
+    }
+}
+
+/// Result of scene changes.
+pub type SceneResult<T> = Result<T, SceneError>;
+
+/// Bytes of one GPU buffer of the scene: in use, and allocated.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BufferMemory {
+    pub name: &'static str,
+    pub used_bytes: u64,
+    pub capacity_bytes: u64,
+}
+
+/// What the scene holds on the GPU, per buffer ([`GpuScene::memory`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SceneMemory {
+    pub buffers: Vec<BufferMemory>,
+}
+
+impl SceneMemory {
+    pub fn used_bytes(&self) -> u64 {
+        self.buffers.iter().map(|b| b.used_bytes).sum()
+    }
+    pub fn capacity_bytes(&self) -> u64 {
+        self.buffers.iter().map(|b| b.capacity_bytes).sum()
+    }
+}
+
+impl std::fmt::Display for SceneMemory {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for b in &self.buffers {
+            writeln!(
+                f,
+                "{:<20} {:>12} B used of {:>12} B",
+                b.name, b.used_bytes, b.capacity_bytes
+            )?;
+        }
+        write!(
+            f,
+            "{:<20} {:>12} B used of {:>12} B",
+            "total",
+            self.used_bytes(),
+            self.capacity_bytes()
+        )
+    }
+}
+
+/// The geometry arenas, in the order of [`GpuScene::arena_buffer`].
+const ARENAS: usize = 7;
+const ARENA_NAMES: [&str; ARENAS] = [
+    "scene clusters",
+    "scene groups",
+    "scene bvh",
+    "scene vertices",
+    "scene uvs",
+    "scene vertex refs",
+    "scene triangles",
+];
+
+/// A live mesh: its ranges in the arenas and what instances need of it.
+struct LiveMesh {
+    /// (start, length) in elements, per arena.
+    ranges: [(u64, u64); ARENAS],
+    instances: u32,
+    bvh_nodes: u64,
+    material: MeshMaterialSource,
+}
+
+struct MeshSlot {
+    generation: u32,
+    live: Option<LiveMesh>,
+}
+
+/// `InstanceSlot::dense` of a free handle slot.
+const NO_SLOT: u32 = u32::MAX;
+
+struct InstanceSlot {
+    generation: u32,
+    /// Index in the dense instance array ([`NO_SLOT`]: removed).
+    dense: u32,
+}
+
+/// All meshes' DAG data and the instances, in GPU buffers that grow as the scene does.
+///
+/// Meshes live in growable arenas (one per kind of data, best-fit ranges, freed on removal, never
+/// compacted); instances in a dense array (`instance_count` entries, swap-remove) with a CPU
+/// mirror, a handle table and a dirty list: a change writes the mirror and marks the slot, and
+/// [`GpuScene::prepare_updates`] + [`GpuScene::record_updates`] copy the dirty slots from a staging
+/// ring into the instance buffer at the start of the next frame (O(changed), no allocation once
+/// the ring and lists have grown to the steady state). Adding or removing meshes and growing a
+/// buffer are one-shot GPU submissions (waited for).
 pub struct GpuScene {
+    ctx: Context,
+    /// [`MeshGpu`] per mesh slot.
     pub meshes: Buffer,
+    /// [`InstanceVgeo`], dense: `instance_count` entries in use.
     pub instances: Buffer,
     pub clusters: Buffer,
     pub groups: Buffer,
@@ -78,18 +241,55 @@ pub struct GpuScene {
     /// Texture coordinates (2 x 16 bits) of the meshes with UVs (`MeshGpu::uv_offset`).
     pub uvs: Buffer,
     pub vertex_refs: Buffer,
-    /// Local triangle indices, 3 bytes per triangle, packed into u32 words (little-endian).
+    /// Local triangle indices, 3 bytes per triangle, packed into u32 words (little-endian); each
+    /// mesh's range starts on a word.
     pub triangles: Buffer,
+    /// [`MeshGpu`] per mesh slot (all zeros for a free slot).
     pub mesh_table: Vec<MeshGpu>,
     pub instance_count: u32,
+    /// Clusters of the live meshes.
     pub total_clusters: u32,
-    /// Sum over instances of their mesh's cluster count: the visible-list length that direct slots
-    /// need (see [`crate::shared::VIEW_FLAG_DIRECT_VISIBLE`]).
+    /// One past the last visible-list slot owned by an instance (each owns a range as long as its
+    /// mesh's cluster count): the visible-list length that direct slots need (see
+    /// [`crate::shared::VIEW_FLAG_DIRECT_VISIBLE`]).
     pub instance_clusters: u64,
+    arenas: [Arena; ARENAS],
+    mesh_slots: Vec<MeshSlot>,
+    free_meshes: Vec<u32>,
+    /// Incremented by every mesh added or removed (the renderer rebuilds materials on a change).
+    mesh_epoch: u64,
+    /// Instances: CPU mirror of the dense array, its handles, the handle table.
+    mirror: Vec<InstanceVgeo>,
+    dense_handle: Vec<u32>,
+    instance_slots: Vec<InstanceSlot>,
+    free_instances: Vec<u32>,
+    /// Entries of the instance buffer.
+    instance_capacity: u32,
+    /// Sum over instances of their mesh's BVH node count (what the cull queue can need).
+    instance_nodes: u64,
+    /// Visible-list ranges of the instances; instances beyond 32-bit slots own none.
+    visible: RangeAllocator,
+    unranged_clusters: u64,
+    /// Dense slots changed since the last flush (each once: `dirty_flag`).
+    dirty: Vec<u32>,
+    dirty_flag: Vec<bool>,
+    /// The staging ring (host-visible), one buffer per frame in flight, grown on demand.
+    ring: Vec<Buffer>,
+    ring_next: usize,
+    /// The copies of the prepared update (ring slot, regions), until it is submitted.
+    pending: Option<usize>,
+    regions: Vec<vk::BufferCopy>,
+    /// Buffers replaced by growth, kept until the GPU is done with them.
+    retired: Vec<Buffer>,
+}
+
+fn oversize(what: &str) -> SceneError {
+    SceneError::Limit(format!("{what} exceed 32-bit offsets"))
 }
 
 impl GpuScene {
-    /// Uploads `built` meshes and `placements` (whose `mesh` indexes `built`).
+    /// Uploads `built` meshes and `placements` (whose `mesh` indexes `built`): mesh `i` gets
+    /// slot `i`, placement `j` dense slot `j`, buffers exactly as large as needed.
     pub fn new<B: Borrow<BuiltMesh>>(
         ctx: &Context,
         built: &[B],
@@ -102,27 +302,176 @@ impl GpuScene {
                 built.len()
             )));
         }
-        let mut table = Vec::with_capacity(built.len());
-        let (mut clusters, mut groups, mut bvh, mut vertices, mut refs, mut tris) = (
-            Vec::new(),
-            Vec::new(),
-            Vec::new(),
-            Vec::<GpuVertex>::new(),
-            Vec::new(),
-            Vec::new(),
-        );
-        let mut uvs: Vec<u32> = Vec::new();
+        let mut s = Self::empty(ctx)?;
+        let handles = s.add_meshes(built)?;
+        let descs: Vec<InstanceDesc> = placements
+            .iter()
+            .map(|p| InstanceDesc {
+                mesh: handles[p.mesh as usize],
+                transform: p.transform,
+                color: p.color,
+            })
+            .collect();
+        s.add_instances(&descs)?;
+        s.release_retired();
+        Ok(s)
+    }
+
+    /// A scene with no meshes and no instances (every buffer at its 4-byte minimum).
+    pub fn empty(ctx: &Context) -> GpuResult<Self> {
+        let buf = |name: &str| Buffer::new(ctx, name, 0, arena::usage(), MemoryKind::Gpu);
+        let elem = [
+            size_of::<crate::builder::Cluster>(),
+            size_of::<crate::builder::Group>(),
+            size_of::<crate::builder::BvhNode>(),
+            size_of::<GpuVertex>(),
+            4,
+            4,
+            1,
+        ];
+        Ok(Self {
+            ctx: ctx.clone(),
+            meshes: buf("scene meshes")?,
+            instances: buf("scene instances")?,
+            clusters: buf(ARENA_NAMES[0])?,
+            groups: buf(ARENA_NAMES[1])?,
+            bvh: buf(ARENA_NAMES[2])?,
+            vertices: buf(ARENA_NAMES[3])?,
+            uvs: buf(ARENA_NAMES[4])?,
+            vertex_refs: buf(ARENA_NAMES[5])?,
+            triangles: buf(ARENA_NAMES[6])?,
+            mesh_table: Vec::new(),
+            instance_count: 0,
+            total_clusters: 0,
+            instance_clusters: 0,
+            // Triangle ranges start on a word (the byte arena's ranges are multiples of 4).
+            arenas: std::array::from_fn(|k| Arena::new(elem[k] as u64, if k == 6 { 4 } else { 1 })),
+            mesh_slots: Vec::new(),
+            free_meshes: Vec::new(),
+            mesh_epoch: 0,
+            mirror: Vec::new(),
+            dense_handle: Vec::new(),
+            instance_slots: Vec::new(),
+            free_instances: Vec::new(),
+            instance_capacity: 0,
+            instance_nodes: 0,
+            visible: RangeAllocator::new(0),
+            unranged_clusters: 0,
+            dirty: Vec::new(),
+            dirty_flag: Vec::new(),
+            ring: Vec::new(),
+            ring_next: 0,
+            pending: None,
+            regions: Vec::new(),
+            retired: Vec::new(),
+        })
+    }
+
+    fn arena_buffer(&mut self, k: usize) -> (&mut Arena, &mut Buffer) {
+        let buf = match k {
+            0 => &mut self.clusters,
+            1 => &mut self.groups,
+            2 => &mut self.bvh,
+            3 => &mut self.vertices,
+            4 => &mut self.uvs,
+            5 => &mut self.vertex_refs,
+            _ => &mut self.triangles,
+        };
+        (&mut self.arenas[k], buf)
+    }
+
+    fn retire(&mut self, old: Option<Buffer>) {
+        self.retired.extend(old);
+    }
+
+    /// Whether buffers replaced by a growth wait to be freed.
+    pub fn has_retired(&self) -> bool {
+        !self.retired.is_empty()
+    }
+
+    /// Drops the buffers that growth replaced (call when the GPU has finished every frame
+    /// recorded before the growth).
+    pub fn release_retired(&mut self) {
+        self.retired.clear();
+    }
+
+    /// Element counts of `m` per arena.
+    fn lengths(m: &BuiltMesh) -> [u64; ARENAS] {
+        [
+            m.clusters.len() as u64,
+            m.groups.len() as u64,
+            m.bvh.len() as u64,
+            m.vertices.len() as u64,
+            if m.has_uvs {
+                m.vertices.len() as u64
+            } else {
+                0
+            },
+            m.vertex_refs.len() as u64,
+            m.triangles.len() as u64,
+        ]
+    }
+
+    /// Adds one mesh (built in memory or loaded from a `.vgeo` file); its handle.
+    pub fn add_mesh(&mut self, built: &BuiltMesh) -> SceneResult<MeshHandle> {
+        let h = self.add_meshes(std::slice::from_ref(&built))?;
+        Ok(h[0])
+    }
+
+    /// Adds meshes in one upload (each arena grows at most once); their handles, in order.
+    pub fn add_meshes<B: Borrow<BuiltMesh>>(
+        &mut self,
+        built: &[B],
+    ) -> SceneResult<Vec<MeshHandle>> {
+        if built.is_empty() {
+            return Ok(Vec::new());
+        }
+        // Room for all of them after the last allocated element of each arena.
+        let mut totals = [0u64; ARENAS];
+        for m in built {
+            for (k, l) in Self::lengths(m.borrow()).into_iter().enumerate() {
+                totals[k] += self.arenas[k].rounded(l);
+            }
+        }
+        for (k, &total) in totals.iter().enumerate() {
+            let ctx = self.ctx.clone();
+            let (arena, buf) = self.arena_buffer(k);
+            let old = arena.reserve(&ctx, buf, total)?;
+            self.retire(old);
+        }
+        // Every range now lies in the arenas (the batch fits after the last allocated element):
+        // every offset below u32::MAX (so a UV offset never reads as NO_UVS), clusters below 2^31.
+        if self.arenas[0].size() >= 1 << 31
+            || self.arenas.iter().any(|a| a.size() >= u32::MAX as u64)
+        {
+            return Err(oversize("scene geometry"));
+        }
+        let mut handles = Vec::with_capacity(built.len());
+        let mut staged: Vec<u8> = Vec::new();
+        // (arena, staging offset, destination byte offset, bytes)
+        let mut copies: Vec<(usize, u64, u64, u64)> = Vec::new();
+        let mut new_slots = Vec::with_capacity(built.len());
+        let old_slots = self.mesh_table.len() as u64;
         for m in built {
             let m = m.borrow();
+            let lens = Self::lengths(m);
+            let mut ranges = [(0u64, 0u64); ARENAS];
+            for k in 0..ARENAS {
+                let ctx = self.ctx.clone();
+                let (arena, buf) = self.arena_buffer(k);
+                let (start, old) = arena.alloc(&ctx, buf, lens[k])?;
+                self.retire(old);
+                ranges[k] = (start, lens[k]);
+            }
             let (center, radius) = mesh_sphere(m);
             let q = &m.quantization;
-            table.push(MeshGpu {
-                cluster_offset: clusters.len() as u32,
-                group_offset: groups.len() as u32,
-                bvh_offset: bvh.len() as u32,
-                vertex_offset: vertices.len() as u32,
-                vertex_ref_offset: refs.len() as u32,
-                triangle_offset: tris.len() as u32,
+            let gpu = MeshGpu {
+                cluster_offset: ranges[0].0 as u32,
+                group_offset: ranges[1].0 as u32,
+                bvh_offset: ranges[2].0 as u32,
+                vertex_offset: ranges[3].0 as u32,
+                vertex_ref_offset: ranges[5].0 as u32,
+                triangle_offset: ranges[6].0 as u32,
                 cluster_count: m.clusters.len() as u32,
                 bvh_root: 0,
                 quant_origin: [q.origin[0] as f32, q.origin[1] as f32, q.origin[2] as f32],
@@ -132,65 +481,522 @@ impl GpuScene {
                 root_cluster: m.root,
                 fallback_level: m
                     .fallback_level(crate::builder::BuildOptions::default().fallback_triangles),
-                uv_offset: if m.has_uvs { uvs.len() as u32 } else { NO_UVS },
+                uv_offset: if m.has_uvs {
+                    ranges[4].0 as u32
+                } else {
+                    NO_UVS
+                },
                 _pad: 0,
-            });
-            clusters.extend_from_slice(&m.clusters);
-            groups.extend_from_slice(&m.groups);
-            bvh.extend_from_slice(&m.bvh);
-            vertices.extend(m.vertices.iter().map(|v| GpuVertex {
-                position: v.position,
-                normal: v.normal,
-            }));
-            if m.has_uvs {
-                uvs.extend(m.vertices.iter().map(|v| v.uv));
+            };
+            let vertices: Vec<GpuVertex> = m
+                .vertices
+                .iter()
+                .map(|v| GpuVertex {
+                    position: v.position,
+                    normal: v.normal,
+                })
+                .collect();
+            let uvs: Vec<u32> = if m.has_uvs {
+                m.vertices.iter().map(|v| v.uv).collect()
+            } else {
+                Vec::new()
+            };
+            let data: [&[u8]; ARENAS] = [
+                bytemuck::cast_slice(&m.clusters),
+                bytemuck::cast_slice(&m.groups),
+                bytemuck::cast_slice(&m.bvh),
+                bytemuck::cast_slice(&vertices),
+                bytemuck::cast_slice(&uvs),
+                bytemuck::cast_slice(&m.vertex_refs),
+                &m.triangles,
+            ];
+            for (k, d) in data.iter().enumerate() {
+                if !d.is_empty() {
+                    let elem = self.arenas[k].elem();
+                    copies.push((k, staged.len() as u64, ranges[k].0 * elem, d.len() as u64));
+                    staged.extend_from_slice(d);
+                    // Copies start on 4 bytes in the staging buffer.
+                    staged.resize(staged.len().next_multiple_of(4), 0);
+                }
             }
-            refs.extend_from_slice(&m.vertex_refs);
-            tris.extend_from_slice(&m.triangles);
+            let slot = match self.free_meshes.pop() {
+                Some(i) => i,
+                None => {
+                    self.mesh_slots.push(MeshSlot {
+                        generation: 0,
+                        live: None,
+                    });
+                    self.mesh_table.push(MeshGpu::default());
+                    self.mesh_slots.len() as u32 - 1
+                }
+            };
+            let ms = &mut self.mesh_slots[slot as usize];
+            ms.live = Some(LiveMesh {
+                ranges,
+                instances: 0,
+                bvh_nodes: m.bvh.len() as u64,
+                material: MeshMaterialSource::of(m),
+            });
+            self.mesh_table[slot as usize] = gpu;
+            self.total_clusters += gpu.cluster_count;
+            handles.push(MeshHandle {
+                index: slot,
+                generation: ms.generation,
+            });
+            new_slots.push(slot);
         }
-        while !tris.len().is_multiple_of(4) {
-            tris.push(0);
+        // The mesh table: grown to hold every slot (by doubling, or exactly from empty).
+        let need = 80 * self.mesh_table.len() as u64;
+        if self.meshes.size() < need {
+            let keep = 80 * old_slots;
+            let bytes = if keep == 0 {
+                need
+            } else {
+                need.max(2 * self.meshes.size())
+            };
+            let old = grow_buffer(&self.ctx, &mut self.meshes, bytes, keep)?;
+            self.retired.push(old);
         }
-        if clusters.len() as u64 >= (1 << 31)
-            || tris.len() as u64 >= u32::MAX as u64
-            || uvs.len() as u64 >= NO_UVS as u64
-        {
-            return Err(GpuError::Other(
-                "scene geometry exceeds 32-bit offsets".into(),
-            ));
+        let staging = if staged.is_empty() {
+            None
+        } else {
+            let mut b = Buffer::new(
+                &self.ctx,
+                "scene mesh upload (staging)",
+                staged.len() as u64,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryKind::Upload,
+            )?;
+            b.write(0, &staged)?;
+            Some(b)
+        };
+        let table = &self.mesh_table;
+        let bufs: [&Buffer; ARENAS] = [
+            &self.clusters,
+            &self.groups,
+            &self.bvh,
+            &self.vertices,
+            &self.uvs,
+            &self.vertex_refs,
+            &self.triangles,
+        ];
+        let meshes = &self.meshes;
+        self.ctx.submit_and_wait("scene add meshes", |cmd| {
+            use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+            // Earlier frames' reads of reused ranges finish before they are overwritten.
+            cmd.barrier(
+                (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            );
+            if let Some(st) = &staging {
+                for &(k, src, dst, bytes) in &copies {
+                    cmd.copy_buffer_region(st, src, bufs[k], dst, bytes);
+                }
+            }
+            for &slot in &new_slots {
+                let e = &table[slot as usize];
+                cmd.update_buffer(meshes, 80 * slot as u64, bytemuck::bytes_of(e));
+            }
+            cmd.barrier(
+                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                (S::ALL_COMMANDS, A::MEMORY_READ),
+            );
+        })?;
+        self.mesh_epoch += 1;
+        Ok(handles)
+    }
+
+    fn live_mesh(&self, h: MeshHandle) -> SceneResult<&LiveMesh> {
+        self.mesh_slots
+            .get(h.index as usize)
+            .filter(|s| s.generation == h.generation)
+            .and_then(|s| s.live.as_ref())
+            .ok_or(SceneError::StaleMesh(h))
+    }
+
+    /// Removes a mesh no instance uses ([`SceneError::MeshInUse`] otherwise): its ranges are freed
+    /// for later meshes (the buffers do not shrink), its handle becomes stale.
+    pub fn remove_mesh(&mut self, h: MeshHandle) -> SceneResult<()> {
+        let live = self.live_mesh(h)?;
+        if live.instances > 0 {
+            return Err(SceneError::MeshInUse {
+                mesh: h,
+                instances: live.instances,
+            });
         }
-        // Direct visible-list slots: each instance owns a range as long as its mesh's cluster count.
-        let mut next = 0u64;
-        let instances: Vec<InstanceVgeo> = placements
-            .iter()
-            .map(|p| {
-                let mut inst = instance_gpu(p);
-                inst.visible_base = next.min(u32::MAX as u64) as u32;
-                next += built[p.mesh as usize].borrow().clusters.len() as u64;
-                inst
-            })
-            .collect();
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let up = |name: &str, bytes: &[u8]| Buffer::with_data(ctx, name, bytes, usage);
-        Ok(Self {
-            meshes: up("scene meshes", bytemuck::cast_slice(&table))?,
-            instances: up("scene instances", bytemuck::cast_slice(&instances))?,
-            clusters: up("scene clusters", bytemuck::cast_slice(&clusters))?,
-            groups: up("scene groups", bytemuck::cast_slice(&groups))?,
-            bvh: up("scene bvh", bytemuck::cast_slice(&bvh))?,
-            vertices: up("scene vertices", bytemuck::cast_slice(&vertices))?,
-            // One word where no mesh has UVs: a binding needs a buffer.
-            uvs: up(
-                "scene uvs",
-                bytemuck::cast_slice(if uvs.is_empty() { &[0u32][..] } else { &uvs }),
-            )?,
-            vertex_refs: up("scene vertex refs", bytemuck::cast_slice(&refs))?,
-            triangles: up("scene triangles", &tris)?,
-            total_clusters: clusters.len() as u32,
-            instance_clusters: next,
-            mesh_table: table,
-            instance_count: placements.len() as u32,
+        let slot = &mut self.mesh_slots[h.index as usize];
+        let Some(live) = slot.live.take() else {
+            return Err(SceneError::StaleMesh(h));
+        };
+        slot.generation = slot.generation.wrapping_add(1);
+        for (k, r) in live.ranges.iter().enumerate() {
+            self.arenas[k].free(r.0, r.1);
+        }
+        self.total_clusters -= self.mesh_table[h.index as usize].cluster_count;
+        // No instance reads a free slot's entry; the GPU copy is left as it was.
+        self.mesh_table[h.index as usize] = MeshGpu::default();
+        self.free_meshes.push(h.index);
+        self.mesh_epoch += 1;
+        Ok(())
+    }
+
+    /// Whether `h` names a mesh of this scene.
+    pub fn contains_mesh(&self, h: MeshHandle) -> bool {
+        self.live_mesh(h).is_ok()
+    }
+
+    /// Handle of the mesh in slot `index`, if one lives there ([`GpuScene::new`]: mesh `i`).
+    pub fn mesh_handle(&self, index: u32) -> Option<MeshHandle> {
+        let s = self.mesh_slots.get(index as usize)?;
+        s.live.as_ref().map(|_| MeshHandle {
+            index,
+            generation: s.generation,
         })
+    }
+
+    /// Live meshes.
+    pub fn mesh_count(&self) -> usize {
+        self.mesh_slots.iter().filter(|s| s.live.is_some()).count()
+    }
+
+    /// Changes with every mesh added or removed.
+    pub fn mesh_epoch(&self) -> u64 {
+        self.mesh_epoch
+    }
+
+    /// The material table of the live meshes, laid out as the vertex buffer is
+    /// ([`SceneMaterials::with_layout`]).
+    pub fn materials(&self) -> Result<SceneMaterials, String> {
+        SceneMaterials::with_layout(
+            self.mesh_slots
+                .iter()
+                .zip(&self.mesh_table)
+                .map(|(s, t)| s.live.as_ref().map(|l| (&l.material, t.vertex_offset))),
+            self.arenas[3].size() as usize,
+        )
+    }
+
+    /// Entries of the instance buffer (at least `instance_count`).
+    pub fn instance_capacity(&self) -> u32 {
+        self.instance_capacity
+    }
+
+    /// Sum over instances of their mesh's BVH node count: the cull queue's worst case.
+    pub fn instance_nodes(&self) -> u64 {
+        self.instance_nodes
+    }
+
+    fn ensure_instance_capacity(&mut self, count: u32) -> SceneResult<()> {
+        if count <= self.instance_capacity {
+            return Ok(());
+        }
+        let cap = if self.instance_capacity == 0 {
+            count
+        } else {
+            count.max(self.instance_capacity.saturating_mul(2))
+        };
+        let stride = size_of::<InstanceVgeo>() as u64;
+        let keep = stride * self.instance_count as u64;
+        let old = grow_buffer(&self.ctx, &mut self.instances, stride * cap as u64, keep)?;
+        self.retired.push(old);
+        self.instance_capacity = cap;
+        Ok(())
+    }
+
+    fn mark(&mut self, dense: u32) {
+        let d = dense as usize;
+        if d >= self.dirty_flag.len() {
+            self.dirty_flag.resize(d + 1, false);
+        }
+        if !self.dirty_flag[d] {
+            self.dirty_flag[d] = true;
+            self.dirty.push(dense);
+        }
+    }
+
+    /// Appends one instance to the mirror and handle table (not yet on the GPU); its dense slot.
+    fn push_instance(&mut self, d: &InstanceDesc) -> SceneResult<(InstanceHandle, u32)> {
+        let live = self.live_mesh(d.mesh)?;
+        let nodes = live.bvh_nodes;
+        let clusters = self.mesh_table[d.mesh.index as usize].cluster_count as u64;
+        if self.instance_count == u32::MAX - 1 {
+            return Err(oversize("instances"));
+        }
+        let mut inst = instance_of(d.mesh.index, &d.transform, d.color);
+        inst.visible_base = match self.visible.alloc(clusters) {
+            Some(b) => b as u32,
+            None => {
+                let size = (2 * self.visible.size()).max(self.visible.end() + clusters);
+                if size <= u32::MAX as u64 {
+                    self.visible.grow(size);
+                    self.visible.alloc(clusters).unwrap_or(0) as u32
+                } else {
+                    // Past 32-bit slots: no range (direct slots are off for such scenes anyway).
+                    self.unranged_clusters += clusters;
+                    u32::MAX
+                }
+            }
+        };
+        if let Some(l) = self.mesh_slots[d.mesh.index as usize].live.as_mut() {
+            l.instances += 1;
+        }
+        self.instance_nodes += nodes;
+        let dense = self.instance_count;
+        let index = match self.free_instances.pop() {
+            Some(i) => i,
+            None => {
+                self.instance_slots.push(InstanceSlot {
+                    generation: 0,
+                    dense: NO_SLOT,
+                });
+                self.instance_slots.len() as u32 - 1
+            }
+        };
+        let slot = &mut self.instance_slots[index as usize];
+        slot.dense = dense;
+        let h = InstanceHandle {
+            index,
+            generation: slot.generation,
+        };
+        self.mirror.push(inst);
+        self.dense_handle.push(index);
+        self.instance_count += 1;
+        self.instance_clusters = self.visible.end() + self.unranged_clusters;
+        Ok((h, dense))
+    }
+
+    /// Adds an instance; it is drawn from the next frame on (its data goes through the staging
+    /// ring). The instance buffer grows (doubling) when full.
+    pub fn add_instance(&mut self, d: &InstanceDesc) -> SceneResult<InstanceHandle> {
+        self.live_mesh(d.mesh)?;
+        self.ensure_instance_capacity(self.instance_count + 1)?;
+        let (h, dense) = self.push_instance(d)?;
+        self.mark(dense);
+        Ok(h)
+    }
+
+    /// Adds many instances with one upload (not through the staging ring: bulk loads do not
+    /// grow the ring). All or nothing: a stale mesh handle adds none.
+    pub fn add_instances(&mut self, descs: &[InstanceDesc]) -> SceneResult<Vec<InstanceHandle>> {
+        for d in descs {
+            self.live_mesh(d.mesh)?;
+        }
+        let first = self.instance_count;
+        let count = first
+            .checked_add(descs.len() as u32)
+            .ok_or_else(|| oversize("instances"))?;
+        self.ensure_instance_capacity(count)?;
+        let mut handles = Vec::with_capacity(descs.len());
+        for d in descs {
+            handles.push(self.push_instance(d)?.0);
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(&self.mirror[first as usize..]);
+        if !bytes.is_empty() {
+            let mut staging = Buffer::new(
+                &self.ctx,
+                "scene instances (staging)",
+                bytes.len() as u64,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryKind::Upload,
+            )?;
+            staging.write(0, bytes)?;
+            let dst = first as u64 * size_of::<InstanceVgeo>() as u64;
+            let instances = &self.instances;
+            self.ctx.submit_and_wait("scene add instances", |cmd| {
+                use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+                cmd.barrier(
+                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                );
+                cmd.copy_buffer_region(&staging, 0, instances, dst, bytes.len() as u64);
+                cmd.barrier(
+                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                    (S::ALL_COMMANDS, A::MEMORY_READ),
+                );
+            })?;
+        }
+        Ok(handles)
+    }
+
+    fn dense_of(&self, h: InstanceHandle) -> SceneResult<u32> {
+        self.instance_slots
+            .get(h.index as usize)
+            .filter(|s| s.generation == h.generation && s.dense != NO_SLOT)
+            .map(|s| s.dense)
+            .ok_or(SceneError::StaleInstance(h))
+    }
+
+    /// The instance's current index in the dense array (what `InstanceVgeo` arrays, the visible
+    /// list and [`crate::frame::VgeoFrame::resolve`] call an instance). Removals move the last
+    /// instance into the hole, so this may change.
+    pub fn instance_slot(&self, h: InstanceHandle) -> SceneResult<u32> {
+        self.dense_of(h)
+    }
+
+    /// The handle of the instance at dense index `slot` ([`GpuScene::new`]: placement `slot`).
+    pub fn instance_handle(&self, slot: u32) -> Option<InstanceHandle> {
+        let index = *self.dense_handle.get(slot as usize)?;
+        Some(InstanceHandle {
+            index,
+            generation: self.instance_slots[index as usize].generation,
+        })
+    }
+
+    /// The GPU data of an instance as the next frame will see it.
+    pub fn instance(&self, h: InstanceHandle) -> SceneResult<InstanceVgeo> {
+        Ok(self.mirror[self.dense_of(h)? as usize])
+    }
+
+    /// Removes an instance (the last one takes its place in the dense array); gone from the next
+    /// frame on.
+    pub fn remove_instance(&mut self, h: InstanceHandle) -> SceneResult<()> {
+        let d = self.dense_of(h)?;
+        let inst = self.mirror[d as usize];
+        let mesh = inst.mesh as usize;
+        let clusters = self.mesh_table[mesh].cluster_count as u64;
+        if inst.visible_base == u32::MAX && clusters > 0 {
+            self.unranged_clusters -= clusters;
+        } else {
+            self.visible.free(inst.visible_base as u64, clusters);
+        }
+        if let Some(l) = self.mesh_slots[mesh].live.as_mut() {
+            l.instances -= 1;
+            self.instance_nodes -= l.bvh_nodes;
+        }
+        let last = self.instance_count - 1;
+        self.mirror.swap_remove(d as usize);
+        self.dense_handle.swap_remove(d as usize);
+        if d != last {
+            let moved = self.dense_handle[d as usize];
+            self.instance_slots[moved as usize].dense = d;
+            self.mark(d);
+        }
+        self.instance_count -= 1;
+        let slot = &mut self.instance_slots[h.index as usize];
+        slot.dense = NO_SLOT;
+        slot.generation = slot.generation.wrapping_add(1);
+        self.free_instances.push(h.index);
+        self.instance_clusters = self.visible.end() + self.unranged_clusters;
+        Ok(())
+    }
+
+    /// Moves an instance (object -> world, f64); applied at the start of the next frame.
+    /// O(1), no allocation once the dirty list has grown.
+    pub fn set_transform(&mut self, h: InstanceHandle, transform: &DMat4) -> SceneResult<()> {
+        let d = self.dense_of(h)?;
+        let old = self.mirror[d as usize];
+        let mut inst = instance_of(old.mesh, transform, old.color);
+        inst.visible_base = old.visible_base;
+        self.mirror[d as usize] = inst;
+        self.mark(d);
+        Ok(())
+    }
+
+    /// Changes an instance's albedo tint; applied at the start of the next frame.
+    pub fn set_color(&mut self, h: InstanceHandle, color: [f32; 3]) -> SceneResult<()> {
+        let d = self.dense_of(h)?;
+        self.mirror[d as usize].color = color;
+        self.mark(d);
+        Ok(())
+    }
+
+    /// Instances changed since the last [`GpuScene::prepare_updates`].
+    pub fn pending_changes(&self) -> usize {
+        self.dirty.len()
+    }
+
+    /// Writes the changed instances into the next staging-ring buffer (grown if needed) and
+    /// prepares the copies [`GpuScene::record_updates`] records: O(changed), contiguous slots
+    /// merged into one copy. A prepared update that was never submitted is prepared again.
+    pub fn prepare_updates(&mut self) -> GpuResult<()> {
+        if self.pending.take().is_some() {
+            // Not submitted: those slots are still to be written.
+            let stride = size_of::<InstanceVgeo>() as u64;
+            for i in 0..self.regions.len() {
+                let r = self.regions[i];
+                for s in r.dst_offset / stride..(r.dst_offset + r.size) / stride {
+                    self.mark(s as u32);
+                }
+            }
+        }
+        self.regions.clear();
+        let count = self.instance_count;
+        for &s in &self.dirty {
+            self.dirty_flag[s as usize] = false;
+        }
+        self.dirty.retain(|&s| s < count);
+        if self.dirty.is_empty() {
+            return Ok(());
+        }
+        self.dirty.sort_unstable();
+        let stride = size_of::<InstanceVgeo>() as u64;
+        let need = stride * self.dirty.len() as u64;
+        let slot = self.ring_next;
+        self.ring_next = (self.ring_next + 1) % FRAMES_IN_FLIGHT;
+        if slot >= self.ring.len() || self.ring[slot].size() < need {
+            let old = self.ring.get(slot).map(|b| b.size()).unwrap_or(0);
+            let b = Buffer::new(
+                &self.ctx,
+                &format!("scene update ring {slot}"),
+                need.max(2 * old),
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryKind::Upload,
+            )?;
+            if slot < self.ring.len() {
+                self.ring[slot] = b;
+            } else {
+                self.ring.push(b);
+            }
+        }
+        let mut i = 0;
+        let mut off = 0u64;
+        while i < self.dirty.len() {
+            let a = self.dirty[i] as usize;
+            let mut b = a + 1;
+            i += 1;
+            while i < self.dirty.len() && self.dirty[i] as usize == b {
+                b += 1;
+                i += 1;
+            }
+            let bytes: &[u8] = bytemuck::cast_slice(&self.mirror[a..b]);
+            self.ring[slot].write(off, bytes)?;
+            self.regions.push(vk::BufferCopy {
+                src_offset: off,
+                dst_offset: a as u64 * stride,
+                size: bytes.len() as u64,
+            });
+            off += bytes.len() as u64;
+        }
+        self.dirty.clear();
+        self.pending = Some(slot);
+        Ok(())
+    }
+
+    /// Records the prepared instance updates (label `scene_update`): the copies from the staging
+    /// ring into the instance buffer, between barriers, before anything of the frame reads
+    /// instances. Records nothing when nothing changed.
+    pub fn record_updates(&self, cmd: &mut Cmd) {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        let Some(slot) = self.pending else {
+            return;
+        };
+        cmd.begin_label("scene_update");
+        cmd.barrier(
+            (S::ALL_COMMANDS, A::MEMORY_READ),
+            (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+        );
+        cmd.copy_buffer_regions(&self.ring[slot], &self.instances, &self.regions);
+        cmd.barrier(
+            (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            (S::ALL_COMMANDS, A::MEMORY_READ),
+        );
+        cmd.end_label();
+    }
+
+    /// The prepared updates were submitted (the mirror and the GPU agree from that frame on).
+    pub fn updates_submitted(&mut self) {
+        self.pending = None;
+        self.regions.clear();
     }
 
     /// The descriptors every pass that decodes clusters binds, in this order: instances, meshes,
@@ -206,7 +1012,8 @@ impl GpuScene {
         ]
     }
 
-    /// GPU bytes of geometry (clusters, groups, BVH, vertices, references, triangles).
+    /// GPU bytes of geometry (clusters, groups, BVH, vertices, UVs, references, triangles), as
+    /// allocated.
     pub fn geometry_bytes(&self) -> u64 {
         [
             &self.clusters,
@@ -220,5 +1027,45 @@ impl GpuScene {
         .iter()
         .map(|b| b.size())
         .sum()
+    }
+
+    /// Bytes per GPU buffer of the scene: in use and allocated (the buffers grow by doubling and
+    /// never shrink; freed mesh ranges are reused by later meshes).
+    pub fn memory(&self) -> SceneMemory {
+        let inst = size_of::<InstanceVgeo>() as u64;
+        let mut buffers = vec![
+            BufferMemory {
+                name: "scene meshes",
+                used_bytes: 80 * (self.mesh_count() as u64),
+                capacity_bytes: self.meshes.size(),
+            },
+            BufferMemory {
+                name: "scene instances",
+                used_bytes: inst * self.instance_count as u64,
+                capacity_bytes: self.instances.size(),
+            },
+        ];
+        let bufs = [
+            &self.clusters,
+            &self.groups,
+            &self.bvh,
+            &self.vertices,
+            &self.uvs,
+            &self.vertex_refs,
+            &self.triangles,
+        ];
+        for (k, b) in bufs.iter().enumerate() {
+            buffers.push(BufferMemory {
+                name: ARENA_NAMES[k],
+                used_bytes: self.arenas[k].used_bytes(),
+                capacity_bytes: b.size(),
+            });
+        }
+        buffers.push(BufferMemory {
+            name: "scene update ring",
+            used_bytes: self.regions.iter().map(|r| r.size).sum(),
+            capacity_bytes: self.ring.iter().map(|b| b.size()).sum(),
+        });
+        SceneMemory { buffers }
     }
 }

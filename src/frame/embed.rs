@@ -78,6 +78,8 @@ pub struct View {
     name: String,
     fb: FrameBuffers,
     pyramid: DepthPyramid,
+    /// The scene's mesh epoch the view's material targets were made for.
+    materials_epoch: u64,
     /// The view whose HZB is in the pyramid (the frame recorded last), if any.
     history: Option<OcclusionGpu>,
     targets: MaterialTargets,
@@ -226,7 +228,7 @@ impl VgeoRenderer {
             self.vis_path,
             self.queue_capacity,
             self.visible_capacity,
-            self.scene.instance_count,
+            self.scene.instance_capacity(),
         )?;
         let pyramid = DepthPyramid::new(&self.ctx, &fb)?;
         let targets = m.new_targets(width, height)?;
@@ -251,11 +253,83 @@ impl VgeoRenderer {
             name: name.into(),
             fb,
             pyramid,
+            materials_epoch: self.scene.mesh_epoch(),
             history: None,
             targets,
             host_depth,
             slots,
         })
+    }
+
+    /// Brings the GPU scene up to date for the next frame, once per frame before its views are
+    /// recorded: the instances changed since the last frame ([`crate::scene_gpu::GpuScene`]'s
+    /// `set_transform`, `set_color`, adds and removes) are staged in the scene's ring and their
+    /// copy recorded into `cb`, O(changed) and without heap allocation once warm. When the scene
+    /// outgrew the cull capacities, the material table or a view's per-instance buffers (meshes or
+    /// instances added), the renderer and `views` are resized first: that allocates and waits, and
+    /// only then. Buffers a growth replaced are freed `frames_in_flight` calls later, when the
+    /// frames that used them are done.
+    ///
+    /// # Safety
+    /// As [`VgeoRenderer::record`]: `cb` is recording, outside a render pass; the host submits it
+    /// before the frame's views' command buffers (or it is the same one), and submits every
+    /// command buffer it recorded, in order.
+    pub unsafe fn update_scene(
+        &mut self,
+        cb: vk::CommandBuffer,
+        views: &mut [&mut View],
+    ) -> GpuResult<()> {
+        self.follow_scene()?;
+        self.prepare_materials()?;
+        let epoch = self.scene.mesh_epoch();
+        let instances = self.scene.instance_capacity();
+        for view in views.iter_mut() {
+            let (w, h) = view.size();
+            let small = view.fb.queue_capacity < self.queue_capacity
+                || view.fb.visible_capacity < self.visible_capacity
+                || view.fb.post_instances.size() < 4 * instances.max(1) as u64;
+            if small {
+                view.fb = FrameBuffers::new(
+                    &self.ctx,
+                    w,
+                    h,
+                    self.vis_path,
+                    self.queue_capacity,
+                    self.visible_capacity,
+                    instances,
+                )?;
+                view.pyramid = DepthPyramid::new(&self.ctx, &view.fb)?;
+                view.history = None;
+            }
+            if view.materials_epoch != epoch {
+                let m = self
+                    .materials
+                    .as_ref()
+                    .ok_or_else(|| GpuError::Other("material passes missing".into()))?;
+                view.targets = m.new_targets(w, h)?;
+                view.materials_epoch = epoch;
+            }
+        }
+        let in_flight = views
+            .iter()
+            .map(|v| v.slots.len() as u32)
+            .max()
+            .unwrap_or(1);
+        self.retire_age = if self.scene.has_retired() {
+            self.retire_age + 1
+        } else {
+            0
+        };
+        if self.retire_age > in_flight {
+            self.scene.release_retired();
+            self.retire_age = 0;
+        }
+        self.scene.prepare_updates()?;
+        let scene = &self.scene;
+        // SAFETY: the caller guarantees `cb` (see above).
+        unsafe { self.ctx.record_into(cb, |cmd| scene.record_updates(cmd)) };
+        self.scene.updates_submitted();
+        Ok(())
     }
 
     /// Records one frame of `view` into `cb`, a command buffer the host owns, begins, ends and

@@ -214,6 +214,18 @@ impl Cmd {
         };
     }
 
+    /// Copies `regions` of `src` into `dst` (one command; destination regions must not overlap).
+    pub fn copy_buffer_regions(&mut self, src: &Buffer, dst: &Buffer, regions: &[vk::BufferCopy]) {
+        if regions.is_empty() {
+            return;
+        }
+        // SAFETY: both buffers are valid; the regions lie inside them and do not overlap (callers).
+        unsafe {
+            self.dev()
+                .cmd_copy_buffer(self.cb, src.raw, dst.raw, regions)
+        };
+    }
+
     /// Fills a whole buffer with a repeated u32.
     pub fn fill_buffer(&mut self, buf: &Buffer, value: u32) {
         // SAFETY: valid buffer; WHOLE_SIZE rounds down to a multiple of 4.
