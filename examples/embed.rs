@@ -1056,7 +1056,7 @@ pub fn run(opts: &Options) -> Result<Output> {
         .enumerate()
         .map(|(j, p)| Placement {
             transform: transform_at(p, j as u32, last_frame),
-            ..p.clone()
+            ..*p
         })
         .collect();
     let out = Output {
