@@ -277,22 +277,34 @@ impl VgeoRenderer {
         self.vis_path
     }
 
+    /// A view's frame buffers and HZB at the renderer's capacities and the scene's instance
+    /// capacity.
+    pub(crate) fn view_buffers(
+        &self,
+        width: u32,
+        height: u32,
+    ) -> GpuResult<(FrameBuffers, DepthPyramid)> {
+        let fb = FrameBuffers::new(
+            &self.ctx,
+            width,
+            height,
+            self.vis_path,
+            self.queue_capacity,
+            self.visible_capacity,
+            self.scene.instance_capacity(),
+        )?;
+        let pyramid = DepthPyramid::new(&self.ctx, &fb)?;
+        Ok((fb, pyramid))
+    }
+
     fn frame_buffers(&mut self, width: u32, height: u32) -> GpuResult<()> {
         let ok = self
             .fb
             .as_ref()
             .is_some_and(|f| f.width == width && f.height == height);
         if !ok {
-            let fb = FrameBuffers::new(
-                &self.ctx,
-                width,
-                height,
-                self.vis_path,
-                self.queue_capacity,
-                self.visible_capacity,
-                self.scene.instance_capacity(),
-            )?;
-            self.pyramid = Some(DepthPyramid::new(&self.ctx, &fb)?);
+            let (fb, pyramid) = self.view_buffers(width, height)?;
+            self.pyramid = Some(pyramid);
             self.debug_view = Some(DebugView::new(&self.ctx, &fb)?);
             self.overdraw = None;
             self.fb = Some(fb);

@@ -560,15 +560,11 @@ impl GpuScene {
         let staging = if staged.is_empty() {
             None
         } else {
-            let mut b = Buffer::new(
+            Some(Buffer::staging(
                 &self.ctx,
                 "scene mesh upload (staging)",
-                staged.len() as u64,
-                vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryKind::Upload,
-            )?;
-            b.write(0, &staged)?;
-            Some(b)
+                &staged,
+            )?)
         };
         let table = &self.mesh_table;
         let bufs: [&Buffer; ARENAS] = [
@@ -792,14 +788,7 @@ impl GpuScene {
         }
         let bytes: &[u8] = bytemuck::cast_slice(&self.mirror[first as usize..]);
         if !bytes.is_empty() {
-            let mut staging = Buffer::new(
-                &self.ctx,
-                "scene instances (staging)",
-                bytes.len() as u64,
-                vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryKind::Upload,
-            )?;
-            staging.write(0, bytes)?;
+            let staging = Buffer::staging(&self.ctx, "scene instances (staging)", bytes)?;
             let dst = first as u64 * size_of::<InstanceVgeo>() as u64;
             let instances = &self.instances;
             self.ctx.submit_and_wait("scene add instances", |cmd| {

@@ -221,16 +221,7 @@ impl VgeoRenderer {
             .materials
             .as_ref()
             .ok_or_else(|| GpuError::Other("material passes missing".into()))?;
-        let fb = FrameBuffers::new(
-            &self.ctx,
-            width,
-            height,
-            self.vis_path,
-            self.queue_capacity,
-            self.visible_capacity,
-            self.scene.instance_capacity(),
-        )?;
-        let pyramid = DepthPyramid::new(&self.ctx, &fb)?;
+        let (fb, pyramid) = self.view_buffers(width, height)?;
         let targets = m.new_targets(width, height)?;
         let host_depth =
             HostDepthBuffer::new(&self.ctx, &format!("{name} host depth"), width, height)?;
@@ -289,16 +280,7 @@ impl VgeoRenderer {
                 || view.fb.visible_capacity < self.visible_capacity
                 || view.fb.post_instances.size() < 4 * instances.max(1) as u64;
             if small {
-                view.fb = FrameBuffers::new(
-                    &self.ctx,
-                    w,
-                    h,
-                    self.vis_path,
-                    self.queue_capacity,
-                    self.visible_capacity,
-                    instances,
-                )?;
-                view.pyramid = DepthPyramid::new(&self.ctx, &view.fb)?;
+                (view.fb, view.pyramid) = self.view_buffers(w, h)?;
                 view.history = None;
             }
             if view.materials_epoch != epoch {

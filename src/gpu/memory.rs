@@ -112,6 +112,19 @@ impl Buffer {
         })
     }
 
+    /// A host-visible transfer source holding `data` (the source of an upload copy).
+    pub fn staging(ctx: &Context, name: &str, data: &[u8]) -> GpuResult<Self> {
+        let mut b = Self::new(
+            ctx,
+            name,
+            data.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryKind::Upload,
+        )?;
+        b.write(0, data)?;
+        Ok(b)
+    }
+
     /// A device-local buffer filled with `data` through a staging copy.
     pub fn with_data(
         ctx: &Context,
@@ -127,14 +140,7 @@ impl Buffer {
             MemoryKind::Gpu,
         )?;
         if !data.is_empty() {
-            let mut staging = Self::new(
-                ctx,
-                &format!("{name} (staging)"),
-                data.len() as u64,
-                vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryKind::Upload,
-            )?;
-            staging.write(0, data)?;
+            let staging = Self::staging(ctx, &format!("{name} (staging)"), data)?;
             ctx.submit_and_wait(&format!("upload {name}"), |cmd| {
                 cmd.copy_buffer(&staging, &buf, data.len() as u64)
             })?;
