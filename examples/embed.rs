@@ -22,13 +22,11 @@ use std::sync::Mutex;
 use anyhow::{Context as _, Result, anyhow, bail};
 use ash::vk;
 use glam::{DMat4, DVec3, Vec3};
-use vgeo::builder::{BuildOptions, BuiltMesh};
-use vgeo::camera::Camera;
-use vgeo::frame::{HostTargets, VgeoRenderer, View, ViewFrame};
-use vgeo::gpu::{Context, DeviceFeatures, HostDevice, HostImage, device_extensions_for_vgeo};
-use vgeo::material::ShadeMode;
-use vgeo::passes::view::FrameSettings;
-use vgeo::render::{Light, Placement};
+use vgeo::{
+    BuildOptions, BuiltMesh, Camera, Context, DeviceFeatures, FrameSettings, HostDevice, HostImage,
+    HostTargets, Light, Placement, Renderer as VgeoRenderer, ShadeMode, View, ViewFrame,
+    device_extensions_for_vgeo,
+};
 
 /// What the host renders.
 #[derive(Clone, Debug)]

@@ -12,6 +12,7 @@ use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
 /// A perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// Eye position in world space, f64 (the frame is rendered camera-relative).
     pub position: DVec3,
     /// Unit view direction.
     pub forward: Vec3,

@@ -7,11 +7,8 @@ use std::process::ExitCode;
 
 use anyhow::{Context as _, Result};
 use clap::{Parser, Subcommand};
-use vgeo::frame::VgeoRenderer;
-use vgeo::gpu::{Context, ContextOptions};
-use vgeo::passes::debug_view::ViewMode;
-use vgeo::passes::view::FrameSettings;
 use vgeo::scene::load::LoadedScene;
+use vgeo::{Context, ContextOptions, FrameSettings, Renderer as VgeoRenderer, ViewMode};
 
 /// vgeo renders triangle scenes of any size at pixel-scale detail (Nanite-style cluster DAGs) on Vulkan.
 ///

@@ -110,8 +110,11 @@ pub struct InstanceHandle {
 /// One instance to add: a mesh, object -> world in f64, an albedo tint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InstanceDesc {
+    /// The mesh it shows (a live handle of the same scene).
     pub mesh: MeshHandle,
+    /// Object -> world, in f64 (made camera-relative before it becomes f32).
     pub transform: DMat4,
+    /// Albedo tint.
     pub color: [f32; 3],
 }
 

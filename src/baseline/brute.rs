@@ -4,7 +4,7 @@
 //! (shaders_glsl/common/gbuffer.glsl), then `shade`, so its images compare with vgeo's.
 //!
 //! Also home of what `brute` and `lod` share: [`ClassicMesh`] (vertices split per material),
-//! [`GpuMesh`] and the [`Classic`] renderer core.
+//! [`GpuMesh`] and the `Classic` renderer core.
 
 use std::borrow::Cow;
 use std::collections::HashMap;

@@ -92,8 +92,9 @@ pub struct View {
 pub struct FrameStats {
     /// The host's frame number it was recorded with.
     pub frame: u64,
-    /// Counters of the main and the post culling phase.
+    /// Counters of the main culling phase.
     pub main: CullCounters,
+    /// Counters of the post phase (what the main phase deferred, tested against the new HZB).
     pub post: CullCounters,
     /// GPU milliseconds per pass (empty without timestamps).
     pub gpu_ms: Vec<(String, f64)>,
@@ -145,11 +146,15 @@ pub struct ViewFrame<'a> {
     /// The host's frame number (counting up by one per frame): picks the slot
     /// (`frame % frames_in_flight`) and names the frame in [`View::try_stats`].
     pub frame: u64,
+    /// The view's camera (f64 position; vgeo's reverse-Z projection with an infinite far plane).
     pub camera: &'a Camera,
+    /// Pixel error threshold, SW/HW split, occlusion and debug flags.
     pub settings: FrameSettings,
+    /// The directional light `shade` uses.
     pub light: Light,
     /// What `shade` writes into the host's colour.
     pub shade: ShadeMode,
+    /// The host's images vgeo writes (depth, colour or GBuffer).
     pub targets: HostTargets,
 }
 

@@ -254,12 +254,16 @@ pub struct Image {
 /// size and the layout it is in when vgeo's commands start (vgeo leaves it in that layout).
 #[derive(Clone, Copy, Debug)]
 pub struct HostImage {
+    /// The host's image (vgeo neither names nor destroys it).
     pub image: vk::Image,
     /// A 2D view of mip 0 (storage writes go through it); may be null for a depth image, which vgeo
     /// reads and writes with transfers only.
     pub view: vk::ImageView,
+    /// Its format (checked against what the target needs, e.g. `HOST_DEPTH_FORMAT`).
     pub format: vk::Format,
+    /// Width in pixels (the view's).
     pub width: u32,
+    /// Height in pixels (the view's).
     pub height: u32,
     /// The layout at entry, and at exit.
     pub layout: vk::ImageLayout,
