@@ -441,3 +441,101 @@ fn the_gbuffer_into_the_hosts_targets_equals_vgeos_own() {
     }
     assert_no_validation_errors(&ctx);
 }
+
+/// A steady-state frame of a host, everything vgeo does on the CPU per frame (every instance's
+/// transform changed, the scene update staged and recorded, the view recorded), allocates nothing
+/// on the heap once warm; the moved instances are drawn where they went.
+#[test]
+fn a_steady_state_frame_with_moving_instances_allocates_nothing() {
+    let ctx = gpu();
+    let built = example::build_meshes(&[
+        assets().join("spot.obj").to_string_lossy().into_owned(),
+        "generated:box".into(),
+    ])
+    .unwrap();
+    let placements: Vec<Placement> = example::placements(&built, 200);
+    let mut r = VgeoRenderer::new(&ctx, &built, &placements).unwrap();
+    let (w, h) = (96u32, 64u32);
+    let mut view = r.create_view("main", w, h, 2).unwrap();
+    let (color, depth) = targets(&ctx, w, h);
+    let handles: Vec<_> = (0..placements.len() as u32)
+        .map(|j| r.scene.instance_handle(j).unwrap())
+        .collect();
+    let camera = example::camera_at(0);
+    let bg = vgeo::render::BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
+    let mut per_frame = Vec::new();
+    let frames = 6u32;
+    for i in 0..frames {
+        ctx.submit_and_wait("steady state", |cmd| {
+            cmd.begin_rendering(
+                &[RenderTarget {
+                    image: &color,
+                    clear: Some(bg),
+                }],
+                Some(RenderTarget {
+                    image: &depth,
+                    clear: Some([0.0; 4]),
+                }),
+            );
+            cmd.end_rendering();
+            let f = ViewFrame {
+                frame: i as u64,
+                camera: &camera,
+                settings: FrameSettings::default(),
+                light: Light::default(),
+                shade: ShadeMode::Lit,
+                targets: HostTargets {
+                    depth: Some(depth.as_host()),
+                    color: Some(color.as_host()),
+                    gbuffer: None,
+                },
+            };
+            let (res, n) = allocations(|| -> vgeo::gpu::GpuResult<()> {
+                for (j, (&hd, p)) in handles.iter().zip(&placements).enumerate() {
+                    r.scene
+                        .set_transform(hd, &example::transform_at(p, j as u32, i))
+                        .map_err(vgeo::gpu::GpuError::from)?;
+                }
+                r.update_scene_cmd(cmd, &mut [&mut view])?;
+                r.record_cmd(cmd, &mut view, &f)
+            });
+            res.unwrap();
+            per_frame.push(n);
+        })
+        .unwrap();
+    }
+    assert_no_validation_errors(&ctx);
+    eprintln!(
+        "heap allocations per frame (set_transform x200, update_scene, record): {per_frame:?}"
+    );
+    // The first frames grow the staging ring; from then on nothing.
+    assert!(
+        per_frame[2..].iter().all(|n| *n == 0),
+        "steady-state frames allocated: {per_frame:?}"
+    );
+    // The last frame shows the last frame's places.
+    let moved: Vec<Placement> = placements
+        .iter()
+        .enumerate()
+        .map(|(j, p)| Placement {
+            transform: example::transform_at(p, j as u32, frames - 1),
+            ..*p
+        })
+        .collect();
+    let mut fresh = VgeoRenderer::new(&ctx, &built, &moved).unwrap();
+    let want = fresh
+        .render(
+            &camera,
+            w,
+            h,
+            &FrameSettings::default(),
+            ViewMode::Lit,
+            &Light::default(),
+        )
+        .unwrap();
+    let psnr = psnr_rgb(&color.download().unwrap(), &want.frame.color);
+    assert!(
+        psnr >= 45.0,
+        "{psnr:.1} dB against a fresh render of the last places"
+    );
+}

@@ -275,6 +275,13 @@ impl VgeoRenderer {
         cb: vk::CommandBuffer,
         views: &mut [&mut View],
     ) -> GpuResult<()> {
+        let ctx = self.ctx.clone();
+        // SAFETY: the caller guarantees `cb` (see above).
+        unsafe { ctx.record_into(cb, |cmd| self.update_scene_cmd(cmd, views)) }
+    }
+
+    /// [`VgeoRenderer::update_scene`] into vgeo's own recorder.
+    pub fn update_scene_cmd(&mut self, cmd: &mut Cmd, views: &mut [&mut View]) -> GpuResult<()> {
         self.follow_scene()?;
         self.prepare_materials()?;
         let epoch = self.scene.mesh_epoch();
@@ -312,9 +319,7 @@ impl VgeoRenderer {
             self.retire_age = 0;
         }
         self.scene.prepare_updates()?;
-        let scene = &self.scene;
-        // SAFETY: the caller guarantees `cb` (see above).
-        unsafe { self.ctx.record_into(cb, |cmd| scene.record_updates(cmd)) };
+        self.scene.record_updates(cmd);
         self.scene.updates_submitted();
         Ok(())
     }
