@@ -203,3 +203,22 @@ fn quick_suite_runs_every_scene_in_every_mode_with_sane_results() {
     assert!(out.join("images/outdoor_vgeo_1px.png").exists());
     std::fs::remove_dir_all(&out).ok();
 }
+
+/// `vgeo bench --record-cpu`: the CPU cost of a host's frame per instance count and changed
+/// transforms, every row measured (positive, finite), the changed count capped by the scene.
+#[test]
+fn record_cpu_measures_every_configuration() {
+    let ctx = common::gpu();
+    let rows = vgeo::bench::record_cpu::measure(&ctx, &[50, 400], &[0, 100], 3, (64, 48)).unwrap();
+    assert_eq!(rows.len(), 4);
+    for r in &rows {
+        assert!(r.record_ms > 0.0 && r.record_ms.is_finite(), "{r:?}");
+        assert!(r.total_ms >= r.record_ms, "{r:?}");
+        assert_eq!(r.frames, 3);
+    }
+    assert_eq!((rows[1].instances, rows[1].changed), (50, 50));
+    assert_eq!((rows[3].instances, rows[3].changed), (400, 100));
+    common::assert_no_validation_errors(&ctx);
+    let md = vgeo::bench::record_cpu::markdown(&rows, "dev");
+    assert_eq!(md.lines().filter(|l| l.starts_with("| 400")).count(), 2);
+}

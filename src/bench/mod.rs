@@ -31,6 +31,7 @@
 //! `bench.json`, `bench.md`, the plots and images. Nothing else in the library imports this module.
 
 mod error;
+pub mod record_cpu;
 pub mod report;
 mod scenes;
 mod timing;
@@ -172,6 +173,14 @@ pub const MODES: [&str; 3] = ["brute", "lod", "vgeo"];
 /// Command-line arguments of `vgeo bench`.
 #[derive(clap::Args, Clone, Debug)]
 pub struct BenchArgs {
+    /// Instead of the scenes: the CPU cost of a host's frame (set_transform of the changed
+    /// instances, update_scene, record of one view) for scenes of these instance counts,
+    /// comma-separated (e.g. 8000,125000,1000000); writes record_cpu.json and record_cpu.md.
+    #[arg(long, value_delimiter = ',', value_name = "N,...")]
+    pub record_cpu: Option<Vec<u32>>,
+    /// With --record-cpu: transforms changed per frame, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "0,10000")]
+    pub record_changed: Vec<u32>,
     /// `quick` (tiny, CI on lavapipe) or `full` (1920x1080, the real sizes).
     #[arg(long, default_value = "quick")]
     pub suite: String,
@@ -437,6 +446,25 @@ pub fn run_bench(args: &BenchArgs) -> Result<()> {
     let scenes_dir = args.scenes_dir.clone().unwrap_or_else(default_scenes_dir);
     let ctx =
         Context::new(&crate::gpu::ContextOptions::from_env()).context("cannot start Vulkan")?;
+    if let Some(counts) = &args.record_cpu {
+        if counts.contains(&0) {
+            bail!("--record-cpu: instance counts must be at least 1");
+        }
+        let frames = args.frames.unwrap_or(20).max(1);
+        let size = (settings.width, settings.height);
+        let rows = record_cpu::measure(&ctx, counts, &args.record_changed, frames, size)?;
+        let md = record_cpu::markdown(&rows, &ctx.caps().device_name);
+        std::fs::create_dir_all(&args.out)
+            .with_context(|| format!("creating {}", args.out.display()))?;
+        std::fs::write(args.out.join("record_cpu.md"), &md)?;
+        std::fs::write(
+            args.out.join("record_cpu.json"),
+            serde_json::to_string_pretty(&rows)?,
+        )?;
+        print!("{md}");
+        println!("wrote {}", args.out.display());
+        return Ok(());
+    }
     let report = run(&ctx, &settings, &scenes_dir, !args.quiet)?;
     write_outputs(&report, &args.out)?;
     print!("{}", markdown(&report));
