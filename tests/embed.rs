@@ -228,6 +228,38 @@ fn targets(ctx: &vgeo::gpu::Context, w: u32, h: u32) -> (Image, Image) {
     (color, depth)
 }
 
+/// The host's own pass before vgeo's frame: colour cleared to vgeo's background, depth to 0 (far).
+fn host_clear(cmd: &mut vgeo::gpu::Cmd, color: &Image, depth: &Image) {
+    let bg = vgeo::render::BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
+    cmd.begin_rendering(
+        &[RenderTarget {
+            image: color,
+            clear: Some(bg),
+        }],
+        Some(RenderTarget {
+            image: depth,
+            clear: Some([0.0; 4]),
+        }),
+    );
+    cmd.end_rendering();
+}
+
+/// A lit frame of `camera` into the host's `color` and `depth`.
+fn lit_frame<'a>(frame: u64, camera: &'a Camera, color: &Image, depth: &Image) -> ViewFrame<'a> {
+    ViewFrame {
+        frame,
+        camera,
+        settings: FrameSettings::default(),
+        light: Light::default(),
+        shade: ShadeMode::Lit,
+        targets: HostTargets {
+            depth: Some(depth.as_host()),
+            color: Some(color.as_host()),
+            gbuffer: None,
+        },
+    }
+}
+
 #[test]
 fn two_views_in_one_frame_each_equal_a_single_view_render() {
     let ctx = gpu();
@@ -248,7 +280,6 @@ fn two_views_in_one_frame_each_equal_a_single_view_render() {
         targets(&ctx, sizes[0].0, sizes[0].1),
         targets(&ctx, sizes[1].0, sizes[1].1),
     ];
-    let bg = vgeo::render::BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
     // Three frames, both views in each, one submission per frame. Recording allocates nothing on
     // the heap.
     let mut recorded_allocations = Vec::new();
@@ -256,29 +287,8 @@ fn two_views_in_one_frame_each_equal_a_single_view_render() {
         ctx.submit_and_wait("two views", |cmd| {
             for (k, view) in views.iter_mut().enumerate() {
                 let (color, depth) = &imgs[k];
-                cmd.begin_rendering(
-                    &[RenderTarget {
-                        image: color,
-                        clear: Some(bg),
-                    }],
-                    Some(RenderTarget {
-                        image: depth,
-                        clear: Some([0.0; 4]),
-                    }),
-                );
-                cmd.end_rendering();
-                let f = ViewFrame {
-                    frame,
-                    camera: &cameras[k],
-                    settings: FrameSettings::default(),
-                    light: Light::default(),
-                    shade: ShadeMode::Lit,
-                    targets: HostTargets {
-                        depth: Some(depth.as_host()),
-                        color: Some(color.as_host()),
-                        gbuffer: None,
-                    },
-                };
+                host_clear(cmd, color, depth);
+                let f = lit_frame(frame, &cameras[k], color, depth);
                 let (res, n) = allocations(|| r.record_cmd(cmd, view, &f));
                 res.unwrap();
                 recorded_allocations.push(n);
@@ -462,34 +472,12 @@ fn a_steady_state_frame_with_moving_instances_allocates_nothing() {
         .map(|j| r.scene.instance_handle(j).unwrap())
         .collect();
     let camera = example::camera_at(0);
-    let bg = vgeo::render::BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
     let mut per_frame = Vec::new();
     let frames = 6u32;
     for i in 0..frames {
         ctx.submit_and_wait("steady state", |cmd| {
-            cmd.begin_rendering(
-                &[RenderTarget {
-                    image: &color,
-                    clear: Some(bg),
-                }],
-                Some(RenderTarget {
-                    image: &depth,
-                    clear: Some([0.0; 4]),
-                }),
-            );
-            cmd.end_rendering();
-            let f = ViewFrame {
-                frame: i as u64,
-                camera: &camera,
-                settings: FrameSettings::default(),
-                light: Light::default(),
-                shade: ShadeMode::Lit,
-                targets: HostTargets {
-                    depth: Some(depth.as_host()),
-                    color: Some(color.as_host()),
-                    gbuffer: None,
-                },
-            };
+            host_clear(cmd, &color, &depth);
+            let f = lit_frame(i as u64, &camera, &color, &depth);
             let (res, n) = allocations(|| -> vgeo::gpu::GpuResult<()> {
                 for (j, (&hd, p)) in handles.iter().zip(&placements).enumerate() {
                     r.scene
