@@ -49,16 +49,26 @@ pub mod section {
 #[derive(Debug, thiserror::Error)]
 pub enum FormatError {
     #[error("not a .vgeo file (bad magic)")]
+    /// Not a .vgeo file.
     BadMagic,
     #[error("unsupported .vgeo version {0} (this build reads version {VERSION})")]
+    /// A format version this build does not read.
     Version(u32),
     #[error("truncated .vgeo file: {0}")]
+    /// The file ends inside a section.
     Truncated(String),
     #[error(
         "corrupted .vgeo file: checksum {found:#018x} does not match the stored {stored:#018x}"
     )]
-    Checksum { stored: u64, found: u64 },
+    /// The checksum does not match the content.
+    Checksum {
+        /// The checksum the file stores.
+        stored: u64,
+        /// The checksum of its content.
+        found: u64,
+    },
     #[error("invalid .vgeo file: {0}")]
+    /// A section's content breaks an invariant.
     Invalid(String),
 }
 

@@ -46,12 +46,15 @@ pub const MAX_QUEUE: u32 = 1 << 25;
 /// Culling results read back from the GPU.
 #[derive(Clone, Debug)]
 pub struct CullResult {
+    /// Counters the culling passes wrote.
     pub counters: CullCounters,
     /// `(instance, global cluster)` of every drawn cluster, in the GPU's (unspecified) order.
     pub visible: Vec<[u32; 2]>,
     /// Visible-list indices per rasterizer.
     pub sw: Vec<u32>,
+    /// Visible-list indices the hardware rasterizer drew.
     pub hw: Vec<u32>,
+    /// GPU milliseconds per pass of the culling run.
     pub gpu_ms: Vec<(String, f64)>,
 }
 
@@ -84,6 +87,7 @@ impl CullResult {
 /// The vgeo renderer: the scene on the GPU, the pass pipelines and the frame buffers.
 pub struct VgeoRenderer {
     ctx: Context,
+    /// The scene on the GPU: add, move and remove meshes and instances here between frames.
     pub scene: GpuScene,
     instance_cull: InstanceCull,
     cluster_cull: ClusterCull,
@@ -849,6 +853,7 @@ pub struct VgeoFrame {
     pub visbuffer: Vec<u64>,
     /// Culling results of each phase (the post phase's visible entries follow the main phase's).
     pub main: CullResult,
+    /// Culling results of the post phase (what the main phase deferred).
     pub post: CullResult,
     /// The visible list as the GPU left it (up to the largest slot in use): what a visibility-buffer
     /// value's cluster index points at. Unused slots are all ones.

@@ -47,7 +47,9 @@ pub const BACKGROUND: [f32; 4] = [0.02, 0.02, 0.03, 1.0];
 /// A rendered frame read back to the CPU.
 #[derive(Clone, Debug)]
 pub struct Frame {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// RGBA8, row-major, top row first.
     pub color: Vec<u8>,

@@ -122,14 +122,24 @@ pub struct InstanceDesc {
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     #[error("stale mesh handle {0:?}: the mesh was removed (or is not of this scene)")]
+    /// A mesh handle whose mesh was removed (or of another scene).
     StaleMesh(MeshHandle),
     #[error("stale instance handle {0:?}: the instance was removed (or is not of this scene)")]
+    /// An instance handle whose instance was removed (or of another scene).
     StaleInstance(InstanceHandle),
     #[error("mesh {mesh:?} is still used by {instances} instance(s): remove them first")]
-    MeshInUse { mesh: MeshHandle, instances: u32 },
+    /// A mesh that instances still show cannot be removed.
+    MeshInUse {
+        /// The mesh.
+        mesh: MeshHandle,
+        /// Instances still showing it.
+        instances: u32,
+    },
     #[error("scene limit: {0}")]
+    /// A size limit of the GPU layout (instances, clusters, buffer bytes).
     Limit(String),
     #[error(transparent)]
+    /// A GPU error while uploading or growing a buffer.
     Gpu(#[from] GpuError),
 }
 
@@ -148,21 +158,27 @@ pub type SceneResult<T> = Result<T, SceneError>;
 /// Bytes of one GPU buffer of the scene: in use, and allocated.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct BufferMemory {
+    /// The buffer's debug name.
     pub name: &'static str,
+    /// Bytes holding live data.
     pub used_bytes: u64,
+    /// Bytes allocated (it grows by doubling).
     pub capacity_bytes: u64,
 }
 
 /// What the scene holds on the GPU, per buffer ([`GpuScene::memory`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SceneMemory {
+    /// One entry per GPU buffer of the scene.
     pub buffers: Vec<BufferMemory>,
 }
 
 impl SceneMemory {
+    /// Bytes holding live data, all buffers.
     pub fn used_bytes(&self) -> u64 {
         self.buffers.iter().map(|b| b.used_bytes).sum()
     }
+    /// Bytes allocated, all buffers.
     pub fn capacity_bytes(&self) -> u64 {
         self.buffers.iter().map(|b| b.capacity_bytes).sum()
     }
@@ -237,18 +253,24 @@ pub struct GpuScene {
     pub meshes: Buffer,
     /// [`InstanceVgeo`], dense: `instance_count` entries in use.
     pub instances: Buffer,
+    /// Every live mesh's clusters (internal layout, see docs/architecture.md).
     pub clusters: Buffer,
+    /// Every live mesh's DAG groups.
     pub groups: Buffer,
+    /// Every live mesh's cluster BVH nodes.
     pub bvh: Buffer,
+    /// Every live mesh's packed vertices.
     pub vertices: Buffer,
     /// Texture coordinates (2 x 16 bits) of the meshes with UVs (`MeshGpu::uv_offset`).
     pub uvs: Buffer,
+    /// Every live mesh's cluster-local vertex references.
     pub vertex_refs: Buffer,
     /// Local triangle indices, 3 bytes per triangle, packed into u32 words (little-endian); each
     /// mesh's range starts on a word.
     pub triangles: Buffer,
     /// [`MeshGpu`] per mesh slot (all zeros for a free slot).
     pub mesh_table: Vec<MeshGpu>,
+    /// Instances in the scene (the dense instance array's length).
     pub instance_count: u32,
     /// Clusters of the live meshes.
     pub total_clusters: u32,

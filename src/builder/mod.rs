@@ -114,10 +114,20 @@ impl Default for BuildOptions {
 pub enum BuildError {
     /// The input mesh breaks the [`Mesh`] invariants.
     #[error("mesh '{name}' is invalid: {msg}")]
-    InvalidMesh { name: String, msg: String },
+    InvalidMesh {
+        /// The mesh's name.
+        name: String,
+        /// What is wrong.
+        msg: String,
+    },
     /// Nothing left to build (no triangles, or all degenerate).
     #[error("mesh '{name}' has no non-degenerate triangles ({dropped} degenerate dropped)")]
-    Empty { name: String, dropped: usize },
+    Empty {
+        /// The mesh's name.
+        name: String,
+        /// Degenerate triangles dropped.
+        dropped: usize,
+    },
     /// An option is out of range.
     #[error("invalid build option: {0}")]
     InvalidOptions(String),
@@ -126,9 +136,13 @@ pub enum BuildError {
         "mesh '{name}': the DAG got stuck at iteration {iteration} with {clusters} clusters / {triangles} triangles that cannot be simplified further"
     )]
     Stuck {
+        /// The mesh's name.
         name: String,
+        /// The DAG iteration it stopped at.
         iteration: u32,
+        /// Clusters left.
         clusters: usize,
+        /// Triangles left.
         triangles: usize,
     },
     /// The thread pool could not be created.
@@ -320,8 +334,11 @@ pub struct Quantization {
 /// Statistics of one complete level of the DAG (the working set after an iteration).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LevelStats {
+    /// DAG level (0: the input triangles).
     pub level: u32,
+    /// Clusters at this level.
     pub clusters: usize,
+    /// Triangles at this level.
     pub triangles: usize,
     /// Triangles relative to the previous level.
     pub ratio: f32,
@@ -329,12 +346,14 @@ pub struct LevelStats {
     pub max_error: f32,
     /// Groups simplified at this iteration, and how many of them could not shrink (carried over).
     pub groups: usize,
+    /// Groups that could not be simplified enough (kept for the next iteration).
     pub stuck_groups: usize,
 }
 
 /// Build statistics (deterministic; timing is reported separately by the CLI).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BuildStats {
+    /// Triangles of the input mesh.
     pub input_triangles: usize,
     /// Triangles dropped as degenerate (after snapping to the grid).
     pub degenerate_dropped: usize,
@@ -345,12 +364,17 @@ pub struct BuildStats {
     /// Object-space error of trimming the input to level 0 (0 without trimming).
     #[serde(default)]
     pub level0_error: f32,
+    /// Stored vertices.
     pub vertices: usize,
+    /// Clusters, every level.
     pub clusters: usize,
+    /// DAG groups.
     pub groups: usize,
+    /// BVH nodes over the clusters.
     pub bvh_nodes: usize,
     /// Triangles over all levels.
     pub stored_triangles: usize,
+    /// Per DAG level.
     pub levels: Vec<LevelStats>,
     /// Iterations at which the group size had to be widened beyond `group_max` (stuck).
     pub widened_iterations: Vec<u32>,
@@ -361,24 +385,34 @@ pub struct BuildStats {
 /// A built mesh: the cluster DAG, its BVH and vertex data. What `.vgeo` stores.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BuiltMesh {
+    /// The mesh's name.
     pub name: String,
+    /// How positions and UVs are quantized.
     pub quantization: Quantization,
+    /// Whether the source had normals (else crease-angle normals were made).
     pub has_normals: bool,
+    /// Whether the vertices carry UVs.
     pub has_uvs: bool,
+    /// The mesh's materials (clusters index them).
     pub materials: Vec<Material>,
+    /// Packed vertices of every cluster.
     pub vertices: Vec<PackedVertex>,
     /// Material per vertex (vertices are split per material, so a triangle's material is its first
     /// vertex's).
     pub vertex_materials: Vec<u16>,
+    /// Clusters of every level, with their error and bounding spheres.
     pub clusters: Vec<Cluster>,
     /// Vertex references of all clusters (u16 pairs or u32 words, see [`Cluster`]).
     pub vertex_refs: Vec<u32>,
     /// Packed local triangle indices of all clusters (see [`Cluster::triangle_offset`]).
     pub triangles: Vec<u8>,
+    /// DAG groups.
     pub groups: Vec<Group>,
+    /// BVH over the clusters, for the GPU's culling walk.
     pub bvh: Vec<BvhNode>,
     /// Index of the root cluster.
     pub root: u32,
+    /// What the build did (levels, counts, dropped input).
     pub stats: BuildStats,
 }
 

@@ -40,24 +40,37 @@ impl ContextOptions {
 /// What the chosen device is and can do.
 #[derive(Clone, Debug)]
 pub struct Caps {
+    /// The device's name.
     pub device_name: String,
+    /// Discrete, integrated, virtual, cpu or other.
     pub device_type: String,
+    /// The driver's name (VK_KHR_driver_properties).
     pub driver_name: String,
+    /// The driver's version string.
     pub driver_info: String,
+    /// The device's Vulkan version (major.minor.patch).
     pub api_version: String,
+    /// `shaderInt64` (required).
     pub shader_int64: bool,
+    /// `shaderBufferInt64Atomics` (required: the buffer visibility buffer).
     pub buffer_int64_atomics: bool,
     /// `VK_EXT_shader_image_atomic_int64`: the R64 visibility-buffer image path.
     pub image_int64_atomics: bool,
+    /// Whether `VK_EXT_mesh_shader` is available (not used yet).
     pub mesh_shader: bool,
+    /// `multiDrawIndirect` (required).
     pub multi_draw_indirect: bool,
+    /// `drawIndirectCount` (required).
     pub draw_indirect_count: bool,
     /// Nanoseconds per timestamp tick; `None` when the queue has no timestamps.
     pub timestamp_period_ns: Option<f32>,
+    /// The subgroup size of compute shaders.
     pub subgroup_size: u32,
+    /// `maxComputeWorkGroupCount`.
     pub max_compute_workgroups: [u32; 3],
     /// `maxImageDimension2D`: the largest side of a 2D image (at least 4096).
     pub max_image_dimension_2d: u32,
+    /// Whether vgeo's validation messenger collects errors.
     pub validation: bool,
     /// Tools hooked into Vulkan (`VK_EXT_tooling_info`: RenderDoc, the validation layer), by name
     /// and version.

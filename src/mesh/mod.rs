@@ -18,9 +18,13 @@ mod stl;
 /// A material as the renderer needs it (glTF metallic-roughness subset; a default for other formats).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// The material's name in the source.
     pub name: String,
+    /// Base colour, linear RGBA.
     pub base_color: [f32; 4],
+    /// Metallic factor, 0 to 1.
     pub metallic: f32,
+    /// Roughness factor, 0 to 1.
     pub roughness: f32,
     /// Base-colour texture file, if the source names one and it exists on disk.
     pub base_color_texture: Option<PathBuf>,
@@ -52,7 +56,9 @@ impl Default for Material {
 /// `material_ids.len() == indices.len() / 3`, every material id indexes `materials`, all positions finite.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
+    /// The mesh's name (file or glTF node).
     pub name: String,
+    /// Vertex positions.
     pub positions: Vec<[f32; 3]>,
     /// Unit normals; computed from faces (area-weighted) when the source has none.
     pub normals: Vec<[f32; 3]>,
@@ -62,9 +68,11 @@ pub struct Mesh {
     pub indices: Vec<u32>,
     /// One per triangle, indexing `materials`.
     pub material_ids: Vec<u32>,
+    /// Materials (triangles index them).
     pub materials: Vec<Material>,
     /// Whether the source had normals / UVs (false: they were generated).
     pub has_normals: bool,
+    /// Whether the vertices carry UVs.
     pub has_uvs: bool,
 }
 
