@@ -190,9 +190,15 @@ pub fn build_meshes(sources: &[String]) -> Result<Vec<BuiltMesh>> {
         .collect()
 }
 
-struct Errors(Mutex<Vec<String>>);
+/// Validation errors a host's debug messenger saw (`on_message` is its callback, with a boxed
+/// `Errors` as user data, alive until after the messenger is destroyed).
+pub struct Errors(pub Mutex<Vec<String>>);
 
-unsafe extern "system" fn on_message(
+/// The host's debug-messenger callback: prints and collects validation errors into `Errors`.
+///
+/// # Safety
+/// Called by the validation layer with valid callback data and `user` pointing at an `Errors`.
+pub unsafe extern "system" fn on_message(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
     _types: vk::DebugUtilsMessageTypeFlagsEXT,
     data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,

@@ -25,33 +25,12 @@ use vgeo::render::{Frame, Light, Placement};
 const W: u32 = 128;
 const H: u32 = 96;
 
-/// Errors the test's own messenger saw (it lives from instance creation to destruction, so it
-/// also sees what happens after vgeo is gone).
-struct Errors(Mutex<Vec<String>>);
-
-unsafe extern "system" fn on_message(
-    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
-    _types: vk::DebugUtilsMessageTypeFlagsEXT,
-    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
-    user: *mut c_void,
-) -> vk::Bool32 {
-    if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
-        // SAFETY: the layer passes valid data for the call; `user` is the test's boxed `Errors`,
-        // alive until after the messenger is destroyed.
-        let (msg, errors) = unsafe {
-            let d = &*data;
-            let msg = if d.p_message.is_null() {
-                String::new()
-            } else {
-                CStr::from_ptr(d.p_message).to_string_lossy().into_owned()
-            };
-            (msg, &*(user as *const Errors))
-        };
-        eprintln!("[host's messenger] {msg}");
-        errors.0.lock().unwrap().push(msg);
-    }
-    vk::FALSE
-}
+// The host's messenger (from examples/embed.rs, a host too): it lives from instance creation to
+// destruction, so it also sees what happens after vgeo is gone.
+#[allow(dead_code)]
+#[path = "../examples/embed.rs"]
+mod example;
+use example::{Errors, on_message};
 
 /// The host's Vulkan objects.
 struct Host {
