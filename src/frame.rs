@@ -281,15 +281,17 @@ impl VgeoRenderer {
         self.vis_path
     }
 
-    /// A view's frame buffers and HZB at the renderer's capacities and the scene's instance
-    /// capacity.
+    /// A view's frame buffers (debug names prefixed with `view`, none for vgeo's own) and HZB at
+    /// the renderer's capacities and the scene's instance capacity.
     pub(crate) fn view_buffers(
         &self,
+        view: &str,
         width: u32,
         height: u32,
     ) -> GpuResult<(FrameBuffers, DepthPyramid)> {
-        let fb = FrameBuffers::new(
+        let fb = FrameBuffers::named(
             &self.ctx,
+            view,
             width,
             height,
             self.vis_path,
@@ -307,7 +309,7 @@ impl VgeoRenderer {
             .as_ref()
             .is_some_and(|f| f.width == width && f.height == height);
         if !ok {
-            let (fb, pyramid) = self.view_buffers(width, height)?;
+            let (fb, pyramid) = self.view_buffers("", width, height)?;
             self.pyramid = Some(pyramid);
             self.debug_view = Some(DebugView::new(&self.ctx, &fb)?);
             self.overdraw = None;

@@ -226,7 +226,7 @@ impl VgeoRenderer {
             .materials
             .as_ref()
             .ok_or_else(|| GpuError::Other("material passes missing".into()))?;
-        let (fb, pyramid) = self.view_buffers(width, height)?;
+        let (fb, pyramid) = self.view_buffers(name, width, height)?;
         let targets = m.new_targets(width, height)?;
         let host_depth =
             HostDepthBuffer::new(&self.ctx, &format!("{name} host depth"), width, height)?;
@@ -292,7 +292,7 @@ impl VgeoRenderer {
                 || view.fb.visible_capacity < self.visible_capacity
                 || view.fb.post_instances.size() < 4 * instances.max(1) as u64;
             if small {
-                (view.fb, view.pyramid) = self.view_buffers(w, h)?;
+                (view.fb, view.pyramid) = self.view_buffers(&view.name, w, h)?;
                 view.history = None;
             }
             if view.materials_epoch != epoch {

@@ -136,6 +136,38 @@ impl FrameBuffers {
         visible_capacity: u32,
         instance_count: u32,
     ) -> GpuResult<Self> {
+        Self::named(
+            ctx,
+            "",
+            width,
+            height,
+            path,
+            queue_capacity,
+            visible_capacity,
+            instance_count,
+        )
+    }
+
+    /// [`FrameBuffers::new`] for the view `view`: its buffers' debug names start with `view: `
+    /// (none for vgeo's own view, `""`), so a capture of several views tells them apart.
+    #[allow(clippy::too_many_arguments)]
+    pub fn named(
+        ctx: &Context,
+        view: &str,
+        width: u32,
+        height: u32,
+        path: VisPath,
+        queue_capacity: u32,
+        visible_capacity: u32,
+        instance_count: u32,
+    ) -> GpuResult<Self> {
+        let n = |base: &str| {
+            if view.is_empty() {
+                base.to_string()
+            } else {
+                format!("{view}: {base}")
+            }
+        };
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let dst = vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
         let gpu = |name: &str, size: u64, extra: vk::BufferUsageFlags| {
@@ -143,13 +175,13 @@ impl FrameBuffers {
         };
         let visbuffer = match path {
             VisPath::Buffer => VisBuffer::Buffer(gpu(
-                "visbuffer",
+                &n("visbuffer"),
                 8 * width as u64 * height as u64,
                 vk::BufferUsageFlags::empty(),
             )?),
             VisPath::Image => VisBuffer::Image(Image::new(
                 ctx,
-                "visbuffer",
+                &n("visbuffer"),
                 width,
                 height,
                 vk::Format::R64_UINT,
@@ -163,77 +195,77 @@ impl FrameBuffers {
             height,
             view: Buffer::new(
                 ctx,
-                "view",
+                &n("view"),
                 size_of::<ViewGpu>() as u64,
                 vk::BufferUsageFlags::UNIFORM_BUFFER | storage | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryKind::Upload,
             )?,
             counters: gpu(
-                "cull counters",
+                &n("cull counters"),
                 size_of::<CullCounters>() as u64,
                 vk::BufferUsageFlags::INDIRECT_BUFFER,
             )?,
             queue: gpu(
-                "cull queue",
+                &n("cull queue"),
                 8 * queue_capacity as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             visible: gpu(
-                "visible clusters",
+                &n("visible clusters"),
                 8 * visible_capacity as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             sw_list: gpu(
-                "sw clusters",
+                &n("sw clusters"),
                 4 * visible_capacity as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             hw_list: gpu(
-                "hw clusters",
+                &n("hw clusters"),
                 4 * visible_capacity as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             visbuffer,
             counters_post: gpu(
-                "cull counters (post)",
+                &n("cull counters (post)"),
                 size_of::<CullCounters>() as u64,
                 vk::BufferUsageFlags::INDIRECT_BUFFER,
             )?,
             sw_list_post: gpu(
-                "sw clusters (post)",
+                &n("sw clusters (post)"),
                 4 * visible_capacity as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             hw_list_post: gpu(
-                "hw clusters (post)",
+                &n("hw clusters (post)"),
                 4 * visible_capacity as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             post_instances: gpu(
-                "post instances",
+                &n("post instances"),
                 4 * instance_count.max(1) as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             post_nodes: gpu(
-                "post nodes",
+                &n("post nodes"),
                 8 * queue_capacity as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             post_clusters: gpu(
-                "post clusters",
+                &n("post clusters"),
                 8 * visible_capacity as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             occ_main: Buffer::new(
                 ctx,
-                "occlusion (main)",
+                &n("occlusion (main)"),
                 size_of::<OcclusionGpu>() as u64,
                 vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryKind::Upload,
             )?,
             occ_post: Buffer::new(
                 ctx,
-                "occlusion (post)",
+                &n("occlusion (post)"),
                 size_of::<OcclusionGpu>() as u64,
                 vk::BufferUsageFlags::UNIFORM_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryKind::Upload,
