@@ -190,6 +190,53 @@ pub fn build_meshes(sources: &[String]) -> Result<Vec<BuiltMesh>> {
         .collect()
 }
 
+/// The device a host picks for vgeo: the first of the kind vgeo prefers (discrete first) with
+/// the API version and a queue family vgeo requires (`VGEO_DEVICE=<substring>` filters by name);
+/// the physical device and that queue family.
+pub fn pick_device(instance: &ash::Instance) -> Result<Option<(vk::PhysicalDevice, u32)>> {
+    let reqs = vgeo::requirements();
+    // SAFETY: queries on a valid instance.
+    let devices = unsafe { instance.enumerate_physical_devices() }?;
+    let filter = std::env::var("VGEO_DEVICE").ok().filter(|s| !s.is_empty());
+    let mut best: Option<(u32, vk::PhysicalDevice, u32)> = None;
+    for pd in devices {
+        // SAFETY: queries on a valid physical device.
+        let (props, families) = unsafe {
+            (
+                instance.get_physical_device_properties(pd),
+                instance.get_physical_device_queue_family_properties(pd),
+            )
+        };
+        let name = props
+            .device_name_as_c_str()
+            .map(|n| n.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        if filter
+            .as_ref()
+            .is_some_and(|f| !name.contains(&f.to_lowercase()))
+            || props.api_version < reqs.api_version
+        {
+            continue;
+        }
+        let Some(qf) = families
+            .iter()
+            .position(|q| q.queue_flags.contains(reqs.queue_flags))
+        else {
+            continue;
+        };
+        let rank = match props.device_type {
+            vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+            vk::PhysicalDeviceType::CPU => 3,
+            _ => 2,
+        };
+        if best.is_none_or(|b| rank < b.0) {
+            best = Some((rank, pd, qf as u32));
+        }
+    }
+    Ok(best.map(|(_, pd, qf)| (pd, qf)))
+}
+
 /// Validation errors a host's debug messenger saw (`on_message` is its callback, with a boxed
 /// `Errors` as user data, alive until after the messenger is destroyed).
 pub struct Errors(pub Mutex<Vec<String>>);
@@ -318,48 +365,8 @@ impl Host {
         } else {
             None
         };
-        // The device: the first of a kind vgeo prefers (discrete first) with a graphics+compute queue.
-        // SAFETY: queries on a valid instance.
-        let devices = unsafe { instance.enumerate_physical_devices() }?;
-        let filter = std::env::var("VGEO_DEVICE").ok().filter(|s| !s.is_empty());
-        let mut best: Option<(u32, vk::PhysicalDevice, u32)> = None;
-        for pd in devices {
-            // SAFETY: queries on a valid physical device.
-            let (props, families) = unsafe {
-                (
-                    instance.get_physical_device_properties(pd),
-                    instance.get_physical_device_queue_family_properties(pd),
-                )
-            };
-            let name = props
-                .device_name_as_c_str()
-                .map(|n| n.to_string_lossy().to_lowercase())
-                .unwrap_or_default();
-            if filter
-                .as_ref()
-                .is_some_and(|f| !name.contains(&f.to_lowercase()))
-                || props.api_version < reqs.api_version
-            {
-                continue;
-            }
-            let Some(qf) = families
-                .iter()
-                .position(|q| q.queue_flags.contains(reqs.queue_flags))
-            else {
-                continue;
-            };
-            let rank = match props.device_type {
-                vk::PhysicalDeviceType::DISCRETE_GPU => 0,
-                vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
-                vk::PhysicalDeviceType::CPU => 3,
-                _ => 2,
-            };
-            if best.is_none_or(|b| rank < b.0) {
-                best = Some((rank, pd, qf as u32));
-            }
-        }
-        let (_, physical, queue_family) =
-            best.ok_or_else(|| anyhow!("no Vulkan {}.x device", 1))?;
+        let (physical, queue_family) =
+            pick_device(&instance)?.ok_or_else(|| anyhow!("no Vulkan 1.2 device"))?;
         // What vgeo needs (and the optional parts the device has), plus what the host itself uses
         // (dynamic rendering and synchronization2 are among vgeo's requirements already).
         let extensions = device_extensions_for_vgeo(&instance, physical)?;

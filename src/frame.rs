@@ -378,6 +378,30 @@ impl VgeoRenderer {
         );
     }
 
+    /// The view uniform of `camera` with the renderer's instance count and capacities, and
+    /// `VIEW_FLAG_DIRECT_VISIBLE` when the visible list holds every (instance, cluster) pair.
+    pub(crate) fn view_of(
+        &self,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+    ) -> ViewGpu {
+        let mut settings = *settings;
+        if self.direct_visible() {
+            settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
+        }
+        view_gpu(
+            camera,
+            width,
+            height,
+            &settings,
+            self.scene.instance_count,
+            self.queue_capacity,
+            self.visible_capacity,
+        )
+    }
+
     /// Whether visible-list slots are assigned directly (deterministic): every (instance, cluster)
     /// pair of the scene fits the visible list.
     pub fn direct_visible(&self) -> bool {
@@ -393,19 +417,7 @@ impl VgeoRenderer {
     ) -> GpuResult<()> {
         self.follow_scene()?;
         self.frame_buffers(width, height)?;
-        let mut settings = *settings;
-        if self.direct_visible() {
-            settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
-        }
-        let view = view_gpu(
-            camera,
-            width,
-            height,
-            &settings,
-            self.scene.instance_count,
-            self.queue_capacity,
-            self.visible_capacity,
-        );
+        let view = self.view_of(camera, width, height, settings);
         let fb = self
             .fb
             .as_mut()
@@ -562,10 +574,6 @@ impl VgeoRenderer {
             .as_ref()
             .map(|p| p.levels.len() as u32)
             .unwrap_or(0);
-        let mut view_settings = settings;
-        if self.direct_visible() {
-            view_settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
-        }
         let fb = present(self.fb.as_ref(), "frame buffers")?;
         let materials = self.materials.as_ref().filter(|_| mode.is_material());
         // Per frame: view, occlusion of the main phase (the previous frame's) and of the post
@@ -578,15 +586,7 @@ impl VgeoRenderer {
                 (Some(h), true) => h,
                 _ => OcclusionGpu::default(),
             };
-            let view = view_gpu(
-                cam,
-                width,
-                height,
-                &view_settings,
-                self.scene.instance_count,
-                self.queue_capacity,
-                self.visible_capacity,
-            );
+            let view = self.view_of(cam, width, height, &settings);
             let mview = match (shade, materials) {
                 (Some(sm), Some(m)) => Some(m.view_for(fb, cam, light.direction, sm)?),
                 _ => None,

@@ -70,44 +70,9 @@ impl Host {
             .user_data(&*errors as *const Errors as *mut c_void);
         // SAFETY: `errors` is boxed and outlives the messenger.
         let messenger = unsafe { debug.create_debug_utils_messenger(&ci, None) }.unwrap();
-        // SAFETY: queries on a valid instance.
-        let devices = unsafe { instance.enumerate_physical_devices() }.unwrap();
-        let filter = std::env::var("VGEO_DEVICE").ok().filter(|s| !s.is_empty());
-        let mut best: Option<(u32, vk::PhysicalDevice, u32)> = None;
-        for pd in devices {
-            // SAFETY: queries on a valid physical device.
-            let (props, families) = unsafe {
-                (
-                    instance.get_physical_device_properties(pd),
-                    instance.get_physical_device_queue_family_properties(pd),
-                )
-            };
-            let name = props.device_name_as_c_str().unwrap().to_string_lossy();
-            if filter
-                .as_ref()
-                .is_some_and(|f| !name.to_lowercase().contains(&f.to_lowercase()))
-                || props.api_version < vk::API_VERSION_1_2
-            {
-                continue;
-            }
-            let Some(qf) = families
-                .iter()
-                .position(|q| q.queue_flags.contains(requirements().queue_flags))
-            else {
-                continue;
-            };
-            let rank = match props.device_type {
-                vk::PhysicalDeviceType::DISCRETE_GPU => 0,
-                vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
-                vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
-                vk::PhysicalDeviceType::CPU => 3,
-                _ => 4,
-            };
-            if best.is_none_or(|b| rank < b.0) {
-                best = Some((rank, pd, qf as u32));
-            }
-        }
-        let (_, physical, queue_family) = best.expect("a Vulkan 1.2 device");
+        let (physical, queue_family) = example::pick_device(&instance)
+            .unwrap()
+            .expect("a Vulkan 1.2 device");
         Host {
             entry,
             instance,

@@ -38,11 +38,9 @@ use crate::passes::depth_pyramid::DepthPyramid;
 use crate::passes::material_classify::MaterialTargets;
 use crate::passes::materials::MaterialOutput;
 use crate::passes::shade::{ALBEDO_FORMAT, NORMAL_FORMAT, OUTPUT_FORMAT, PARAMS_FORMAT};
-use crate::passes::view::{FrameSettings, view_gpu};
+use crate::passes::view::FrameSettings;
 use crate::render::Light;
-use crate::shared::{
-    CullCounters, OcclusionGpu, SHADE_FLAG_COVERED_ONLY, VIEW_FLAG_DIRECT_VISIBLE,
-};
+use crate::shared::{CullCounters, OcclusionGpu, SHADE_FLAG_COVERED_ONLY};
 
 /// Default number of frames in flight.
 pub const DEFAULT_FRAMES_IN_FLIGHT: u32 = 2;
@@ -419,10 +417,7 @@ impl VgeoRenderer {
             ]
         });
 
-        let mut settings = frame.settings;
-        if self.direct_visible() {
-            settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
-        }
+        let settings = frame.settings;
         let cam = frame.camera;
         let levels = view.pyramid.levels.len() as u32;
         let current = occlusion_of(cam, width, height, levels, settings.occlusion);
@@ -442,15 +437,7 @@ impl VgeoRenderer {
             v
         });
         let data = FrameData {
-            view: view_gpu(
-                cam,
-                width,
-                height,
-                &settings,
-                self.scene.instance_count,
-                self.queue_capacity,
-                self.visible_capacity,
-            ),
+            view: self.view_of(cam, width, height, &settings),
             main,
             current,
             mview,
