@@ -60,6 +60,10 @@ pub use report::{
 /// The benchmark scenes with a scene file of their own, in run order (`stress` comes last).
 pub const SCENES: [&str; 4] = ["outdoor", "indoor", "foliage", "drawcalls"];
 
+/// Scenes `--scenes` may name besides [`SCENES`], not in the suites: `demo`, what `vgeo` with no
+/// arguments renders (so its speed comes with its error).
+pub const EXTRA_SCENES: [&str; 1] = ["demo"];
+
 /// Default `--reference-spp`: 4 x 4 samples per pixel.
 pub const DEFAULT_REFERENCE_SPP: u32 = 16;
 
@@ -190,7 +194,8 @@ pub struct BenchArgs {
     /// Folder with the scene files (default: assets/scenes here, else in the source tree).
     #[arg(long)]
     pub scenes_dir: Option<PathBuf>,
-    /// Scenes to run, comma-separated (outdoor, indoor, foliage, drawcalls, stress); default all.
+    /// Scenes to run, comma-separated (outdoor, indoor, foliage, drawcalls, stress; also demo, the
+    /// first-run scene, only when named); default the four and stress.
     #[arg(long, value_delimiter = ',')]
     pub scenes: Option<Vec<String>>,
     /// Stress grid sizes N, comma-separated (N x N x N instances), instead of the suite's.
@@ -247,12 +252,13 @@ impl BenchArgs {
             s.stress = names.iter().any(|n| n == "stress");
             s.scenes = Vec::new();
             for n in names {
-                if SCENES.contains(&n.as_str()) {
+                if SCENES.contains(&n.as_str()) || EXTRA_SCENES.contains(&n.as_str()) {
                     s.scenes.push(n.clone());
                 } else if n != "stress" {
                     bail!(
-                        "unknown scene `{n}` in --scenes (available: {}, stress)",
-                        SCENES.join(", ")
+                        "unknown scene `{n}` in --scenes (available: {}, {}, stress)",
+                        SCENES.join(", "),
+                        EXTRA_SCENES.join(", ")
                     );
                 }
             }
@@ -480,6 +486,26 @@ pub fn run_bench(args: &BenchArgs) -> Result<()> {
 mod tests {
     use super::*;
     use crate::imgerr::{ImageError, psnr};
+
+    /// `--scenes` takes the demo when named, not by default, and refuses unknown names.
+    #[test]
+    fn scenes_name_the_demo_only_when_asked() {
+        #[derive(clap::Parser)]
+        struct Cli {
+            #[command(flatten)]
+            bench: BenchArgs,
+        }
+        use clap::Parser as _;
+        let parse = |args: &[&str]| {
+            let mut v = vec!["bench"];
+            v.extend_from_slice(args);
+            Cli::try_parse_from(v).unwrap().bench.settings()
+        };
+        let s = parse(&["--scenes", "demo,outdoor"]).unwrap();
+        assert_eq!(s.scenes, ["demo", "outdoor"]);
+        assert!(!parse(&[]).unwrap().scenes.iter().any(|n| n == "demo"));
+        assert!(parse(&["--scenes", "dmeo"]).is_err());
+    }
 
     /// A record of `mode` at `e` px with `gpu_ms` and lit-image `mse` against the reference.
     fn record(mode: &str, e: Option<f32>, gpu_ms: f64, mse: f64) -> FrameRecord {
