@@ -85,8 +85,8 @@ pub struct Output {
 
 /// The host's colour format and the background it clears to (vgeo's, sRGB-encoded, so a frame
 /// where the host draws nothing equals `vgeo render`).
-const COLOR_FORMAT: vk::Format = vgeo::frame::HOST_COLOR_FORMAT;
-const DEPTH_FORMAT: vk::Format = vgeo::frame::HOST_DEPTH_FORMAT;
+const COLOR_FORMAT: vk::Format = vgeo::HOST_COLOR_FORMAT;
+const DEPTH_FORMAT: vk::Format = vgeo::HOST_DEPTH_FORMAT;
 
 /// The host's triangles: world-space corners and a flat colour each. The first is drawn before
 /// vgeo's frame (it occludes vgeo's geometry through the depth it leaves), the second after (vgeo's
@@ -176,16 +176,15 @@ pub fn build_meshes(sources: &[String]) -> Result<Vec<BuiltMesh>> {
         .iter()
         .map(|s| {
             let mesh = match s.strip_prefix("generated:") {
-                Some(name) => vgeo::scene::generated::generated_mesh(name)
+                Some(name) => vgeo::generated_mesh(name)
                     .ok_or_else(|| anyhow!("unknown generated mesh {name}"))?,
-                None => {
-                    vgeo::mesh::load_mesh(Path::new(s))
+                None => vgeo::merge_meshes(
+                    vgeo::load_mesh(Path::new(s), &vgeo::ImportOptions::default())
                         .with_context(|| format!("loading {s}"))?
-                        .0
-                }
+                        .meshes,
+                ),
             };
-            vgeo::builder::build(&mesh, &BuildOptions::default())
-                .map_err(|e| anyhow!("building {s}: {e}"))
+            vgeo::build(&mesh, &BuildOptions::default()).map_err(|e| anyhow!("building {s}: {e}"))
         })
         .collect()
 }
@@ -758,7 +757,7 @@ pub fn run(opts: &Options) -> Result<Output> {
         .map(|j| renderer.scene.instance_handle(j))
         .collect::<Option<Vec<_>>>()
         .ok_or_else(|| anyhow!("an instance without a handle"))?;
-    let bg = vgeo::render::BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
+    let bg = vgeo::BACKGROUND.map(|c| c.clamp(0.0, 1.0).powf(1.0 / 2.2));
     let tris = host_triangles();
     let mut stats_frames = 0;
     let mut last_triangles = 0;

@@ -99,12 +99,12 @@ fn main() -> anyhow::Result<()> {
     };
     // No crease splitting (180 degrees): a vertex split at a crease would get two different
     // midpoints on its edges, opening cracks.
-    let import = vgeo::mesh::ImportOptions {
+    let import = vgeo::ImportOptions {
         crease_deg: 180.0,
         ..Default::default()
     };
-    let meshes = vgeo::build_files::load_input(std::path::Path::new(input), &import)?;
-    let mesh = vgeo::mesh::merge(meshes);
+    let meshes = vgeo::load_meshes(std::path::Path::new(input), &import)?;
+    let mesh = vgeo::merge_meshes(meshes);
     let mut p = mesh.positions.clone();
     let mut idx = mesh.indices.clone();
     for _ in 0..levels {

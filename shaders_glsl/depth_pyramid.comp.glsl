@@ -1,13 +1,18 @@
 #version 460
-// Pass `depth_pyramid`: one level of the hierarchical depth buffer (HZB) per dispatch. Level 0
-// reduces the visibility buffer's depth 2x2, each further level the previous one. Each texel keeps
-// the FARTHEST depth below it (reverse-Z: the minimum); empty pixels have depth 0, i.e. infinitely
-// far, so they never occlude. Texels outside the source are ignored.
+// Pass `depth_pyramid`: the hierarchical depth buffer (HZB) in two dispatches, whatever the frame
+// size. Each texel keeps the FARTHEST depth below it (reverse-Z: the minimum); empty pixels have
+// depth 0, i.e. infinitely far, so they never occlude; texels outside a level's source are neutral
+// (1.0). Level 0 is half the frame (see depth_pyramid.rs, hzb_levels).
+//
+// Dispatch `head` (pc.tail == 0): one workgroup of 16x16 (HZB_GROUP) per 32x32 texels of level 0
+// (64x64 pixels) reduces them through levels 0..5 (HZB_HEAD_LEVELS) in registers and shared memory.
+// Dispatch `tail` (pc.tail == 1, only when there are more levels): one workgroup makes the rest
+// from level HZB_HEAD_LEVELS-1, level by level through the buffer.
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
 
-layout(local_size_x = TILE_WORKGROUP_SIZE, local_size_y = TILE_WORKGROUP_SIZE) in;
+layout(local_size_x = HZB_GROUP, local_size_y = HZB_GROUP) in;
 
 #ifdef VISBUFFER_IMAGE
 #extension GL_EXT_shader_image_int64 : require
@@ -15,41 +20,130 @@ layout(set = 0, binding = 0, r64ui) uniform readonly u64image2D vis_image;
 #else
 layout(set = 0, binding = 0) readonly buffer Vis { uint64_t vis[]; };
 #endif
-layout(set = 0, binding = 1) buffer Hzb { float hzb[]; };
+layout(set = 0, binding = 1) coherent buffer Hzb { float hzb[]; };
 
 layout(push_constant) uniform Push {
-    uint src_offset;
-    uint src_w;
-    uint src_h;
-    uint dst_offset;
-    uint dst_w;
-    uint dst_h;
-    uint from_visbuffer;
-    uint _pad;
+    uint width;   // the frame
+    uint height;
+    uint levels;  // levels in the HZB
+    uint tail;    // 0: head dispatch, 1: tail dispatch
 } pc;
 
-float src_depth(uint x, uint y) {
-    if (x >= pc.src_w || y >= pc.src_h) {
+shared float s16[16][16];
+shared float s8[8][8];
+shared float s4[4][4];
+shared float s2[2][2];
+
+// Size of level k and the offset of its first texel (levels one after another).
+uvec3 level_of(uint k) {
+    uint w = (pc.width + 1u) / 2u;
+    uint h = (pc.height + 1u) / 2u;
+    uint offset = 0u;
+    for (uint i = 0u; i < k; i++) {
+        offset += w * h;
+        w = (w + 1u) / 2u;
+        h = (h + 1u) / 2u;
+    }
+    return uvec3(max(w, 1u), max(h, 1u), offset);
+}
+
+float pixel_depth(uint x, uint y) {
+    if (x >= pc.width || y >= pc.height) {
         return 1.0;  // neutral for min
     }
-    if (pc.from_visbuffer != 0u) {
 #ifdef VISBUFFER_IMAGE
-        uint64_t v = imageLoad(vis_image, ivec2(x, y)).x;
+    uint64_t v = imageLoad(vis_image, ivec2(x, y)).x;
 #else
-        uint64_t v = vis[y * pc.src_w + x];
+    uint64_t v = vis[y * pc.width + x];
 #endif
-        return uintBitsToFloat(uint(v >> 32));
+    return uintBitsToFloat(uint(v >> 32));
+}
+
+// Level 0 texel (x, y): the farthest of its 2x2 pixels.
+float level0(uint x, uint y) {
+    return min(min(pixel_depth(2u * x, 2u * y), pixel_depth(2u * x + 1u, 2u * y)),
+               min(pixel_depth(2u * x, 2u * y + 1u), pixel_depth(2u * x + 1u, 2u * y + 1u)));
+}
+
+void store(uint k, uvec3 level, uvec2 p, float d) {
+    if (k < pc.levels && p.x < level.x && p.y < level.y) {
+        hzb[level.z + p.y * level.x + p.x] = d;
     }
-    return hzb[pc.src_offset + y * pc.src_w + x];
+}
+
+void head() {
+    uvec2 t = gl_LocalInvocationID.xy;
+    uvec2 g = gl_WorkGroupID.xy;
+    // Level 0: this thread's 2x2 texels; level 1: their minimum. A texel outside a level has
+    // only sources outside the level below, so it comes out neutral by itself.
+    uvec3 l0 = level_of(0u);
+    uvec2 base = 32u * g + 2u * t;
+    float a = level0(base.x, base.y);
+    float b = level0(base.x + 1u, base.y);
+    float c = level0(base.x, base.y + 1u);
+    float d = level0(base.x + 1u, base.y + 1u);
+    store(0u, l0, base, a);
+    store(0u, l0, base + uvec2(1u, 0u), b);
+    store(0u, l0, base + uvec2(0u, 1u), c);
+    store(0u, l0, base + uvec2(1u, 1u), d);
+    float m = min(min(a, b), min(c, d));
+    store(1u, level_of(1u), 16u * g + t, m);
+    s16[t.y][t.x] = m;
+    barrier();
+    if (t.x < 8u && t.y < 8u) {
+        m = min(min(s16[2u * t.y][2u * t.x], s16[2u * t.y][2u * t.x + 1u]),
+                min(s16[2u * t.y + 1u][2u * t.x], s16[2u * t.y + 1u][2u * t.x + 1u]));
+        store(2u, level_of(2u), 8u * g + t, m);
+        s8[t.y][t.x] = m;
+    }
+    barrier();
+    if (t.x < 4u && t.y < 4u) {
+        m = min(min(s8[2u * t.y][2u * t.x], s8[2u * t.y][2u * t.x + 1u]),
+                min(s8[2u * t.y + 1u][2u * t.x], s8[2u * t.y + 1u][2u * t.x + 1u]));
+        store(3u, level_of(3u), 4u * g + t, m);
+        s4[t.y][t.x] = m;
+    }
+    barrier();
+    if (t.x < 2u && t.y < 2u) {
+        m = min(min(s4[2u * t.y][2u * t.x], s4[2u * t.y][2u * t.x + 1u]),
+                min(s4[2u * t.y + 1u][2u * t.x], s4[2u * t.y + 1u][2u * t.x + 1u]));
+        store(4u, level_of(4u), 2u * g + t, m);
+        s2[t.y][t.x] = m;
+    }
+    barrier();
+    if (t.x == 0u && t.y == 0u) {
+        m = min(min(s2[0][0], s2[0][1]), min(s2[1][0], s2[1][1]));
+        store(5u, level_of(5u), g, m);
+    }
+}
+
+void tail() {
+    uint lid = gl_LocalInvocationIndex;
+    uvec3 src = level_of(HZB_HEAD_LEVELS - 1u);
+    for (uint k = HZB_HEAD_LEVELS; k < pc.levels; k++) {
+        uvec3 dst = level_of(k);
+        for (uint i = lid; i < dst.x * dst.y; i += HZB_GROUP * HZB_GROUP) {
+            uvec2 p = uvec2(i % dst.x, i / dst.x);
+            float d = 1.0;
+            for (uint j = 0u; j < 4u; j++) {
+                uvec2 q = 2u * p + uvec2(j & 1u, j >> 1u);
+                if (q.x < src.x && q.y < src.y) {
+                    d = min(d, hzb[src.z + q.y * src.x + q.x]);
+                }
+            }
+            hzb[dst.z + i] = d;
+        }
+        // This level's texels, written by other invocations, are read for the next.
+        memoryBarrierBuffer();
+        barrier();
+        src = dst;
+    }
 }
 
 void main() {
-    uvec2 p = gl_GlobalInvocationID.xy;
-    if (p.x >= pc.dst_w || p.y >= pc.dst_h) {
-        return;
+    if (pc.tail == 0u) {
+        head();
+    } else {
+        tail();
     }
-    uint sx = 2u * p.x;
-    uint sy = 2u * p.y;
-    float d = min(min(src_depth(sx, sy), src_depth(sx + 1u, sy)), min(src_depth(sx, sy + 1u), src_depth(sx + 1u, sy + 1u)));
-    hzb[pc.dst_offset + p.y * pc.dst_w + p.x] = d;
 }

@@ -753,6 +753,16 @@ impl VgeoRenderer {
         }
     }
 
+    /// The HZB of vgeo's own view as the last frame left it (built from that frame's final
+    /// visibility buffer), every level one after another (`depth_pyramid::hzb_levels`); `None`
+    /// before the first frame. For tests.
+    pub fn hzb(&self) -> GpuResult<Option<Vec<f32>>> {
+        match &self.pyramid {
+            Some(p) => Ok(Some(bytemuck::pod_collect_to_vec(&p.hzb.download()?))),
+            None => Ok(None),
+        }
+    }
+
     /// Runs only the culling passes and reads back their results (tests compare them with the CPU cut).
     pub fn cull(
         &mut self,

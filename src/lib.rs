@@ -70,6 +70,12 @@
 //! [`Renderer::render`] renders, submits, waits and reads back one frame ([`VgeoFrame`]) in a
 //! [`ViewMode`]: the lit image or a debug view (clusters, LOD level, triangles, ...). This is what
 //! `vgeo render` does; [`RenderDoc`] captures such a frame (`vgeo render --capture`).
+//! [`LoadedScene`] reads a scene file (`.toml`) or a mesh, with its placements and light; the
+//! baselines vgeo is measured against take the same meshes and placements and give the same
+//! [`Frame`]: [`BruteRenderer`] (every triangle) and [`LodRenderer`] (discrete levels of detail).
+//! [`tools`] has the command line's workflows (build, verify, info, LOD strip, bench) as
+//! functions: the `vgeo` binary and the examples use nothing but this crate root
+//! (`tests/layers.rs` checks it).
 //!
 //! # Internals
 //!
@@ -122,7 +128,10 @@ pub mod shared;
 /// ash's Vulkan types, as vgeo uses them (the host's handles are these).
 pub use ash::vk;
 
-pub use builder::{BuildOptions, BuiltMesh, build};
+pub use baseline::brute::Brute as BruteRenderer;
+pub use baseline::lod::{Lod as LodRenderer, LodOptions};
+pub use build_files::load_input as load_meshes;
+pub use builder::{BuildOptions, BuiltMesh, Partitioner, VerifyOptions, build};
 pub use camera::Camera;
 pub use format::{load as load_vgeo, save as save_vgeo};
 pub use frame::{
@@ -134,11 +143,30 @@ pub use gpu::{
     device_extensions_for_vgeo, requirements,
 };
 pub use material::ShadeMode;
-pub use mesh::{ImportOptions, Mesh, load as load_mesh};
+pub use mesh::{ImportOptions, Mesh, load as load_mesh, merge as merge_meshes};
 pub use passes::debug_view::ViewMode;
+pub use passes::emit_gbuffer::EmitPath;
 pub use passes::view::FrameSettings;
-pub use render::{Light, Placement};
+pub use render::{BACKGROUND, Frame, Light, Placement};
+pub use scene::generated::generated_mesh;
+pub use scene::load::LoadedScene;
 pub use scene_gpu::{GpuScene, InstanceDesc, InstanceHandle, MeshHandle, SceneMemory};
+
+/// The command line's workflows as functions, for tools built on vgeo: `vgeo build` (plan,
+/// write, describe), `vgeo verify`, `vgeo info`, `vgeo render --lod-strip` and `vgeo bench`.
+/// The `vgeo` binary is made of these and the crate root's items.
+pub mod tools {
+    pub use crate::bench::{BenchArgs, run_bench};
+    pub use crate::build_files::{
+        BuildPlan, BuildRequest, describe, info_vgeo, plan_build, read_vgeo, verify_file,
+        write_vgeo,
+    };
+    pub use crate::builder::{VerifyReport, mesh_to_obj};
+    pub use crate::format::bytes_per_input_triangle;
+    pub use crate::lod_strip::{
+        LodPanel, LodStrip, LodStripError, LodStripOptions, render_file as render_lod_strip,
+    };
+}
 
 /// SPIR-V of every shader, embedded at build time (see build.rs).
 #[doc(hidden)]

@@ -37,7 +37,13 @@ pub enum LodStripError {
     Options(String),
     /// A panel's frame overflowed a capacity or hit the cull watchdog.
     #[error("lod strip panel {panel}: the frame is incomplete: {msg}")]
-    Incomplete { panel: u32, msg: String },
+    Incomplete {
+        /// The panel, from 0 at the left.
+        panel: u32,
+        /// What overflowed.
+        msg: String,
+    },
+    /// The GPU failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
 }
@@ -49,6 +55,7 @@ pub struct LodStripOptions {
     pub panels: u32,
     /// Size of one panel in pixels (the image is `panels * width` x `height`).
     pub width: u32,
+    /// Height of one panel in pixels.
     pub height: u32,
     /// LOD threshold in pixels of the unmagnified view (see the module documentation).
     pub error_px: f32,
@@ -118,8 +125,9 @@ pub struct LodPanel {
     pub camera: Camera,
     /// The threshold the panel was rendered with (`error_px * magnification`).
     pub error_px: f32,
-    /// Clusters and triangles drawn (both culling phases).
+    /// Clusters drawn (both culling phases).
     pub clusters: usize,
+    /// Triangles drawn (both culling phases).
     pub triangles: u64,
     /// The drawn `(instance, cluster)` pairs, sorted.
     pub visible: Vec<[u32; 2]>,
@@ -130,6 +138,7 @@ pub struct LodPanel {
 pub struct LodStrip {
     /// `panels * width` x `height`; `triangles` is the sum over the panels.
     pub frame: Frame,
+    /// What each panel shows, from the left.
     pub panels: Vec<LodPanel>,
 }
 

@@ -7,8 +7,9 @@ use std::process::ExitCode;
 
 use anyhow::{Context as _, Result};
 use clap::{Parser, Subcommand};
-use vgeo::scene::load::LoadedScene;
-use vgeo::{Context, ContextOptions, FrameSettings, Renderer as VgeoRenderer, ViewMode};
+use vgeo::{
+    Context, ContextOptions, FrameSettings, LoadedScene, Renderer as VgeoRenderer, ViewMode,
+};
 
 /// vgeo renders triangle scenes of any size at pixel-scale detail (Nanite-style cluster DAGs) on Vulkan.
 ///
@@ -40,7 +41,7 @@ enum Command {
     Build(cli::build::BuildArgs),
     /// Benchmark the scenes in the three modes (brute, lod, vgeo): speed, image error against a
     /// supersampled brute reference (--reference-spp), speed at equal error, scaling.
-    Bench(vgeo::bench::BenchArgs),
+    Bench(vgeo::tools::BenchArgs),
     /// Check a .vgeo file: DAG invariants and crack-free cuts for many views (non-zero exit on failure).
     Verify(cli::build::VerifyArgs),
     /// Without FILE: the Vulkan device, driver and the features vgeo uses. With a .vgeo FILE: its stats.
@@ -216,14 +217,14 @@ fn main() -> ExitCode {
         }),
         Some(Command::Render(a)) => render(&a),
         Some(Command::Build(a)) => cli::build::run_build(&a),
-        Some(Command::Bench(a)) => vgeo::bench::run_bench(&a),
+        Some(Command::Bench(a)) => vgeo::tools::run_bench(&a),
         Some(Command::Verify(a)) => match cli::build::run_verify(&a) {
             Ok(true) => Ok(()),
             Ok(false) => return ExitCode::FAILURE,
             Err(e) => Err(e),
         },
         Some(Command::Info { file: Some(f) }) => {
-            vgeo::build_files::info_vgeo(&f).map(|s| println!("{s}"))
+            vgeo::tools::info_vgeo(&f).map(|s| println!("{s}"))
         }
         Some(Command::Info { file: None }) => info(),
     };
@@ -301,14 +302,14 @@ fn render(a: &RenderArgs) -> Result<()> {
     })?;
     let flags = match a.raster.as_str() {
         "auto" => 0,
-        "sw" => vgeo::shared::VIEW_FLAG_FORCE_SW,
-        "hw" => vgeo::shared::VIEW_FLAG_FORCE_HW,
+        "sw" => FrameSettings::FORCE_SW,
+        "hw" => FrameSettings::FORCE_HW,
         other => anyhow::bail!("unknown --raster `{other}` (available: auto, sw, hw)"),
     };
     if a.frames == 0 {
         anyhow::bail!("--frames must be at least 1");
     }
-    let emit = vgeo::passes::emit_gbuffer::EmitPath::parse(&a.emit)
+    let emit = vgeo::EmitPath::parse(&a.emit)
         .with_context(|| format!("unknown --emit `{}` (available: compute, raster)", a.emit))?;
     if a.error_px.is_nan() || a.error_px < 0.0 || a.error_px.is_infinite() {
         anyhow::bail!("--error-px must be a finite number >= 0");
@@ -402,8 +403,8 @@ fn render(a: &RenderArgs) -> Result<()> {
     let (l, c) = (&loaded, &camera);
     let frame = match a.mode.as_str() {
         "lod" => {
-            let opts = vgeo::baseline::lod::LodOptions::default();
-            let lod = vgeo::baseline::lod::Lod::new(&ctx, &l.meshes(), &opts)?;
+            let opts = vgeo::LodOptions::default();
+            let lod = vgeo::LodRenderer::new(&ctx, &l.meshes(), &opts)?;
             lod.warnings()
                 .iter()
                 .for_each(|w| eprintln!("warning: {w}"));
@@ -413,7 +414,7 @@ fn render(a: &RenderArgs) -> Result<()> {
             })?
         }
         _ => {
-            let brute = vgeo::baseline::brute::Brute::new(&ctx, &l.meshes())?;
+            let brute = vgeo::BruteRenderer::new(&ctx, &l.meshes())?;
             brute
                 .warnings()
                 .iter()
@@ -430,7 +431,7 @@ fn render(a: &RenderArgs) -> Result<()> {
 fn lod_strip(a: &RenderArgs, flags: u32) -> Result<()> {
     let view = ViewMode::parse(&a.strip_view)
         .with_context(|| format!("unknown --strip-view `{}`", a.strip_view))?;
-    let opts = vgeo::lod_strip::LodStripOptions {
+    let opts = vgeo::tools::LodStripOptions {
         panels: a.panels,
         width: a.width,
         height: a.height,
@@ -440,7 +441,7 @@ fn lod_strip(a: &RenderArgs, flags: u32) -> Result<()> {
         view,
     };
     let ctx = context()?;
-    let strip = vgeo::lod_strip::render_file(&ctx, &a.input, &opts, &|l| eprintln!("{l}"))?;
+    let strip = vgeo::tools::render_lod_strip(&ctx, &a.input, &opts, &|l| eprintln!("{l}"))?;
     strip.frame.save_png(&a.out)?;
     println!("device:     {}", ctx.caps().device_name);
     println!(
@@ -463,7 +464,7 @@ fn finish(
     a: &RenderArgs,
     ctx: &Context,
     loaded: &LoadedScene,
-    frame: vgeo::render::Frame,
+    frame: vgeo::Frame,
     load_s: f64,
     summary: &[String],
     stats_lines: &[String],

@@ -27,6 +27,11 @@ pub const VISBUFFER_HOST: u32 = 0xffffffff;
 pub const SHADE_FLAG_COVERED_ONLY: u32 = 1;
 /// Workgroup size of simple 2D image passes.
 pub const TILE_WORKGROUP_SIZE: u32 = 8;
+/// `depth_pyramid`: one workgroup is HZB_GROUP x HZB_GROUP threads; its head dispatch reduces a
+/// tile of 2 * HZB_GROUP texels of level 0 square through the first HZB_HEAD_LEVELS levels.
+pub const HZB_GROUP: u32 = 16;
+/// `depth_pyramid`: levels the head dispatch makes (log2 of 2 * HZB_GROUP, plus one).
+pub const HZB_HEAD_LEVELS: u32 = 6;
 /// Threads of one `instance_cull` workgroup.
 pub const INSTANCE_CULL_WORKGROUP_SIZE: u32 = 64;
 /// Threads of one persistent `cluster_cull` workgroup (items popped per iteration).
@@ -60,6 +65,7 @@ pub const BVH_FLAG_LEAF: u32 = 1;
 /// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).
 pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
 // END SHADER CONSTANTS
+const _: () = assert!(2 * HZB_GROUP == 1 << (HZB_HEAD_LEVELS - 1));
 
 /// Per-frame uniforms of the classic (brute) path. All positions are camera-relative.
 #[repr(C)]

@@ -591,3 +591,56 @@ fn gpu_geometry_is_at_most_16_bytes_per_triangle_without_uvs() {
     assert_eq!(r.scene.uvs.size(), 4 * built.vertices.len() as u64);
     assert_no_validation_errors(&ctx);
 }
+
+#[test]
+fn the_hzb_equals_the_cpu_pyramid_of_the_visibility_buffer_at_any_size() {
+    use vgeo::passes::depth_pyramid::{hzb_levels, hzb_reference};
+    let ctx = gpu();
+    let (mesh, built) = load_built(&assets().join("spot.obj"));
+    let camera = filling_camera(&mesh, 1.2);
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one(0)).unwrap();
+    // One pixel; levels only in the head dispatch; a tail of several levels; a tail level larger
+    // than its one workgroup (2200x1950: level 6 is 18x16 texels).
+    for (w, h) in [
+        (1, 1),
+        (3, 2),
+        (63, 65),
+        (130, 67),
+        (517, 301),
+        (2200, 1950),
+    ] {
+        let f = r
+            .render(
+                &camera,
+                w,
+                h,
+                &FrameSettings::default(),
+                ViewMode::Lambert,
+                &Light::default(),
+            )
+            .unwrap();
+        f.check().unwrap();
+        let depth: Vec<f32> = f
+            .visbuffer
+            .iter()
+            .map(|v| f32::from_bits((v >> 32) as u32))
+            .collect();
+        assert!(
+            w < 8 || depth.iter().filter(|d| **d > 0.0).count() > (w * h / 8) as usize,
+            "{w}x{h}: the mesh covers the frame"
+        );
+        let gpu_hzb = r.hzb().unwrap().expect("an HZB after a frame");
+        let cpu_hzb = hzb_reference(&depth, w, h);
+        assert_eq!(gpu_hzb.len(), cpu_hzb.len(), "{w}x{h}: HZB size");
+        for (k, &(lw, lh, offset)) in hzb_levels(w, h).iter().enumerate() {
+            let range = offset as usize..(offset + lw * lh) as usize;
+            let differ = gpu_hzb[range.clone()]
+                .iter()
+                .zip(&cpu_hzb[range])
+                .filter(|(a, b)| a.to_bits() != b.to_bits())
+                .count();
+            assert_eq!(differ, 0, "{w}x{h}: level {k} ({lw}x{lh}) differs");
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}

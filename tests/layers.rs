@@ -223,6 +223,53 @@ fn references(src: &str, module_path: &[&str]) -> Vec<(String, usize)> {
     out
 }
 
+/// Paths into the library's internals in a client of the crate (the binary, the examples):
+/// `vgeo::m::...` (also in `use vgeo::{m::x, ...}` groups) where `m` is one of `modules`, with
+/// its line. The crate root's items (`vgeo::Renderer`, `vgeo::vk`) are the facade.
+fn internal_paths(src: &str, modules: &BTreeSet<String>) -> Vec<(String, usize)> {
+    let toks = tokens(src);
+    let mut out = Vec::new();
+    for i in 0..toks.len() {
+        let after_sep = i >= 2 && is_sep(&toks, i - 2);
+        if toks[i].0 == Tok::Ident("vgeo") && !after_sep && is_sep(&toks, i + 1) {
+            for s in first_segments(&toks, i + 3) {
+                // A group's item is a module only when a path follows it; `vgeo::x` alone is an
+                // item of the root. first_segments gives names, so check what follows each.
+                if modules.contains(s) && segment_continues(&toks, i + 3, s) {
+                    out.push((s.to_string(), toks[i].1));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Whether `name`, reached from `toks[i]` (an identifier or a `{...}` group), is followed by `::`.
+fn segment_continues(toks: &[(Tok<'_>, usize)], i: usize, name: &str) -> bool {
+    let end = match toks.get(i) {
+        Some((Tok::Punct('{'), _)) => {
+            let mut depth = 0usize;
+            let mut j = i;
+            while j < toks.len() {
+                match toks[j].0 {
+                    Tok::Punct('{') => depth += 1,
+                    Tok::Punct('}') => {
+                        depth -= 1;
+                        if depth == 0 {
+                            break;
+                        }
+                    }
+                    _ => {}
+                }
+                j += 1;
+            }
+            j
+        }
+        _ => i + 1,
+    };
+    (i..end.min(toks.len())).any(|j| toks[j].0 == Tok::Ident(name) && is_sep(toks, j + 1))
+}
+
 /// The strongly connected components of more than one node (or a node with an edge to itself):
 /// the import cycles (Tarjan).
 fn cycles(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
@@ -443,6 +490,54 @@ fn library_has_no_import_cycles_and_nothing_imports_bench_or_cli() {
         problems.is_empty(),
         "{}\n(graph: {graph:#?})",
         problems.join("\n")
+    );
+}
+
+#[test]
+fn the_binary_and_the_examples_use_only_the_crate_root() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read = |p: &Path| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{p:?}: {e}"));
+    let mut library = declared_modules(&read(&root.join("src/lib.rs")));
+    assert!(
+        library.contains("frame") && library.contains("gpu"),
+        "{library:?}"
+    );
+    // Part of the facade: the command line's workflows as functions.
+    assert!(library.remove("tools"), "lib.rs declares {library:?}");
+    let binary = declared_modules(&read(&root.join("src/main.rs")));
+    let mut files = vec![root.join("src/main.rs")];
+    for m in &binary {
+        for f in [format!("src/{m}.rs"), format!("src/{m}/mod.rs")] {
+            if root.join(&f).exists() {
+                files.push(root.join(f));
+            }
+        }
+        if root.join("src").join(m).is_dir() {
+            rust_files(&root.join("src").join(m), &mut files);
+        }
+    }
+    rust_files(&root.join("examples"), &mut files);
+    assert!(files.len() >= 3, "{files:?}");
+    let mut bad = Vec::new();
+    for f in &files {
+        for (m, line) in internal_paths(&read(f), &library) {
+            bad.push(format!("{}:{line}: vgeo::{m}::", f.display()));
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "the binary and the examples reach into the library's internals instead of its \
+         crate-root facade:\n{}",
+        bad.join("\n")
+    );
+    // The check sees such paths (a broken parser would pass anything).
+    let found = internal_paths(
+        "use vgeo::{Renderer, frame::View}; fn f() { vgeo::gpu::Context::new(); vgeo::Frame::x(); }",
+        &library,
+    );
+    assert_eq!(
+        found,
+        vec![("frame".to_string(), 1), ("gpu".to_string(), 1)]
     );
 }
 

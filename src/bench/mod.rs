@@ -43,9 +43,9 @@ use anyhow::{Context as _, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
-use crate::gpu::Context;
-use crate::passes::emit_gbuffer::EmitPath;
-use crate::passes::view::FrameSettings;
+use crate::Context;
+use crate::EmitPath;
+use crate::FrameSettings;
 use crate::scene::load::MeshCache;
 use error::{equal_error, summarize};
 use report::{git_commit, utc_now};
@@ -139,8 +139,9 @@ impl Suite {
 pub struct BenchSettings {
     /// The suite these settings started from.
     pub suite: Suite,
-    /// Image size in pixels.
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// Frames along each scene's camera path.
     pub frames: u32,

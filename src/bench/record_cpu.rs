@@ -11,13 +11,13 @@ use anyhow::{Context as _, Result};
 use glam::{DMat4, DVec3};
 use serde::Serialize;
 
-use crate::builder::{BuildOptions, BuiltMesh};
-use crate::camera::Camera;
-use crate::frame::{HostTargets, VgeoRenderer, ViewFrame};
-use crate::gpu::{Context, GpuError, RenderTarget};
-use crate::material::ShadeMode;
-use crate::passes::view::FrameSettings;
-use crate::render::{Light, Placement};
+use crate::Camera;
+use crate::FrameSettings;
+use crate::ShadeMode;
+use crate::gpu::{CmdCounts, Context, GpuError, RenderTarget};
+use crate::{BuildOptions, BuiltMesh};
+use crate::{HostTargets, Renderer as VgeoRenderer, ViewFrame};
+use crate::{Light, Placement};
 
 /// One measured configuration.
 #[derive(Clone, Debug, Serialize)]
@@ -36,6 +36,8 @@ pub struct RecordCpuRow {
     pub total_ms: f64,
     /// Frames measured (after warm-up).
     pub frames: u32,
+    /// Vulkan commands `record_cmd` recorded in the last frame, by kind.
+    pub commands: CmdCounts,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -101,6 +103,7 @@ pub fn measure(
         for &c in changed {
             let c = c.min(n);
             let (mut set_ms, mut upd_ms, mut rec_ms) = (Vec::new(), Vec::new(), Vec::new());
+            let mut commands = CmdCounts::default();
             for f in 0..frames + 3 {
                 let t0 = Instant::now();
                 for (j, &h) in handles.iter().take(c as usize).enumerate() {
@@ -141,9 +144,11 @@ pub fn measure(
                     res = r.update_scene_cmd(cmd, &mut [&mut view]);
                     t_upd = t1.elapsed().as_secs_f64() * 1e3;
                     if res.is_ok() {
+                        let before = *cmd.counts();
                         let t2 = Instant::now();
                         res = r.record_cmd(cmd, &mut view, &frame);
                         t_rec = t2.elapsed().as_secs_f64() * 1e3;
+                        commands = cmd.counts().since(&before);
                     }
                 })?;
                 res?;
@@ -164,6 +169,7 @@ pub fn measure(
                 record_ms: median(rec_ms),
                 total_ms: median(total),
                 frames,
+                commands,
             });
         }
     }
@@ -175,13 +181,29 @@ pub fn markdown(rows: &[RecordCpuRow], device: &str) -> String {
     let mut s = format!(
         "CPU ms per host frame (median), {device}: set_transform of the changed instances, \
          update_scene, record of one view\n\n\
-         | instances | changed | set_transform ms | update_scene ms | record ms | total ms |\n\
-         |---|---|---|---|---|---|\n"
+         | instances | changed | set_transform ms | update_scene ms | record ms | total ms | commands recorded |\n\
+         |---|---|---|---|---|---|---|\n"
     );
     for r in rows {
+        let c = &r.commands;
         s.push_str(&format!(
-            "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} |\n",
-            r.instances, r.changed, r.set_transform_ms, r.update_ms, r.record_ms, r.total_ms
+            "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {} ({} barriers, {} dispatches, {} draws, \
+             {} bindings, {} transfers, {} labels, {} timestamps, {} other) |\n",
+            r.instances,
+            r.changed,
+            r.set_transform_ms,
+            r.update_ms,
+            r.record_ms,
+            r.total_ms,
+            c.total(),
+            c.barriers,
+            c.dispatches,
+            c.draws,
+            c.bindings,
+            c.transfers,
+            c.labels,
+            c.timestamps,
+            c.other
         ));
     }
     s

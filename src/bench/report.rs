@@ -7,8 +7,8 @@ use anyhow::{Context as _, Result};
 use serde::Serialize;
 
 use super::{BenchSettings, MODES};
+use crate::Frame;
 use crate::imgerr::ImageError;
-use crate::render::Frame;
 
 /// One measured render.
 #[derive(Clone, Debug, Serialize)]

@@ -10,11 +10,11 @@ use glam::{DMat4, DVec3, Vec3};
 
 use super::BenchSettings;
 use super::report::SceneInfo;
-use crate::camera::Camera;
-use crate::mesh::Mesh;
-use crate::render::{Light, Placement};
+use crate::Camera;
+use crate::Mesh;
 use crate::scene::Scene;
 use crate::scene::load::{LoadedScene, MeshCache, PreparedMesh, thin, triangles_of};
+use crate::{Light, Placement};
 
 /// A scene ready to render: meshes (prepared through the run's [`MeshCache`]), placements and
 /// the cameras of its path.

@@ -11,15 +11,15 @@ use indicatif::ProgressBar;
 use super::BenchSettings;
 use super::report::{BenchReport, FrameRecord, MemoryRecord, Skipped};
 use super::scenes::BenchScene;
-use crate::baseline::brute::Brute;
-use crate::baseline::lod::{Lod, LodOptions};
-use crate::camera::Camera;
-use crate::frame::VgeoRenderer;
-use crate::gpu::Context;
+use crate::BruteRenderer as Brute;
+use crate::Camera;
+use crate::Context;
+use crate::Frame;
+use crate::FrameSettings;
+use crate::Renderer as VgeoRenderer;
+use crate::ViewMode;
 use crate::imgerr::{Reference, image_error};
-use crate::passes::debug_view::ViewMode;
-use crate::passes::view::FrameSettings;
-use crate::render::Frame;
+use crate::{LodOptions, LodRenderer as Lod};
 
 /// The memory a mode holds for a scene: (geometry bytes, instance bytes).
 type Memory = (u64, u64);

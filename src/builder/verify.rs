@@ -43,8 +43,9 @@ pub struct VerifyReport {
     pub violation_count: usize,
     /// Views whose cut was tested.
     pub views_tested: usize,
-    /// Smallest and largest cut (triangles) over the tested views.
+    /// Smallest cut (triangles) over the tested views.
     pub cut_triangles_min: usize,
+    /// Largest cut (triangles) over the tested views.
     pub cut_triangles_max: usize,
     /// Cut edges accepted as simplified open borders (both ends on the input's open border).
     pub border_edges_accepted: usize,

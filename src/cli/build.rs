@@ -1,14 +1,13 @@
 //! `vgeo build`, `vgeo verify`: the arguments, progress and printing around
-//! [`vgeo::build_files`], which does the work.
+//! [`vgeo::tools`], which does the work.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
 use clap::Args;
-use vgeo::build_files::{self, BuildRequest, describe};
-use vgeo::builder::{self, BuildOptions, VerifyOptions};
-use vgeo::mesh::ImportOptions;
+use vgeo::tools::{self as build_files, BuildRequest, describe};
+use vgeo::{BuildOptions, ImportOptions, Partitioner, VerifyOptions};
 
 /// `vgeo build IN -o OUT.vgeo`: builds the cluster DAG of a mesh, or of every mesh of a scene.
 #[derive(Args, Debug, Clone)]
@@ -56,15 +55,15 @@ pub struct BuildArgs {
     /// Crease angle (degrees) of the normals generated for meshes that have none: faces meeting
     /// at a sharper angle are shaded flat apart (their vertices split, and the split kept at every
     /// level of detail); 180 shades smoothly everywhere.
-    #[arg(long = "crease-deg", default_value_t = vgeo::mesh::normals::DEFAULT_CREASE_DEG)]
+    #[arg(long = "crease-deg", default_value_t = ImportOptions::default().crease_deg)]
     pub crease_deg: f32,
     /// Weight of the vertex normal in the simplification error (0: position only): a normal
     /// turning by A radians across a region of size S counts like moving the surface by
     /// WEIGHT * A * S, so shading that would visibly change is refined like geometry.
-    #[arg(long = "normal-weight", default_value_t = builder::DEFAULT_NORMAL_WEIGHT)]
+    #[arg(long = "normal-weight", default_value_t = BuildOptions::default().normal_weight)]
     pub normal_weight: f32,
     /// Weight of the UV in the simplification error (meshes with UVs; 0: ignore UVs).
-    #[arg(long = "uv-weight", default_value_t = builder::DEFAULT_UV_WEIGHT)]
+    #[arg(long = "uv-weight", default_value_t = BuildOptions::default().uv_weight)]
     pub uv_weight: f32,
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long = "threads")]
@@ -110,9 +109,9 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         uv_weight: a.uv_weight,
         threads: a.threads,
         partitioner: match a.partitioner.as_str() {
-            "metis" => builder::Partitioner::Metis,
-            "meshopt-flex" => builder::Partitioner::MeshoptFlex,
-            _ => builder::Partitioner::Meshopt,
+            "metis" => Partitioner::Metis,
+            "meshopt-flex" => Partitioner::MeshoptFlex,
+            _ => Partitioner::Meshopt,
         },
     };
     let req = BuildRequest {
@@ -161,7 +160,7 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         let len = build_files::write_vgeo(&built, out)?;
         if let Some(obj) = &a.fallback_out {
             let fb = built.fallback_mesh(a.fallback_triangles);
-            std::fs::write(obj, builder::mesh_to_obj(&fb))
+            std::fs::write(obj, build_files::mesh_to_obj(&fb))
                 .with_context(|| format!("writing {}", obj.display()))?;
         }
         let tps = built.stats.input_triangles as f64 / secs.max(1e-9);
@@ -169,7 +168,7 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
             reports.push(serde_json::json!({
                 "input": job.input, "output": out, "seconds": secs, "triangles_per_second": tps,
                 "bytes": len,
-                "bytes_per_input_triangle": vgeo::format::bytes_per_input_triangle(len, &built),
+                "bytes_per_input_triangle": build_files::bytes_per_input_triangle(len, &built),
                 "stats": built.stats,
             }));
         } else {

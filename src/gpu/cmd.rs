@@ -80,11 +80,62 @@ pub struct RenderTarget<'a> {
     pub clear: Option<[f32; 4]>,
 }
 
+/// How many Vulkan commands a [`Cmd`] recorded, by kind: what a frame costs the driver on the
+/// CPU (`vgeo bench --record-cpu` reports it beside the time).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct CmdCounts {
+    /// `vkCmdPipelineBarrier2` (global barriers and image transitions).
+    pub barriers: u32,
+    /// Direct and indirect dispatches.
+    pub dispatches: u32,
+    /// Direct and indirect draws.
+    pub draws: u32,
+    /// Pipeline binds, descriptor pushes and binds, push constants, vertex and index buffers.
+    pub bindings: u32,
+    /// Copies, fills, buffer updates and clears.
+    pub transfers: u32,
+    /// Debug label begins and ends.
+    pub labels: u32,
+    /// Timestamp writes and query-pool resets.
+    pub timestamps: u32,
+    /// Rendering begins and ends, viewport and scissor.
+    pub other: u32,
+}
+
+impl CmdCounts {
+    /// The commands recorded after `earlier` (a snapshot of the same recorder).
+    pub fn since(&self, earlier: &CmdCounts) -> CmdCounts {
+        CmdCounts {
+            barriers: self.barriers - earlier.barriers,
+            dispatches: self.dispatches - earlier.dispatches,
+            draws: self.draws - earlier.draws,
+            bindings: self.bindings - earlier.bindings,
+            transfers: self.transfers - earlier.transfers,
+            labels: self.labels - earlier.labels,
+            timestamps: self.timestamps - earlier.timestamps,
+            other: self.other - earlier.other,
+        }
+    }
+
+    /// All commands.
+    pub fn total(&self) -> u32 {
+        self.barriers
+            + self.dispatches
+            + self.draws
+            + self.bindings
+            + self.transfers
+            + self.labels
+            + self.timestamps
+            + self.other
+    }
+}
+
 /// Records commands into one command buffer. Created by [`Context::submit_and_wait`].
 pub struct Cmd {
     ctx: Context,
     cb: vk::CommandBuffer,
     open_labels: u32,
+    counts: CmdCounts,
 }
 
 fn layout_access(layout: vk::ImageLayout) -> (vk::PipelineStageFlags2, vk::AccessFlags2) {
@@ -115,6 +166,7 @@ impl Cmd {
             ctx,
             cb,
             open_labels: 0,
+            counts: CmdCounts::default(),
         }
     }
 
@@ -122,6 +174,11 @@ impl Cmd {
         while self.open_labels > 0 {
             self.end_label();
         }
+    }
+
+    /// The commands recorded so far, by kind (see [`CmdCounts`]).
+    pub fn counts(&mut self) -> &mut CmdCounts {
+        &mut self.counts
     }
 
     pub(crate) fn raw(&self) -> vk::CommandBuffer {
@@ -162,6 +219,7 @@ impl Cmd {
             let label = vk::DebugUtilsLabelEXT::default()
                 .label_name(c)
                 .color([0.3, 0.6, 0.9, 1.0]);
+            self.counts.labels += 1;
             // SAFETY: the command buffer is recording.
             unsafe { d.cmd_begin_debug_utils_label(self.cb, &label) };
             self.open_labels += 1;
@@ -173,6 +231,7 @@ impl Cmd {
         if let Some(d) = &self.ctx.inner.debug_device
             && self.open_labels > 0
         {
+            self.counts.labels += 1;
             // SAFETY: a label is open on this recording command buffer.
             unsafe { d.cmd_end_debug_utils_label(self.cb) };
             self.open_labels -= 1;
@@ -186,6 +245,7 @@ impl Cmd {
             dst_offset: 0,
             size,
         };
+        self.counts.transfers += 1;
         // SAFETY: both buffers are valid; sizes are checked by the caller's buffer creation.
         unsafe {
             self.dev()
@@ -207,6 +267,7 @@ impl Cmd {
             dst_offset,
             size,
         };
+        self.counts.transfers += 1;
         // SAFETY: both buffers are valid; the ranges lie inside them (callers).
         unsafe {
             self.dev()
@@ -219,6 +280,7 @@ impl Cmd {
         if regions.is_empty() {
             return;
         }
+        self.counts.transfers += 1;
         // SAFETY: both buffers are valid; the regions lie inside them and do not overlap (callers).
         unsafe {
             self.dev()
@@ -228,6 +290,7 @@ impl Cmd {
 
     /// Fills a whole buffer with a repeated u32.
     pub fn fill_buffer(&mut self, buf: &Buffer, value: u32) {
+        self.counts.transfers += 1;
         // SAFETY: valid buffer; WHOLE_SIZE rounds down to a multiple of 4.
         unsafe {
             self.dev()
@@ -247,6 +310,7 @@ impl Cmd {
             .dst_stage_mask(dst.0)
             .dst_access_mask(dst.1)];
         let dep = vk::DependencyInfo::default().memory_barriers(&mb);
+        self.counts.barriers += 1;
         // SAFETY: the command buffer is recording.
         unsafe { self.ctx.inner.sync2.cmd_pipeline_barrier2(self.cb, &dep) };
     }
@@ -274,6 +338,7 @@ impl Cmd {
                 layer_count: 1,
             })];
         let dep = vk::DependencyInfo::default().image_memory_barriers(&ib);
+        self.counts.barriers += 1;
         // SAFETY: the command buffer is recording; the image is valid.
         unsafe { self.ctx.inner.sync2.cmd_pipeline_barrier2(self.cb, &dep) };
     }
@@ -374,6 +439,7 @@ impl Cmd {
             min_depth: 0.0,
             max_depth: 1.0,
         };
+        self.counts.other += 3;
         // SAFETY: the caller guarantees `info`; viewport and scissor are plain dynamic state.
         unsafe {
             self.ctx
@@ -387,12 +453,14 @@ impl Cmd {
 
     /// Ends dynamic rendering.
     pub fn end_rendering(&mut self) {
+        self.counts.other += 1;
         // SAFETY: rendering was begun on this command buffer.
         unsafe { self.ctx.inner.dynamic_rendering.cmd_end_rendering(self.cb) };
     }
 
     /// Binds a graphics pipeline.
     pub fn bind_graphics(&mut self, p: &GraphicsPipeline) {
+        self.counts.bindings += 1;
         // SAFETY: valid pipeline.
         unsafe {
             self.dev()
@@ -402,6 +470,7 @@ impl Cmd {
 
     /// Binds a compute pipeline.
     pub fn bind_compute(&mut self, p: &ComputePipeline) {
+        self.counts.bindings += 1;
         // SAFETY: valid pipeline.
         unsafe {
             self.dev()
@@ -459,6 +528,7 @@ impl Cmd {
                 base.buffer_info(&buffer_infos[i])
             };
         }
+        self.counts.bindings += 1;
         // SAFETY: the writes refer to live resources and match the pipeline's push-descriptor layout.
         unsafe {
             self.ctx.inner.push_descriptor.cmd_push_descriptor_set(
@@ -498,6 +568,7 @@ impl Cmd {
             p.name
         );
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        self.counts.bindings += 1;
         // SAFETY: size matches the layout's range (checked above).
         unsafe {
             self.dev()
@@ -513,6 +584,7 @@ impl Cmd {
             "push constants of `{}`",
             p.name
         );
+        self.counts.bindings += 1;
         // SAFETY: size matches the layout's range (checked above).
         unsafe {
             self.dev()
@@ -522,6 +594,7 @@ impl Cmd {
 
     /// Binds vertex buffer 0 and a u32 index buffer.
     pub fn bind_mesh_buffers(&mut self, vertices: &Buffer, indices: &Buffer) {
+        self.counts.bindings += 2;
         // SAFETY: valid buffers created with vertex/index usage.
         unsafe {
             self.dev()
@@ -539,6 +612,7 @@ impl Cmd {
         first_index: u32,
         first_instance: u32,
     ) {
+        self.counts.draws += 1;
         // SAFETY: a pipeline and index buffer are bound by the caller.
         unsafe {
             self.dev().cmd_draw_indexed(
@@ -554,6 +628,7 @@ impl Cmd {
 
     /// Fills `size` bytes at `offset` of a buffer with a repeated u32.
     pub fn fill_buffer_range(&mut self, buf: &Buffer, offset: u64, size: u64, value: u32) {
+        self.counts.transfers += 1;
         // SAFETY: valid buffer; offset and size are multiples of 4 within the buffer (callers).
         unsafe {
             self.dev()
@@ -567,6 +642,7 @@ impl Cmd {
             data.len() <= 65536 && data.len().is_multiple_of(4),
             "vkCmdUpdateBuffer limits"
         );
+        self.counts.transfers += 1;
         // SAFETY: valid buffer with TRANSFER_DST usage; size limits asserted above.
         unsafe { self.dev().cmd_update_buffer(self.cb, buf.raw, offset, data) };
     }
@@ -582,6 +658,7 @@ impl Cmd {
             layer_count: 1,
         };
         let clear = vk::ClearColorValue { uint32: [0; 4] };
+        self.counts.transfers += 1;
         // SAFETY: the image is in GENERAL layout and was created with TRANSFER_DST usage.
         unsafe {
             self.dev().cmd_clear_color_image(
@@ -596,12 +673,14 @@ impl Cmd {
 
     /// `vkCmdDispatchIndirect` with arguments at `offset` of `args`.
     pub fn dispatch_indirect(&mut self, args: &Buffer, offset: u64) {
+        self.counts.dispatches += 1;
         // SAFETY: a compute pipeline is bound; `args` has INDIRECT usage (callers).
         unsafe { self.dev().cmd_dispatch_indirect(self.cb, args.raw, offset) };
     }
 
     /// `vkCmdDrawIndirect` of one draw with arguments at `offset` of `args`.
     pub fn draw_indirect(&mut self, args: &Buffer, offset: u64) {
+        self.counts.draws += 1;
         // SAFETY: a graphics pipeline is bound inside a rendering pass; `args` has INDIRECT usage.
         unsafe {
             self.dev()
@@ -611,6 +690,7 @@ impl Cmd {
 
     /// `vkCmdDraw`.
     pub fn draw(&mut self, vertex_count: u32, instance_count: u32) {
+        self.counts.draws += 1;
         // SAFETY: a graphics pipeline is bound inside a rendering pass.
         unsafe {
             self.dev()
@@ -627,6 +707,7 @@ impl Cmd {
 
     /// `vkCmdDispatch`.
     pub fn dispatch(&mut self, x: u32, y: u32, z: u32) {
+        self.counts.dispatches += 1;
         // SAFETY: a compute pipeline is bound by the caller.
         unsafe { self.dev().cmd_dispatch(self.cb, x, y, z) };
     }
@@ -634,6 +715,7 @@ impl Cmd {
     /// Binds a bindless texture array as descriptor set 1 of a graphics pipeline (created with
     /// [`GraphicsPipeline::with_textures`]).
     pub fn bind_graphics_textures(&mut self, p: &GraphicsPipeline, textures: &TextureSet) {
+        self.counts.bindings += 1;
         // SAFETY: the pipeline's layout has the set's layout at set 1.
         unsafe {
             self.dev().cmd_bind_descriptor_sets(
@@ -650,6 +732,7 @@ impl Cmd {
     /// Binds a bindless texture array as descriptor set 1 of a compute pipeline (created with
     /// [`ComputePipeline::with_textures`]).
     pub fn bind_compute_textures(&mut self, p: &ComputePipeline, textures: &TextureSet) {
+        self.counts.bindings += 1;
         // SAFETY: the pipeline's layout has the set's layout at set 1.
         unsafe {
             self.dev().cmd_bind_descriptor_sets(
@@ -665,6 +748,7 @@ impl Cmd {
 
     /// `vkCmdDraw` with a first instance.
     pub fn draw_instanced(&mut self, vertex_count: u32, instance_count: u32, first_instance: u32) {
+        self.counts.draws += 1;
         // SAFETY: a graphics pipeline is bound inside a rendering pass.
         unsafe {
             self.dev()
@@ -699,6 +783,7 @@ impl Cmd {
                     depth: 1,
                 });
         }
+        self.counts.transfers += 1;
         // SAFETY: the image is in TRANSFER_DST layout; the buffer holds a whole image (caller).
         unsafe {
             self.dev().cmd_copy_buffer_to_image(
@@ -726,6 +811,7 @@ impl Cmd {
                 height: image.height,
                 depth: 1,
             });
+        self.counts.transfers += 1;
         // SAFETY: the image is in TRANSFER_SRC layout; the buffer is large enough (caller sizes it).
         unsafe {
             self.dev().cmd_copy_image_to_buffer(

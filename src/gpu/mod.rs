@@ -18,7 +18,7 @@ mod texture;
 
 pub use ash::vk;
 pub use capture::RenderDoc;
-pub use cmd::{Cmd, Desc, DescList, MAX_DESCRIPTORS, RenderTarget};
+pub use cmd::{Cmd, CmdCounts, Desc, DescList, MAX_DESCRIPTORS, RenderTarget};
 pub use context::{Caps, Context, ContextOptions, HostDevice};
 pub use memory::{Buffer, HostImage, Image, MemoryKind};
 pub use pipeline::{ComputePipeline, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage};

@@ -43,6 +43,7 @@ impl Timer {
         self.names.clear();
         self.open = None;
         if let Some(pool) = self.pool {
+            cmd.counts().timestamps += 1;
             // SAFETY: the pool is valid; resetting all of its queries outside a render pass.
             unsafe {
                 self.ctx
@@ -60,6 +61,7 @@ impl Timer {
             self.names.push(name);
             self.open = Some(i);
             if let Some(pool) = self.pool {
+                cmd.counts().timestamps += 1;
                 // SAFETY: query 2i was reset in `reset` and is written once.
                 unsafe {
                     cmd.context().inner.sync2.cmd_write_timestamp2(
@@ -76,6 +78,7 @@ impl Timer {
     /// Ends the pass begun last.
     pub fn end(&mut self, cmd: &mut Cmd) {
         if let (Some(i), Some(pool)) = (self.open.take(), self.pool) {
+            cmd.counts().timestamps += 1;
             // SAFETY: query 2i+1 was reset and is written once.
             unsafe {
                 cmd.context().inner.sync2.cmd_write_timestamp2(

@@ -1,7 +1,10 @@
-//! Pass `depth_pyramid`: the hierarchical depth buffer (HZB) from the visibility buffer, one
-//! dispatch per level, stored as one f32 storage buffer with the levels one after another. Each
-//! texel holds the farthest depth (reverse-Z minimum) of the pixels below it; empty pixels count as
-//! infinitely far. Level `k` is `ceil(w / 2^(k+1)) x ceil(h / 2^(k+1))`.
+//! Pass `depth_pyramid`: the hierarchical depth buffer (HZB) from the visibility buffer, stored as
+//! one f32 storage buffer with the levels one after another. Each texel holds the farthest depth
+//! (reverse-Z minimum) of the pixels below it; empty pixels count as infinitely far. Level `k` is
+//! `ceil(w / 2^(k+1)) x ceil(h / 2^(k+1))`. Two dispatches whatever the size: `head` reduces tiles
+//! of level 0 through the first [`HZB_HEAD_LEVELS`] levels in shared memory, `tail` (one
+//! workgroup, only when there are more levels) the rest; a dispatch per level cost the CPU three
+//! commands a level to record, and the GPU a drain between levels.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -9,19 +12,15 @@ use crate::gpu::{
     Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, MemoryKind, ShaderStage, Timer, vk,
 };
 use crate::passes::{FrameBuffers, VisPath};
-use crate::shared::TILE_WORKGROUP_SIZE;
+use crate::shared::{HZB_GROUP, HZB_HEAD_LEVELS};
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct Push {
-    src_offset: u32,
-    src_w: u32,
-    src_h: u32,
-    dst_offset: u32,
-    dst_w: u32,
-    dst_h: u32,
-    from_visbuffer: u32,
-    _pad: u32,
+    width: u32,
+    height: u32,
+    levels: u32,
+    tail: u32,
 }
 
 /// Sizes and offsets (in f32 texels) of the levels of an HZB for a `width` x `height` frame.
@@ -93,30 +92,30 @@ impl DepthPyramid {
         cmd.bind_compute(&self.pipeline);
         let vis = fb.visbuffer_desc(cmd);
         cmd.push_compute_descriptors(&self.pipeline, &[vis, Desc::Storage(&self.hzb)]);
-        let (mut sw, mut sh, mut so) = (self.width, self.height, 0u32);
-        for (k, &(w, h, offset)) in self.levels.iter().enumerate() {
+        let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+        let levels = self.levels.len() as u32;
+        let tile = 2 * HZB_GROUP;
+        for tail in [false, true] {
+            if tail && levels <= HZB_HEAD_LEVELS {
+                break;
+            }
             let push = Push {
-                src_offset: so,
-                src_w: sw,
-                src_h: sh,
-                dst_offset: offset,
-                dst_w: w,
-                dst_h: h,
-                from_visbuffer: (k == 0) as u32,
-                _pad: 0,
+                width: self.width,
+                height: self.height,
+                levels,
+                tail: tail as u32,
             };
             cmd.compute_push_constants(&self.pipeline, bytemuck::bytes_of(&push));
-            cmd.dispatch(
-                w.div_ceil(TILE_WORKGROUP_SIZE),
-                h.div_ceil(TILE_WORKGROUP_SIZE),
-                1,
-            );
-            let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+            if tail {
+                cmd.dispatch(1, 1, 1);
+            } else {
+                let (w0, h0, _) = self.levels[0];
+                cmd.dispatch(w0.div_ceil(tile), h0.div_ceil(tile), 1);
+            }
             cmd.barrier(
                 (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
                 (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
             );
-            (sw, sh, so) = (w, h, offset);
         }
         timer.end(cmd);
     }

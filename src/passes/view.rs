@@ -14,10 +14,22 @@ pub struct FrameSettings {
     pub error_px: f32,
     /// Clusters whose projected size exceeds this many pixels go to the HW rasterizer.
     pub hw_threshold_px: f32,
-    /// `VIEW_FLAG_*` (force SW / HW, no frustum culling).
+    /// Zero or more of [`FrameSettings::FORCE_SW`], [`FrameSettings::FORCE_HW`],
+    /// [`FrameSettings::NO_FRUSTUM`], [`FrameSettings::COUNT_OVERDRAW`].
     pub flags: u32,
     /// Two-pass occlusion culling against the hierarchical depth buffer.
     pub occlusion: bool,
+}
+
+impl FrameSettings {
+    /// [`FrameSettings::flags`]: every cluster to the software rasterizer.
+    pub const FORCE_SW: u32 = crate::shared::VIEW_FLAG_FORCE_SW;
+    /// [`FrameSettings::flags`]: every cluster to the hardware rasterizer.
+    pub const FORCE_HW: u32 = crate::shared::VIEW_FLAG_FORCE_HW;
+    /// [`FrameSettings::flags`]: no frustum culling (the pure LOD cut).
+    pub const NO_FRUSTUM: u32 = crate::shared::VIEW_FLAG_NO_FRUSTUM;
+    /// [`FrameSettings::flags`]: count rasterizer writes per pixel (the overdraw view).
+    pub const COUNT_OVERDRAW: u32 = crate::shared::VIEW_FLAG_COUNT_OVERDRAW;
 }
 
 impl Default for FrameSettings {

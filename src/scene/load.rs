@@ -204,11 +204,14 @@ impl MeshCache {
 
 /// A scene with its meshes prepared, ready for any rendering path.
 pub struct LoadedScene {
+    /// The scene as its file describes it (a single mesh file becomes a scene of one instance).
     pub scene: Scene,
     /// `prepared[i]` is `scene.meshes[i]` with its options applied (shared with the cache and
     /// with other entries of the same [`MeshKey`]).
     pub prepared: Vec<Arc<PreparedMesh>>,
+    /// Every instance: which of `prepared` and where.
     pub placements: Vec<Placement>,
+    /// The scene's light.
     pub light: Light,
     /// Import warnings of the scene's meshes (each names its file).
     pub warnings: Vec<String>,
