@@ -1,6 +1,8 @@
 #version 460
 // Pass `shade`: one directional light plus ambient from the GBuffer into the output image (RGBA8,
-// sRGB-encoded), background where the GBuffer is empty (albedo alpha 0). Modes: 0 shaded,
+// sRGB-encoded), background where nothing was drawn: where material_classify's per-pixel material
+// is NO_MATERIAL (SHADE_FLAG_PIXEL_MATERIALS, vgeo's compute emit_gbuffer, which leaves the GBuffer
+// uncleared), else where the albedo's alpha is 0 (GBuffers drawn by rasterization). Modes: 0 shaded,
 // 1 albedo, 2 normals, 3 materials (a hashed colour per material id). With SHADE_FLAG_COVERED_ONLY
 // (embedding) only pixels vgeo's geometry covers are written.
 // Shading (mirrored by the CPU reference in tests/material.rs): n faces the camera, l towards the
@@ -18,18 +20,29 @@ layout(set = 0, binding = 1, rgba8) uniform readonly image2D albedo_image;
 layout(set = 0, binding = 2, rgba16f) uniform readonly image2D normal_image;
 layout(set = 0, binding = 3, rgba8) uniform readonly image2D params_image;
 layout(set = 0, binding = 4, rgba8) uniform writeonly image2D out_image;
+layout(set = 0, binding = 5, scalar) readonly buffer PixelMaterials { uint pixel_materials[]; };
 
 void main() {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (px.x >= int(mview.viewport.x) || px.y >= int(mview.viewport.y)) {
         return;
     }
-    vec4 a = imageLoad(albedo_image, px);
-    if ((mview.flags & SHADE_FLAG_COVERED_ONLY) != 0u && a.a <= 0.5) {
+    bool covered;
+    vec4 a = vec4(0.0);
+    if ((mview.flags & SHADE_FLAG_PIXEL_MATERIALS) != 0u) {
+        covered = pixel_materials[px.y * int(mview.viewport.x) + px.x] != NO_MATERIAL;
+        if (covered) {
+            a = imageLoad(albedo_image, px);
+        }
+    } else {
+        a = imageLoad(albedo_image, px);
+        covered = a.a > 0.5;
+    }
+    if ((mview.flags & SHADE_FLAG_COVERED_ONLY) != 0u && !covered) {
         return;  // the host's pixel (its geometry or its background)
     }
     vec3 color = mview.background.rgb;
-    if (a.a > 0.5) {
+    if (covered) {
         vec3 n = imageLoad(normal_image, px).xyz;
         vec4 params = imageLoad(params_image, px);
         vec3 albedo = pow(a.rgb, vec3(2.2));

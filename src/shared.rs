@@ -25,6 +25,10 @@ pub const VISBUFFER_HOST: u32 = 0xffffffff;
 /// `MaterialViewGpu::flags`: `shade` writes only the pixels vgeo's geometry covers (embedding: the
 /// host's own pixels and background stay as the host drew them).
 pub const SHADE_FLAG_COVERED_ONLY: u32 = 1;
+/// `MaterialViewGpu::flags`: `shade` tells covered pixels by `material_classify`'s per-pixel
+/// material (written for every pixel) instead of the albedo's alpha, so the compute
+/// `emit_gbuffer` needs no clear of the GBuffer (a 1080p clear cost 0.17 ms on the H100).
+pub const SHADE_FLAG_PIXEL_MATERIALS: u32 = 2;
 /// Workgroup size of simple 2D image passes.
 pub const TILE_WORKGROUP_SIZE: u32 = 8;
 /// `depth_pyramid`: one workgroup is HZB_GROUP x HZB_GROUP threads; its head dispatch reduces a

@@ -405,7 +405,8 @@ fn the_gbuffer_into_the_hosts_targets_equals_vgeos_own() {
     })
     .unwrap();
     assert_no_validation_errors(&ctx);
-    // vgeo's own frame: its GBuffer (albedo cleared, normal and params valid where covered).
+    // vgeo's own frame: its GBuffer, valid where covered (vgeo's own GBuffer is not cleared:
+    // coverage is material_classify's per-pixel material).
     let mut single = VgeoRenderer::new(&ctx, &built, &placements).unwrap();
     single
         .render(
@@ -417,37 +418,46 @@ fn the_gbuffer_into_the_hosts_targets_equals_vgeos_own() {
             &Light::default(),
         )
         .unwrap();
-    let own = &single.material_passes().unwrap().targets().unwrap().gbuffer;
-    let own_albedo = own.albedo.download().unwrap();
-    let host_albedo = gb[0].download().unwrap();
-    assert_eq!(host_albedo, own_albedo, "albedo");
+    let passes = single.material_passes().unwrap();
+    let own = &passes.targets().unwrap().gbuffer;
+    let pixel_materials = passes.pixel_materials().unwrap();
     let covered: Vec<usize> = (0..(w * h) as usize)
-        .filter(|i| own_albedo[4 * i + 3] > 127)
+        .filter(|&i| pixel_materials[i] != u32::MAX)
         .collect();
+    // The host's GBuffer (cleared by the host) is written exactly where vgeo covers.
+    let host_albedo = gb[0].download().unwrap();
+    for i in 0..(w * h) as usize {
+        let alpha = host_albedo[4 * i + 3];
+        assert_eq!(
+            alpha > 127,
+            pixel_materials[i] != u32::MAX,
+            "host albedo alpha {alpha} at pixel {i}"
+        );
+    }
     assert!(
         covered.len() > (w * h / 4) as usize,
         "{} covered",
         covered.len()
     );
-    for (k, (own_img, texel)) in [(&own.normal, 8usize), (&own.params, 4)]
+    for (k, (own_img, texel)) in [(&own.albedo, 4usize), (&own.normal, 8), (&own.params, 4)]
         .into_iter()
         .enumerate()
     {
         let a = own_img.download().unwrap();
-        let b = gb[k + 1].download().unwrap();
+        let b = gb[k].download().unwrap();
         for &i in &covered {
             assert_eq!(
                 a[texel * i..texel * (i + 1)],
                 b[texel * i..texel * (i + 1)],
                 "{} at pixel {i}",
-                names[k + 1]
+                names[k]
             );
         }
         // Where vgeo draws nothing, the host's GBuffer keeps what the host put there.
         let untouched = (0..(w * h) as usize)
-            .filter(|i| own_albedo[4 * i + 3] <= 127)
+            .filter(|&i| pixel_materials[i] == u32::MAX)
             .all(|i| b[texel * i..texel * (i + 1)].iter().all(|x| *x == 0));
-        assert!(untouched, "{}: uncovered pixels untouched", names[k + 1]);
+        assert!(untouched, "{}: uncovered pixels untouched", names[k]);
     }
     assert_no_validation_errors(&ctx);
 }

@@ -142,7 +142,6 @@ impl EmitGbuffer {
         t: &MaterialTargets,
         out: Option<[&Image; 3]>,
     ) {
-        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         timer.begin(cmd, NAME);
         let g = &t.gbuffer;
         let [albedo, normal, params] = match out {
@@ -152,18 +151,15 @@ impl EmitGbuffer {
                 }
                 images
             }
+            // No clear: `shade` tells covered pixels by the per-pixel materials
+            // (SHADE_FLAG_PIXEL_MATERIALS), and this pass writes every one of them.
             None => {
-                cmd.clear_image_zero(&g.albedo);
-                for i in [&g.normal, &g.params] {
+                for i in [&g.albedo, &g.normal, &g.params] {
                     cmd.to_general(i);
                 }
                 [&g.albedo, &g.normal, &g.params]
             }
         };
-        cmd.barrier(
-            (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-            (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
-        );
         let vis = fb.visbuffer_desc(cmd);
         cmd.bind_compute(&self.compute);
         let mut descs = descriptors(scene, materials, fb, t, vis);

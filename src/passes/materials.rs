@@ -15,6 +15,7 @@ use crate::passes::shade::Shade;
 use crate::passes::view::MaterialViewGpu;
 use crate::passes::{FrameBuffers, VisPath};
 use crate::scene_gpu::GpuScene;
+use crate::shared::SHADE_FLAG_PIXEL_MATERIALS;
 
 /// What the material passes write.
 #[derive(Clone, Copy)]
@@ -120,13 +121,19 @@ impl MaterialPasses {
         light_dir: Vec3,
         mode: ShadeMode,
     ) -> MaterialViewGpu {
+        let base = t.gbuffer.view_for(camera, light_dir, mode);
+        let coverage = match self.emit_path {
+            EmitPath::Compute => SHADE_FLAG_PIXEL_MATERIALS,
+            EmitPath::Raster => 0,
+        };
         MaterialViewGpu {
+            flags: base.flags | coverage,
             tiles_x: t.tiles_x,
             tiles_y: t.tiles_y,
             material_count: self.gpu.count,
             visible_capacity: fb.visible_capacity,
             count_fragments: self.count_fragments as u32,
-            ..t.gbuffer.view_for(camera, light_dir, mode)
+            ..base
         }
     }
 
@@ -213,8 +220,14 @@ impl MaterialPasses {
                 self.emit.record(cmd, timer, scene, &self.gpu, fb, t);
             }
         }
-        self.shade
-            .record_to(cmd, timer, &t.gbuffer, shaded.unwrap_or(&t.gbuffer.output));
+        let coverage = (self.emit_path == EmitPath::Compute).then_some(&t.pixel_materials);
+        self.shade.record_to(
+            cmd,
+            timer,
+            &t.gbuffer,
+            shaded.unwrap_or(&t.gbuffer.output),
+            coverage,
+        );
         cmd.barrier(
             (
                 S::COMPUTE_SHADER | S::FRAGMENT_SHADER,

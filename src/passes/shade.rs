@@ -130,6 +130,8 @@ const WORKGROUP: u32 = 8;
 /// The shading pipeline.
 pub struct Shade {
     pipeline: ComputePipeline,
+    /// Bound as the per-pixel materials when the GBuffer's alpha tells coverage.
+    no_materials: Buffer,
 }
 
 impl Shade {
@@ -142,6 +144,7 @@ impl Shade {
             D::STORAGE_IMAGE,
             D::STORAGE_IMAGE,
             D::STORAGE_IMAGE,
+            D::STORAGE_BUFFER,
         ];
         Ok(Self {
             pipeline: ComputePipeline::new(
@@ -153,17 +156,33 @@ impl Shade {
                 &bindings,
                 0,
             )?,
+            no_materials: Buffer::new(
+                ctx,
+                "shade no pixel materials",
+                4,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryKind::Gpu,
+            )?,
         })
     }
 
     /// Records the pass (the GBuffer images move to `GENERAL`).
     pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, t: &GbufferTargets) {
-        self.record_to(cmd, timer, t, &t.output);
+        self.record_to(cmd, timer, t, &t.output, None);
     }
 
     /// Records the pass into `output` (an [`OUTPUT_FORMAT`] storage image of the GBuffer's size,
-    /// moved to `GENERAL`): the GBuffer's own output or a host's image.
-    pub fn record_to(&self, cmd: &mut Cmd, timer: &mut Timer, t: &GbufferTargets, output: &Image) {
+    /// moved to `GENERAL`): the GBuffer's own output or a host's image. `pixel_materials`:
+    /// `material_classify`'s per-pixel materials when the view sets
+    /// [`crate::shared::SHADE_FLAG_PIXEL_MATERIALS`] (else the albedo's alpha tells coverage).
+    pub fn record_to(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        t: &GbufferTargets,
+        output: &Image,
+        pixel_materials: Option<&Buffer>,
+    ) {
         timer.begin(cmd, NAME);
         for i in [&t.albedo, &t.normal, &t.params, output] {
             cmd.to_general(i);
@@ -177,6 +196,7 @@ impl Shade {
                 Desc::StorageImage(&t.normal),
                 Desc::StorageImage(&t.params),
                 Desc::StorageImage(output),
+                Desc::Storage(pixel_materials.unwrap_or(&self.no_materials)),
             ],
         );
         cmd.dispatch(t.width.div_ceil(WORKGROUP), t.height.div_ceil(WORKGROUP), 1);
