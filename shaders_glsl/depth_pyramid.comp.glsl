@@ -30,9 +30,6 @@ layout(push_constant) uniform Push {
 } pc;
 
 shared float s16[16][16];
-shared float s8[8][8];
-shared float s4[4][4];
-shared float s2[2][2];
 
 // Size of level k and the offset of its first texel (levels one after another).
 uvec3 level_of(uint k) {
@@ -90,30 +87,21 @@ void head() {
     store(1u, level_of(1u), 16u * g + t, m);
     s16[t.y][t.x] = m;
     barrier();
-    if (t.x < 8u && t.y < 8u) {
-        m = min(min(s16[2u * t.y][2u * t.x], s16[2u * t.y][2u * t.x + 1u]),
-                min(s16[2u * t.y + 1u][2u * t.x], s16[2u * t.y + 1u][2u * t.x + 1u]));
-        store(2u, level_of(2u), 8u * g + t, m);
-        s8[t.y][t.x] = m;
-    }
-    barrier();
-    if (t.x < 4u && t.y < 4u) {
-        m = min(min(s8[2u * t.y][2u * t.x], s8[2u * t.y][2u * t.x + 1u]),
-                min(s8[2u * t.y + 1u][2u * t.x], s8[2u * t.y + 1u][2u * t.x + 1u]));
-        store(3u, level_of(3u), 4u * g + t, m);
-        s4[t.y][t.x] = m;
-    }
-    barrier();
-    if (t.x < 2u && t.y < 2u) {
-        m = min(min(s4[2u * t.y][2u * t.x], s4[2u * t.y][2u * t.x + 1u]),
-                min(s4[2u * t.y + 1u][2u * t.x], s4[2u * t.y + 1u][2u * t.x + 1u]));
-        store(4u, level_of(4u), 2u * g + t, m);
-        s2[t.y][t.x] = m;
-    }
-    barrier();
-    if (t.x == 0u && t.y == 0u) {
-        m = min(min(s2[0][0], s2[0][1]), min(s2[1][0], s2[1][1]));
-        store(5u, level_of(5u), g, m);
+    // Levels 2..5: the tile's n x n texels (8, 4, 2, 1) from the 2n x 2n below, in place (read,
+    // barrier, write, barrier).
+    for (uint k = 2u; k < HZB_HEAD_LEVELS; k++) {
+        uint n = 32u >> k;
+        bool on = t.x < n && t.y < n;
+        if (on) {
+            m = min(min(s16[2u * t.y][2u * t.x], s16[2u * t.y][2u * t.x + 1u]),
+                    min(s16[2u * t.y + 1u][2u * t.x], s16[2u * t.y + 1u][2u * t.x + 1u]));
+        }
+        barrier();
+        if (on) {
+            store(k, level_of(k), n * g + t, m);
+            s16[t.y][t.x] = m;
+        }
+        barrier();
     }
 }
 
