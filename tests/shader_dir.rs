@@ -106,7 +106,13 @@ fn a_broken_shader_names_file_and_line() {
         .lines()
         .map(String::from)
         .collect();
-    let at = lines.len() / 2;
+    // The first statement of main (a line in a comment would stay valid GLSL).
+    let at = lines
+        .iter()
+        .position(|l| l.starts_with("void main()"))
+        .expect("shade.comp.glsl has main")
+        + 1;
+    assert!(lines[at].trim_end().ends_with(';'), "{}", lines[at]);
     lines[at].push_str(" this is not glsl;");
     std::fs::write(d.join("shade.comp.glsl"), lines.join("\n")).unwrap();
     let (ok, err, img) = render(Some(&d), "shader_dir_broken.png");
