@@ -73,8 +73,8 @@
 //! [`LoadedScene`] reads a scene file (`.toml`) or a mesh, with its placements and light; the
 //! baselines vgeo is measured against take the same meshes and placements and give the same
 //! [`Frame`]: [`BruteRenderer`] (every triangle) and [`LodRenderer`] (discrete levels of detail).
-//! [`tools`] has the command line's workflows (build, verify, info, LOD strip, bench) as
-//! functions: the `vgeo` binary and the examples use nothing but this crate root
+//! [`tools`] has the command line's workflows (build, verify, info, LOD strip) as functions:
+//! the `vgeo` binary and the examples use nothing but this crate root and the bench
 //! (`tests/layers.rs` checks it).
 //!
 //! # Internals
@@ -153,10 +153,10 @@ pub use scene::load::LoadedScene;
 pub use scene_gpu::{GpuScene, InstanceDesc, InstanceHandle, MeshHandle, SceneMemory};
 
 /// The command line's workflows as functions, for tools built on vgeo: `vgeo build` (plan,
-/// write, describe), `vgeo verify`, `vgeo info`, `vgeo render --lod-strip` and `vgeo bench`.
-/// The `vgeo` binary is made of these and the crate root's items.
+/// write, describe), `vgeo verify`, `vgeo info` and `vgeo render --lod-strip`. The `vgeo` binary
+/// is made of these, the crate root's items and the bench (`vgeo bench`, an application beside
+/// the binary: nothing in the library, this root included, imports it).
 pub mod tools {
-    pub use crate::bench::{BenchArgs, run_bench};
     pub use crate::build_files::{
         BuildPlan, BuildRequest, describe, info_vgeo, plan_build, read_vgeo, verify_file,
         write_vgeo,

@@ -41,7 +41,7 @@ enum Command {
     Build(cli::build::BuildArgs),
     /// Benchmark the scenes in the three modes (brute, lod, vgeo): speed, image error against a
     /// supersampled brute reference (--reference-spp), speed at equal error, scaling.
-    Bench(vgeo::tools::BenchArgs),
+    Bench(vgeo::bench::BenchArgs),
     /// Check a .vgeo file: DAG invariants and crack-free cuts for many views (non-zero exit on failure).
     Verify(cli::build::VerifyArgs),
     /// Without FILE: the Vulkan device, driver and the features vgeo uses. With a .vgeo FILE: its stats.
@@ -217,7 +217,7 @@ fn main() -> ExitCode {
         }),
         Some(Command::Render(a)) => render(&a),
         Some(Command::Build(a)) => cli::build::run_build(&a),
-        Some(Command::Bench(a)) => vgeo::tools::run_bench(&a),
+        Some(Command::Bench(a)) => vgeo::bench::run_bench(&a),
         Some(Command::Verify(a)) => match cli::build::run_verify(&a) {
             Ok(true) => Ok(()),
             Ok(false) => return ExitCode::FAILURE,
