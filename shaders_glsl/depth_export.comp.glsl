@@ -8,12 +8,9 @@
 
 layout(local_size_x = TILE_WORKGROUP_SIZE, local_size_y = TILE_WORKGROUP_SIZE) in;
 
-#ifdef VISBUFFER_IMAGE
-#extension GL_EXT_shader_image_int64 : require
-layout(set = 0, binding = 0, r64ui) uniform readonly u64image2D vis_image;
-#else
-layout(set = 0, binding = 0) readonly buffer Vis { uint64_t vis[]; };
-#endif
+#define VISBUFFER_BINDING 0
+#define VISBUFFER_READONLY
+#include "visbuffer.glsl"
 layout(set = 0, binding = 1) writeonly buffer HostDepth { float host_depth[]; };
 
 layout(push_constant) uniform Push {
@@ -26,10 +23,5 @@ void main() {
     if (p.x >= pc.width || p.y >= pc.height) {
         return;
     }
-#ifdef VISBUFFER_IMAGE
-    uint64_t v = imageLoad(vis_image, ivec2(p)).x;
-#else
-    uint64_t v = vis[p.y * pc.width + p.x];
-#endif
-    host_depth[p.y * pc.width + p.x] = uintBitsToFloat(uint(v >> 32));
+    host_depth[p.y * pc.width + p.x] = vis_depth(vis_read(ivec2(p), pc.width));
 }

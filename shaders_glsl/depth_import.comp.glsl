@@ -11,12 +11,8 @@
 
 layout(local_size_x = TILE_WORKGROUP_SIZE, local_size_y = TILE_WORKGROUP_SIZE) in;
 
-#ifdef VISBUFFER_IMAGE
-#extension GL_EXT_shader_image_int64 : require
-layout(set = 0, binding = 0, r64ui) uniform writeonly u64image2D vis_image;
-#else
-layout(set = 0, binding = 0) writeonly buffer Vis { uint64_t vis[]; };
-#endif
+#define VISBUFFER_BINDING 0
+#include "visbuffer.glsl"
 layout(set = 0, binding = 1) readonly buffer HostDepth { float host_depth[]; };
 
 layout(push_constant) uniform Push {
@@ -31,9 +27,5 @@ void main() {
     }
     float d = host_depth[p.y * pc.width + p.x];
     uint64_t v = d > 0.0 ? (uint64_t(floatBitsToUint(d)) << 32) | uint64_t(VISBUFFER_HOST) : 0ul;
-#ifdef VISBUFFER_IMAGE
-    imageStore(vis_image, ivec2(p), u64vec4(v, 0ul, 0ul, 0ul));
-#else
-    vis[p.y * pc.width + p.x] = v;
-#endif
+    vis_store(ivec2(p), pc.width, v);
 }

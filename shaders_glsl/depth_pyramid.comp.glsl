@@ -14,12 +14,9 @@
 
 layout(local_size_x = HZB_GROUP, local_size_y = HZB_GROUP) in;
 
-#ifdef VISBUFFER_IMAGE
-#extension GL_EXT_shader_image_int64 : require
-layout(set = 0, binding = 0, r64ui) uniform readonly u64image2D vis_image;
-#else
-layout(set = 0, binding = 0) readonly buffer Vis { uint64_t vis[]; };
-#endif
+#define VISBUFFER_BINDING 0
+#define VISBUFFER_READONLY
+#include "visbuffer.glsl"
 layout(set = 0, binding = 1) coherent buffer Hzb { float hzb[]; };
 
 layout(push_constant) uniform Push {
@@ -48,12 +45,7 @@ float pixel_depth(uint x, uint y) {
     if (x >= pc.width || y >= pc.height) {
         return 1.0;  // neutral for min
     }
-#ifdef VISBUFFER_IMAGE
-    uint64_t v = imageLoad(vis_image, ivec2(x, y)).x;
-#else
-    uint64_t v = vis[y * pc.width + x];
-#endif
-    return uintBitsToFloat(uint(v >> 32));
+    return vis_depth(vis_read(ivec2(x, y), pc.width));
 }
 
 // Level 0 texel (x, y): the farthest of its 2x2 pixels.

@@ -33,6 +33,15 @@ uint64_t vis_pack(float depth, uint visible_index, uint triangle) {
 }
 
 #ifndef VISBUFFER_READONLY
+// A plain store (seeding the buffer, not rasterizing).
+void vis_store(ivec2 p, uint width, uint64_t value) {
+#ifdef VISBUFFER_IMAGE
+    imageStore(vis_image, p, u64vec4(value, 0ul, 0ul, 0ul));
+#else
+    vis_words[uint(p.y) * width + uint(p.x)] = value;
+#endif
+}
+
 void vis_write(ivec2 p, uint width, uint64_t value) {
 #ifdef VISBUFFER_IMAGE
     imageAtomicMax(vis_image, p, value);
@@ -41,6 +50,11 @@ void vis_write(ivec2 p, uint width, uint64_t value) {
 #endif
 }
 #endif
+
+// The depth of a visibility-buffer value (0: empty, infinitely far).
+float vis_depth(uint64_t value) {
+    return uintBitsToFloat(uint(value >> 32));
+}
 
 uint64_t vis_read(ivec2 p, uint width) {
 #ifdef VISBUFFER_IMAGE
