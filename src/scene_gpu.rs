@@ -392,6 +392,19 @@ impl GpuScene {
         })
     }
 
+    /// The geometry arenas' buffers, in arena order (see `ARENA_NAMES`).
+    fn arena_buffers(&self) -> [&Buffer; ARENAS] {
+        [
+            &self.clusters,
+            &self.groups,
+            &self.bvh,
+            &self.vertices,
+            &self.uvs,
+            &self.vertex_refs,
+            &self.triangles,
+        ]
+    }
+
     fn arena_buffer(&mut self, k: usize) -> (&mut Arena, &mut Buffer) {
         let buf = match k {
             0 => &mut self.clusters,
@@ -592,15 +605,7 @@ impl GpuScene {
             )?)
         };
         let table = &self.mesh_table;
-        let bufs: [&Buffer; ARENAS] = [
-            &self.clusters,
-            &self.groups,
-            &self.bvh,
-            &self.vertices,
-            &self.uvs,
-            &self.vertex_refs,
-            &self.triangles,
-        ];
+        let bufs = self.arena_buffers();
         let meshes = &self.meshes;
         self.ctx.submit_and_wait("scene add meshes", |cmd| {
             use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
@@ -1029,18 +1034,7 @@ impl GpuScene {
     /// GPU bytes of geometry (clusters, groups, BVH, vertices, UVs, references, triangles), as
     /// allocated.
     pub fn geometry_bytes(&self) -> u64 {
-        [
-            &self.clusters,
-            &self.groups,
-            &self.bvh,
-            &self.vertices,
-            &self.uvs,
-            &self.vertex_refs,
-            &self.triangles,
-        ]
-        .iter()
-        .map(|b| b.size())
-        .sum()
+        self.arena_buffers().iter().map(|b| b.size()).sum()
     }
 
     /// Bytes per GPU buffer of the scene: in use and allocated (the buffers grow by doubling and
@@ -1059,15 +1053,7 @@ impl GpuScene {
                 capacity_bytes: self.instances.size(),
             },
         ];
-        let bufs = [
-            &self.clusters,
-            &self.groups,
-            &self.bvh,
-            &self.vertices,
-            &self.uvs,
-            &self.vertex_refs,
-            &self.triangles,
-        ];
+        let bufs = self.arena_buffers();
         for (k, b) in bufs.iter().enumerate() {
             buffers.push(BufferMemory {
                 name: ARENA_NAMES[k],

@@ -112,8 +112,8 @@ impl EmitGbuffer {
         Ok(Self { pipeline, compute })
     }
 
-    /// Records the compute form: clears the GBuffer's albedo (alpha 0: not covered), then one
-    /// dispatch per material. `material_classify`'s tiles and per-pixel materials must be visible
+    /// Records the compute form: one dispatch per material, writing the covered pixels only (no
+    /// clear: `shade` tells coverage by the per-pixel materials). `material_classify`'s tiles and per-pixel materials must be visible
     /// to compute shaders.
     pub fn record_compute(
         &self,
@@ -128,9 +128,8 @@ impl EmitGbuffer {
     }
 
     /// [`EmitGbuffer::record_compute`] into `out` (albedo, normal, params: a host's GBuffer in the
-    /// formats of [`crate::passes::shade`], storage images of the frame's size) when given: then
-    /// nothing is cleared and only pixels vgeo's geometry covers are written (the host's own
-    /// pixels stay).
+    /// formats of [`crate::passes::shade`], storage images of the frame's size) when given; either
+    /// way only pixels vgeo's geometry covers are written (a host's own pixels stay).
     #[allow(clippy::too_many_arguments)]
     pub fn record_compute_into(
         &self,
