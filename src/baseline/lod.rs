@@ -25,11 +25,17 @@ use crate::shared::InstanceGpu;
 /// Bucket of an instance culled by the frustum.
 const CULLED: u32 = u32::MAX;
 
-/// Levels per mesh.
-pub const LOD_COUNT: usize = 4;
+/// Levels per mesh: a full chain, each level half the previous one, down to 1/128 (0.8 %) of the
+/// triangles, as engines build LOD chains (a level is not made below [`LOD_MIN_TRIANGLES`]).
+pub const LOD_COUNT: usize = 8;
 
-/// Share of the full mesh's triangles each level aims for.
-pub const LOD_FRACTIONS: [f32; LOD_COUNT] = [1.0, 0.5, 0.25, 0.125];
+/// Share of the full mesh's triangles each level aims for: halving.
+pub const LOD_FRACTIONS: [f32; LOD_COUNT] =
+    [1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625, 0.0078125];
+
+/// A level is not simplified further once the previous one has this many triangles or fewer
+/// (the rest of the chain shares it): smaller levels save nothing a draw call would notice.
+pub const LOD_MIN_TRIANGLES: usize = 64;
 
 /// Options of the discrete-LOD path.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,19 +105,38 @@ impl LodChain {
         let tris: Vec<[u32; 3]> = full.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
         for k in 1..LOD_COUNT {
             let prev = ranges[k - 1];
+            if (prev.1 as usize / 3) <= LOD_MIN_TRIANGLES {
+                ranges[k] = prev;
+                errors[k] = errors[k - 1];
+                continue;
+            }
             let tri_target = (full.len() / 3) as f32 * LOD_FRACTIONS[k];
             let target = (tri_target.round() as usize).max(1);
             let lod = (!tris.is_empty()).then(|| {
-                let (out, err) = crate::builder::simplify::simplify(
-                    &tris,
-                    &mesh.positions,
-                    Some(&attrs),
-                    &|_| false,
-                    target,
-                    f32::MAX,
-                    crate::builder::simplify::Mode::Locked,
-                );
-                (out.into_iter().flatten().collect::<Vec<u32>>(), err)
+                let run = |mode| {
+                    crate::builder::simplify::simplify(
+                        &tris,
+                        &mesh.positions,
+                        Some(&attrs),
+                        &|_| false,
+                        target,
+                        f32::MAX,
+                        mode,
+                    )
+                };
+                let mut out = run(crate::builder::simplify::Mode::Locked);
+                // Attribute seams (creases, UV and material borders) can stop the halving of
+                // the coarse levels; there the chain collapses across them, as the builder's
+                // groups do when they cannot shrink otherwise (the error says what it cost).
+                if out.tris.len() > target + target / 5 {
+                    let p = run(crate::builder::simplify::Mode::Permissive);
+                    if !p.tris.is_empty() && p.tris.len() < out.tris.len() {
+                        out = p;
+                    }
+                }
+                // Each level is simplified from the full mesh: both errors are against it.
+                let err = out.combined();
+                (out.tris.into_iter().flatten().collect::<Vec<u32>>(), err)
             });
             match lod {
                 // Smaller but not empty: meshoptimizer may collapse a tiny closed mesh to nothing,

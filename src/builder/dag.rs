@@ -10,7 +10,7 @@ use super::quantize::{
     decode_normal, decode_position, decode_uv, encode_normal, encode_position, encode_uv,
     make_quantization,
 };
-use super::simplify::{Attributes, Mode, simplify};
+use super::simplify::{Attributes, Mode, Simplified, simplify};
 use super::{
     BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
     LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
@@ -120,6 +120,8 @@ const LEVEL0_CHUNK: usize = 16384;
 struct WCluster {
     tris: Vec<[u32; 3]>,
     self_error: f32,
+    /// The position-and-attribute part of `self_error` (the bound that adds up along a chain).
+    pos_error: f32,
     self_sphere: Sphere,
     creator: u32,
     level: u32,
@@ -137,6 +139,7 @@ struct WGroup {
 struct Outcome {
     parts: Vec<Vec<[u32; 3]>>,
     error: f32,
+    pos_error: f32,
     sphere: Sphere,
     fallback: bool,
 }
@@ -160,6 +163,7 @@ fn commit_group(
         clusters.push(WCluster {
             tris: part,
             self_error: out.error,
+            pos_error: out.pos_error,
             self_sphere: out.sphere,
             creator: gid,
             level: iteration + 1,
@@ -547,9 +551,24 @@ fn merge_spheres(spheres: &[Sphere]) -> Sphere {
     pad_sphere(c, r)
 }
 
-/// Error of a group: at least its members' and strictly positive, with a margin against rounding.
-fn group_error(simplify_error: f32, members_max: f32, min_error: f32) -> f32 {
-    (simplify_error.max(members_max) * (1.0 + 1.0 / 1024.0)).max(min_error)
+/// Error of a group against the original surface, and its position-and-attribute part.
+///
+/// The part is the simplification's error (measured against the members' triangles) plus the
+/// members' own part (theirs against the original): the triangle inequality's bound, as the
+/// `lod` baseline's levels measure theirs against the full mesh. The error is at least that, at
+/// least the simplification's coverage error (area lost against the members' triangles; not
+/// summed along the chain: square roots of areas do not add up) and at least the members'
+/// errors (monotonic); strictly positive, with a margin against rounding.
+fn group_error(
+    simplify_error: f32,
+    coverage: f32,
+    members_pos: f32,
+    members_max: f32,
+    min_error: f32,
+) -> (f32, f32) {
+    let pos = simplify_error + members_pos;
+    let error = (pos.max(coverage).max(members_max) * (1.0 + 1.0 / 1024.0)).max(min_error);
+    (error, pos)
 }
 
 /// Edges (by position id) of some triangles with their use counts each way: entries
@@ -849,7 +868,7 @@ fn build_inner(
     if opts.trim_error > 0.0 {
         let (lo, hi) = mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
         let diag = dist(lo, hi);
-        let (mut t, e) = simplify(
+        let r = simplify(
             &tris,
             &positions,
             attrs,
@@ -858,6 +877,8 @@ fn build_inner(
             opts.trim_error * diag,
             Mode::Locked,
         );
+        let e = r.combined();
+        let mut t = r.tris;
         drop_degenerate(&mut t, &pid);
         if !t.is_empty() && t.len() < tris.len() {
             tris = t;
@@ -868,7 +889,7 @@ fn build_inner(
         let target =
             ((input_triangles as f64 * opts.keep_percent as f64 / 100.0).round() as usize).max(1);
         if tris.len() > target {
-            let (mut t, e) = simplify(
+            let r = simplify(
                 &tris,
                 &positions,
                 attrs,
@@ -877,6 +898,8 @@ fn build_inner(
                 f32::MAX,
                 Mode::Locked,
             );
+            let e = r.combined();
+            let mut t = r.tris;
             drop_degenerate(&mut t, &pid);
             if !t.is_empty() && t.len() < tris.len() {
                 tris = t;
@@ -938,6 +961,7 @@ fn build_inner(
                     WCluster {
                         tris: t,
                         self_error: 0.0,
+                        pos_error: 0.0,
                         self_sphere: sphere,
                         creator: NO_GROUP,
                         level: 0,
@@ -1377,7 +1401,7 @@ impl GroupCtx<'_> {
                 mode,
             )
         };
-        let mut speculated: Vec<Option<(Vec<[u32; 3]>, f32)>> = if self.spare_threads {
+        let mut speculated: Vec<Option<Simplified>> = if self.spare_threads {
             attempts
                 .par_iter()
                 .map(|&(mode, lock_border, goal)| Some(run(mode, lock_border, goal, &[])))
@@ -1401,10 +1425,11 @@ impl GroupCtx<'_> {
                 // edge-collapse attempts' folds would leave it nothing to cluster.
                 extra.clear();
             }
-            let (mut t, e) = match speculated[i].take() {
+            let r = match speculated[i].take() {
                 Some(r) if extra.is_empty() => r,
                 _ => run(mode, lock_border, goal, &extra),
             };
+            let (mut t, e) = (r.tris, (r.error, r.coverage));
             drop_degenerate(&mut t, self.pid);
             if !(strict(&t) || candidate.is_none() && lenient(&t)) {
                 // Too little reduction to be taken, folds or not; locking a fold's points for
@@ -1474,11 +1499,15 @@ impl GroupCtx<'_> {
                 v.len() <= max_verts
             };
             if fits && members.len() > 1 {
-                result = Some((tris.clone(), 0.0, true));
+                result = Some((tris.clone(), (0.0, 0.0), true));
             }
         }
         let (t, e, fallback) = result?;
-        let error = group_error(e, members_max, self.min_error);
+        let members_pos = members
+            .iter()
+            .map(|&m| self.clusters[m as usize].pos_error)
+            .fold(0.0, f32::max);
+        let (error, pos_error) = group_error(e.0, e.1, members_pos, members_max, self.min_error);
         let parts = self
             .parter
             .clusters(&t, max_tris, max_verts, false)
@@ -1488,6 +1517,7 @@ impl GroupCtx<'_> {
         Some(Outcome {
             parts,
             error,
+            pos_error,
             sphere,
             fallback,
         })
@@ -1646,5 +1676,26 @@ fn assemble(
         bvh,
         root,
         stats,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::group_error;
+
+    #[test]
+    fn group_error_bounds_the_distance_to_the_original_surface() {
+        let m = 1.0 + 1.0 / 1024.0;
+        // Position-and-attribute errors add up along the chain: 0.1 against the members, whose
+        // own part is 0.2 against the original.
+        let (e, pos) = group_error(0.1, 0.0, 0.2, 0.2, 0.0);
+        assert!((pos - 0.3).abs() < 1e-6 && (e - 0.3 * m).abs() < 1e-6);
+        // The coverage error is not summed: the larger of it and the chain's bound.
+        let (e, pos) = group_error(0.1, 0.5, 0.2, 0.45, 0.0);
+        assert!((pos - 0.3).abs() < 1e-6 && (e - 0.5 * m).abs() < 1e-6);
+        // Never below a member's error (monotonic), never zero.
+        let (e, _) = group_error(0.0, 0.0, 0.0, 0.7, 0.0);
+        assert!((e - 0.7 * m).abs() < 1e-6);
+        assert_eq!(group_error(0.0, 0.0, 0.0, 0.0, 1e-9).0, 1e-9);
     }
 }

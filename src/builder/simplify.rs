@@ -106,10 +106,27 @@ pub(crate) enum Mode {
     Sloppy,
 }
 
+/// What [`simplify`] made.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Simplified {
+    /// The new triangles (global indices, a subset of the input vertices).
+    pub tris: Vec<[u32; 3]>,
+    /// meshoptimizer's absolute error (position and weighted attributes) against the input.
+    pub error: f32,
+    /// The coverage error against the input ([`coverage_error`]).
+    pub coverage: f32,
+}
+
+impl Simplified {
+    /// The error of the result against the input: the larger of the two.
+    pub fn combined(&self) -> f32 {
+        self.error.max(self.coverage)
+    }
+}
+
 /// Simplifies `tris` (global vertex indices into `positions`) towards `target_tris` triangles.
 /// `locked(v)` says whether global vertex `v` must keep its place; `attrs` (indexed like
-/// `positions`) adds attribute deviation to the error (see [`Attributes`]). Returns the new
-/// triangles (global indices, a subset of the input vertices) and the absolute error.
+/// `positions`) adds attribute deviation to the error (see [`Attributes`]).
 pub(crate) fn simplify(
     tris: &[[u32; 3]],
     positions: &[[f32; 3]],
@@ -118,7 +135,7 @@ pub(crate) fn simplify(
     target_tris: usize,
     target_error: f32,
     mode: Mode,
-) -> (Vec<[u32; 3]>, f32) {
+) -> Simplified {
     // Compact vertex buffer of the group (keeps meshopt's work proportional to the group), in
     // first-use order.
     let (verts, indices) = compact(tris, positions.len());
@@ -212,7 +229,8 @@ pub(crate) fn simplify(
         }
     };
     let count = count.min(dest.len());
-    let out: Vec<[u32; 3]> = dest[..count]
+    let coverage = coverage_error(&indices, &dest[..count], &pos);
+    let tris: Vec<[u32; 3]> = dest[..count]
         .chunks_exact(3)
         .map(|t| {
             [
@@ -222,12 +240,142 @@ pub(crate) fn simplify(
             ]
         })
         .collect();
-    (
-        out,
-        if err.is_finite() {
-            err.max(0.0)
-        } else {
-            f32::MAX
-        },
-    )
+    let finite = |e: f32| if e.is_finite() { e.max(0.0) } else { f32::MAX };
+    Simplified {
+        tris,
+        error: finite(err),
+        coverage: finite(coverage),
+    }
+}
+
+/// Share of a connected piece's area it may lose before the loss counts as coverage error.
+pub(crate) const COVERAGE_LOSS_SHARE: f64 = 0.25;
+
+/// The coverage part of a simplification's error: an object-space distance.
+///
+/// A position bound alone lets thin geometry vanish: a grass blade of width `w` collapsed onto
+/// its spine moves no point by more than about `w / 2`, yet every pixel the blade covered is
+/// lost. So, per connected piece of the input (triangles joined by shared vertices or by
+/// vertices at the same position), the area the simplified triangles of that piece lost is
+/// measured; where a piece lost more than [`COVERAGE_LOSS_SHARE`] of its area, the error is at
+/// least `sqrt(lost area)`: the side of a square of that area, so that "1 px" also means "at most
+/// about one pixel of coverage gone per piece". Pieces of closed or large surfaces lose a tiny
+/// share of their area to simplification and are not affected; small disconnected parts (blades,
+/// leaves, rivets) are, until they are about a pixel in size. `input` and `output` are index
+/// lists (triples) into `positions`; output vertices are input vertices (edge collapses and
+/// vertex clustering both keep that).
+pub(crate) fn coverage_error(input: &[u32], output: &[u32], positions: &[[f32; 3]]) -> f32 {
+    let n = positions.len();
+    if input.is_empty() || n == 0 {
+        return 0.0;
+    }
+    // Pieces: union-find over vertices, joined along triangles and at equal positions.
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(parent: &mut [u32], mut v: u32) -> u32 {
+        while parent[v as usize] != v {
+            let p = parent[parent[v as usize] as usize];
+            parent[v as usize] = p;
+            v = p;
+        }
+        v
+    }
+    let union = |parent: &mut Vec<u32>, a: u32, b: u32| {
+        let (ra, rb) = (find(parent, a), find(parent, b));
+        if ra != rb {
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    };
+    for t in input.chunks_exact(3) {
+        union(&mut parent, t[0], t[1]);
+        union(&mut parent, t[0], t[2]);
+    }
+    let mut by_position: Vec<u32> = (0..n as u32).collect();
+    let key = |v: u32| positions[v as usize].map(f32::to_bits);
+    by_position.sort_unstable_by_key(|&v| key(v));
+    for w in by_position.windows(2) {
+        if key(w[0]) == key(w[1]) {
+            union(&mut parent, w[0], w[1]);
+        }
+    }
+    let area = |t: &[u32]| {
+        let p = |k: usize| glam::DVec3::from(positions[t[k] as usize].map(f64::from));
+        (p(1) - p(0)).cross(p(2) - p(0)).length() * 0.5
+    };
+    // Area per piece before and after (indexed by the piece's root vertex).
+    let mut before = vec![0.0f64; n];
+    let mut after = vec![0.0f64; n];
+    for t in input.chunks_exact(3) {
+        let r = find(&mut parent, t[0]);
+        before[r as usize] += area(t);
+    }
+    for t in output.chunks_exact(3) {
+        let r = find(&mut parent, t[0]);
+        after[r as usize] += area(t);
+    }
+    let mut lost_total = 0.0f64;
+    for (b, a) in before.iter().zip(&after) {
+        let lost = b - a;
+        if *b > 0.0 && lost > COVERAGE_LOSS_SHARE * b {
+            lost_total += lost;
+        }
+    }
+    lost_total.sqrt() as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two unit squares (two triangles each), apart; the second's corners also appear as split
+    /// copies (same positions, other indices) used by its second triangle.
+    fn squares() -> (Vec<[f32; 3]>, Vec<u32>) {
+        let mut p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [5.0, 0.0, 0.0],
+            [6.0, 0.0, 0.0],
+            [6.0, 1.0, 0.0],
+            [5.0, 1.0, 0.0],
+        ];
+        // Split copies of vertices 4 and 6 (a seam): the piece stays one piece.
+        p.push([5.0, 0.0, 0.0]);
+        p.push([6.0, 1.0, 0.0]);
+        let idx = vec![0, 1, 2, 0, 2, 3, 4, 5, 6, 8, 9, 7];
+        (p, idx)
+    }
+
+    #[test]
+    fn coverage_error_counts_the_area_of_vanished_and_shrunk_pieces() {
+        let (p, idx) = squares();
+        // Nothing lost.
+        assert_eq!(coverage_error(&idx, &idx, &p), 0.0);
+        // The second square gone: its area (1) is lost.
+        assert_eq!(coverage_error(&idx, &idx[..6], &p), 1.0);
+        // Half of each square gone: 0.5 + 0.5 lost (more than a quarter of each piece).
+        let half: Vec<u32> = [&idx[..3], &idx[6..9]].concat();
+        assert!((coverage_error(&idx, &half, &p) - 1.0).abs() < 1e-6);
+        // Half of the second square (split copies join it into one piece): 0.5 lost.
+        let one: Vec<u32> = [&idx[..6], &idx[9..12]].concat();
+        assert!((coverage_error(&idx, &one, &p) - 0.5f32.sqrt()).abs() < 1e-6);
+        // Everything gone.
+        assert!((coverage_error(&idx, &[], &p) - 2.0f32.sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn coverage_error_ignores_small_losses_of_a_piece() {
+        // A fan of 10 triangles around the origin; dropping one loses a tenth of the area.
+        let mut p = vec![[0.0f32, 0.0, 0.0]];
+        for k in 0..10 {
+            let a = k as f32 / 10.0 * std::f32::consts::TAU;
+            p.push([a.cos(), a.sin(), 0.0]);
+        }
+        let idx: Vec<u32> = (0..10u32)
+            .flat_map(|k| [0, 1 + k, 1 + (k + 1) % 10])
+            .collect();
+        assert_eq!(coverage_error(&idx, &idx[3..], &p), 0.0);
+        // Three of ten (30 %): counted.
+        assert!(coverage_error(&idx, &idx[9..], &p) > 0.0);
+    }
 }
