@@ -24,85 +24,6 @@ uint load_queue_tail() {
     return min(atomicAdd(counters.queue_tail, 0u), view.queue_capacity);
 }
 
-void process(uint64_t item) {
-    uint instance = uint(item >> 32);
-    uint node_index = uint(item & 0xffffffffu);
-    atomicAdd(counters.nodes_visited, 1u);
-    InstanceVgeo inst = instances[instance];
-    MeshGpu mesh = meshes[inst.mesh];
-    BvhNode node = bvh[node_index];
-    float scale = inst.max_scale;
-    bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
-
-    if (frustum) {
-        vec3 bc = relative_position(inst, view, (node.bounds_min + node.bounds_max) * 0.5);
-        float br = length(node.bounds_max - node.bounds_min) * 0.5 * scale;
-        if (!sphere_in_frustum(view, bc, br)) {
-            return;
-        }
-    }
-    // Occlusion: in the main phase against the previous frame's HZB (rejected items wait for the
-    // post phase), in the post phase against this frame's (rejected for good).
-    if (hzb_occluded(inst, node.bounds_min, node.bounds_max)) {
-        if (pc.phase == 0u) {
-            uint j = atomicAdd(counters.post_node_count, 1u);
-            if (j < view.queue_capacity) {
-                post_nodes[j] = item;
-            } else {
-                atomicAdd(counters.queue_overflow, 1u);
-            }
-        } else {
-            atomicAdd(counters.occluded_nodes, 1u);
-        }
-        return;
-    }
-    // No cluster below can be drawn when even the largest parent error is already fine (the
-    // fallback cut is by level: every node is walked).
-    bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
-    vec3 lc = relative_position(inst, view, node.lod_sphere.xyz);
-    if (!fallback
-        && lod_error_px(node.max_parent_error * scale, lc, node.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
-        return;
-    }
-    if ((node.flags & BVH_FLAG_LEAF) == 0u) {
-        for (uint k = 0u; k < node.count; k++) {
-            push_item((uint64_t(instance) << 32) | uint64_t(mesh.bvh_offset + node.first + k));
-        }
-        return;
-    }
-    for (uint g = 0u; g < node.count; g++) {
-        Group group = groups[mesh.group_offset + node.first + g];
-        for (uint k = 0u; k < group.cluster_count; k++) {
-            uint ci = mesh.cluster_offset + group.first_cluster + k;
-            Cluster cl = clusters[ci];
-            atomicAdd(counters.clusters_tested, 1u);
-            bool in_cut;
-            if (fallback) {
-                in_cut = cl.level <= mesh.fallback_level
-                    && groups[mesh.group_offset + cl.group].iteration >= mesh.fallback_level;
-            } else {
-                vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
-                vec3 pcen = relative_position(inst, view, cl.parent_sphere.xyz);
-                bool fine = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) <= view.error_px;
-                bool parent_coarse =
-                    lod_error_px(cl.parent_error * scale, pcen, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
-                in_cut = fine && parent_coarse;
-            }
-            if (!in_cut) {
-                continue;
-            }
-            vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
-            float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * scale;
-            if (frustum && !sphere_in_frustum(view, cc, cr)) {
-                continue;
-            }
-            if (!cluster_occluded(instance, inst, cl, ci)) {
-                emit_cluster(instance, ci, cc, cr);
-            }
-        }
-    }
-}
-
 void main() {
     uint lane = gl_LocalInvocationID.x;
     uint iterations = 0u;
@@ -155,7 +76,7 @@ void main() {
             if (item == EMPTY) {
                 atomicOr(counters.watchdog, 2u);
             } else {
-                process(item);
+                process_node(item, false);
             }
             memoryBarrierBuffer();
             atomicAdd(counters.outstanding, 0xffffffffu);
@@ -167,8 +88,8 @@ void main() {
         memoryBarrierBuffer();
         uint finished = atomicAdd(counters.finished_workgroups, 1u);
         if (finished == gl_NumWorkGroups.x - 1u) {
-            uint sw = atomicAdd(counters.sw_count, 0u);
-            uint hw = atomicAdd(counters.hw_count, 0u);
+            uint sw = min(atomicAdd(counters.sw_count, 0u), view.visible_capacity);
+            uint hw = min(atomicAdd(counters.hw_count, 0u), view.visible_capacity);
             counters.sw_dispatch = uvec4(min(sw, 65535u), 1u, 1u, 0u);
             counters.hw_draw = uvec4(MAX_CLUSTER_TRIANGLES * 3u, hw, 0u, 0u);
         }

@@ -2,10 +2,12 @@
 // Pass `instance_cull`.
 // Main phase: a thread per instance; frustum test of the mesh's bounding sphere, then the previous
 // frame's HZB: visible instances whose whole cut is the DAG's root cluster emit it directly
-// (instance-level LOD, cull.glsl), the others push their BVH root into cluster_cull's queue;
+// (instance-level LOD, cull.glsl), small ones walk their BVH here (walk_or_push), the others push
+// their BVH root into cluster_cull's queue;
 // occluded ones wait in `post_instances` for the post phase.
 // Post phase: grid-stride over what the main phase deferred: instances (tested against this frame's
-// HZB, pushed if visible), BVH-node items (pushed back: cluster_cull tests them again) and clusters
+// HZB, walked or pushed if visible), BVH-node items (walked here for small instances, else pushed
+// back: cluster_cull tests them again) and clusters
 // (tested against this frame's HZB, emitted if visible).
 #include "cull_bindings.glsl"
 
@@ -27,7 +29,7 @@ void instance_main(uint i) {
     }
     atomicAdd(counters.instances_visible, 1u);
     if (!emit_root_if_whole_cut(i, inst, mesh)) {
-        push_item((uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root));
+        walk_or_push(i, inst, mesh);
     }
 }
 
@@ -56,11 +58,13 @@ void main() {
         }
         atomicAdd(counters.instances_visible, 1u);
         if (!emit_root_if_whole_cut(i, inst, mesh)) {
-            push_item((uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root));
+            walk_or_push(i, inst, mesh);
         }
     }
     for (uint j = gid; j < n_nodes; j += threads) {
-        push_item(post_nodes[j]);
+        uint64_t item = post_nodes[j];
+        InstanceVgeo inst = instances[uint(item >> 32)];
+        walk_or_push_item(item, inst, meshes[inst.mesh]);
     }
     for (uint j = gid; j < n_clusters; j += threads) {
         uvec2 e = post_clusters[j];

@@ -139,7 +139,7 @@ void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint widt
 void main() {
     uint width = uint(view.viewport.x);
     uint height = uint(view.viewport.y);
-    uint sw_count = counters.sw_count;
+    uint sw_count = min(counters.sw_count, view.visible_capacity);
     uint tid = gl_LocalInvocationID.x;
     for (uint i = gl_WorkGroupID.x; i < sw_count; i += gl_NumWorkGroups.x) {
         uint visible_index = sw_list[i];

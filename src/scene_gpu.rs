@@ -59,6 +59,9 @@ fn instance_of(mesh: u32, transform: &DMat4, color: [f32; 3]) -> InstanceVgeo {
 }
 
 /// Bounding sphere (center, radius) of a built mesh's level-0 bounds.
+/// Bytes of one mesh record on the GPU.
+const MESH_GPU_BYTES: u64 = std::mem::size_of::<MeshGpu>() as u64;
+
 fn mesh_sphere(m: &BuiltMesh) -> ([f32; 3], f32) {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
@@ -503,6 +506,7 @@ impl GpuScene {
             }
             let (center, radius) = mesh_sphere(m);
             let q = &m.quantization;
+            let (walk_error, walk_error_wide, walk_radius) = walk_bound(m, center);
             let gpu = MeshGpu {
                 cluster_offset: ranges[0].0 as u32,
                 group_offset: ranges[1].0 as u32,
@@ -524,7 +528,10 @@ impl GpuScene {
                 } else {
                     NO_UVS
                 },
-                _pad: 0,
+                walk_error,
+                walk_error_wide,
+                walk_radius,
+                _pad: [0; 2],
             };
             let vertices: Vec<GpuVertex> = m
                 .vertices
@@ -584,9 +591,9 @@ impl GpuScene {
             new_slots.push(slot);
         }
         // The mesh table: grown to hold every slot (by doubling, or exactly from empty).
-        let need = 80 * self.mesh_table.len() as u64;
+        let need = MESH_GPU_BYTES * self.mesh_table.len() as u64;
         if self.meshes.size() < need {
-            let keep = 80 * old_slots;
+            let keep = MESH_GPU_BYTES * old_slots;
             let bytes = if keep == 0 {
                 need
             } else {
@@ -621,7 +628,7 @@ impl GpuScene {
             }
             for &slot in &new_slots {
                 let e = &table[slot as usize];
-                cmd.update_buffer(meshes, 80 * slot as u64, bytemuck::bytes_of(e));
+                cmd.update_buffer(meshes, MESH_GPU_BYTES * slot as u64, bytemuck::bytes_of(e));
             }
             cmd.barrier(
                 (S::ALL_TRANSFER, A::TRANSFER_WRITE),
@@ -1044,7 +1051,7 @@ impl GpuScene {
         let mut buffers = vec![
             BufferMemory {
                 name: "scene meshes",
-                used_bytes: 80 * (self.mesh_count() as u64),
+                used_bytes: MESH_GPU_BYTES * (self.mesh_count() as u64),
                 capacity_bytes: self.meshes.size(),
             },
             BufferMemory {
@@ -1068,4 +1075,35 @@ impl GpuScene {
         });
         SceneMemory { buffers }
     }
+}
+
+/// `MeshGpu::walk_error`, `walk_error_wide` and `walk_radius` of a mesh whose bounding sphere is
+/// centred at `center`: the largest parent error but the [`crate::shared::WALK_CLUSTERS`]
+/// (`WALK_CLUSTERS_WIDE`) largest (0 when the mesh has no more clusters), and a radius around `center` enclosing every parent sphere and BVH LOD
+/// sphere. Any cluster (and node) outside those largest has a parent error at most `walk_error`
+/// on a sphere inside that radius, so when `walk_error` projects under the threshold there, none
+/// of them is in the cut (nor walked): the walk is short. Only the walk's length depends on it,
+/// never the cut.
+fn walk_bound(m: &BuiltMesh, center: [f32; 3]) -> (f32, f32, f32) {
+    let mut errors: Vec<f32> = m.clusters.iter().map(|c| c.parent_error).collect();
+    errors.sort_unstable_by(|a, b| b.total_cmp(a));
+    let beyond = |k: u32| errors.get(k as usize).map_or(0.0, |e| e.max(0.0));
+    let (walk_error, walk_error_wide) = (
+        beyond(crate::shared::WALK_CLUSTERS),
+        beyond(crate::shared::WALK_CLUSTERS_WIDE),
+    );
+    let reach = |s: &[f32; 4]| {
+        let d =
+            ((s[0] - center[0]).powi(2) + (s[1] - center[1]).powi(2) + (s[2] - center[2]).powi(2))
+                .sqrt();
+        d + s[3]
+    };
+    let radius = m
+        .clusters
+        .iter()
+        .map(|c| reach(&c.parent_sphere))
+        .chain(m.bvh.iter().map(|n| reach(&n.lod_sphere)))
+        .fold(0.0f32, f32::max);
+    // A margin against rounding of the sums above (only the walk's length depends on it).
+    (walk_error, walk_error_wide, radius * (1.0 + 1.0 / 1024.0))
 }

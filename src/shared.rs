@@ -42,6 +42,20 @@ pub const INSTANCE_CULL_WORKGROUP_SIZE: u32 = 64;
 pub const CLUSTER_CULL_WORKGROUP_SIZE: u32 = 64;
 /// Threads of one `raster_sw` workgroup: one per triangle of a cluster.
 pub const RASTER_SW_WORKGROUP_SIZE: u32 = 128;
+/// `instance_cull` walks an instance's BVH itself (no global queue) when at most this many of
+/// its mesh's clusters can be in the cut (`MeshGpu::walk_error`), so a small instance costs one
+/// thread's short walk instead of a trip per node through `cluster_cull`'s persistent queue.
+pub const WALK_CLUSTERS: u32 = 16;
+/// With at least [`WALK_WIDE_INSTANCES`] instances in the view, the local walk takes meshes with up
+/// to this many clusters in the cut (`MeshGpu::walk_error_wide`): with many instances the GPU is
+/// busy with one thread each and the queue's atomics are the bottleneck (stress N=100: 24.3 ->
+/// 8.2 ms on the H100); with few, a long walk in one thread is the frame's latency (outdoor, 91
+/// instances: 0.84 -> 0.97 ms).
+pub const WALK_CLUSTERS_WIDE: u32 = 64;
+/// Instances of a view from which `instance_cull` walks with [`WALK_CLUSTERS_WIDE`].
+pub const WALK_WIDE_INSTANCES: u32 = 4096;
+/// Nodes the local walk keeps pending in registers; more go to the global queue.
+pub const WALK_STACK: u32 = 32;
 /// `cluster_cull` gives up (and reports) after this many loop iterations per workgroup.
 pub const CLUSTER_CULL_WATCHDOG: u32 = 1000000;
 /// An empty slot of the `cluster_cull` work queue (items are `instance << 32 | bvh node`).
@@ -138,7 +152,17 @@ pub struct MeshGpu {
     /// First entry of the mesh's UVs in the scene's UV stream ([`NO_UVS`]: the mesh has none, and
     /// stores none on the GPU).
     pub uv_offset: u32,
-    pub _pad: u32,
+    /// The largest parent error among the mesh's clusters but its [`WALK_CLUSTERS`] largest
+    /// (0 when it has no more clusters): when it projects under the threshold on the sphere of
+    /// radius `walk_radius` around `bounds_center`, at most that many clusters can be in the cut
+    /// and `instance_cull` walks the BVH itself.
+    pub walk_error: f32,
+    /// As `walk_error` for [`WALK_CLUSTERS_WIDE`] clusters.
+    pub walk_error_wide: f32,
+    /// Radius around `bounds_center` enclosing every cluster's parent sphere and every BVH
+    /// node's LOD sphere.
+    pub walk_radius: f32,
+    pub _pad: [u32; 2],
 }
 
 /// [`MeshGpu::uv_offset`] of a mesh without texture coordinates.
@@ -155,7 +179,7 @@ pub struct GpuVertex {
     pub normal: u32,
 }
 const _: () = assert!(size_of::<GpuVertex>() == 12);
-const _: () = assert!(size_of::<MeshGpu>() == 80);
+const _: () = assert!(size_of::<MeshGpu>() == 96);
 
 /// One instance of the vgeo path. The translation is split into high and low f32 parts so that
 /// camera-relative positions are exact for scenes far from the origin.
@@ -230,7 +254,9 @@ pub struct CullCounters {
     pub visible_overflow: u32,
     /// Non-zero when a `cluster_cull` workgroup hit its watchdog (a bug: reported as an error).
     pub watchdog: u32,
-    pub _pad0: u32,
+    /// Walks `instance_cull` made itself (`MeshGpu::walk_error`): visible small instances, and in
+    /// the post phase the deferred BVH nodes of small instances.
+    pub local_walks: u32,
     /// `vkCmdDispatchIndirect` arguments of `raster_sw` (x, y, z) + pad.
     pub sw_dispatch: [u32; 4],
     /// `vkCmdDrawIndirect` arguments of `raster_hw` (vertices, instances, first vertex, first instance).

@@ -206,3 +206,75 @@ fn frustum_culling_removes_what_is_behind_the_camera() {
     assert!(!res.visible.is_empty());
     assert_no_validation_errors(&ctx);
 }
+
+/// Small instances walk their BVH inside `instance_cull` (no global queue): grass clumps (a DAG of
+/// 6 clusters: always) and spots at many distances (only where at most `WALK_CLUSTERS`, or with
+/// `WALK_WIDE_INSTANCES` instances `WALK_CLUSTERS_WIDE`, of their clusters can be in the cut). The
+/// cut is the CPU's either way, and both paths run.
+#[test]
+fn small_instances_walk_locally_with_the_same_cut() {
+    use vgeo::shared::{WALK_CLUSTERS, WALK_WIDE_INSTANCES};
+    let ctx = gpu();
+    let spot = built(&assets().join("spot.obj"));
+    let grass = build(
+        &vgeo::generated_mesh("grass").expect("grass"),
+        &BuildOptions::default(),
+    )
+    .expect("grass builds");
+    assert!(grass.clusters.len() <= WALK_CLUSTERS as usize);
+    assert!(spot.clusters.len() > WALK_CLUSTERS as usize);
+    let meshes = vec![spot, grass];
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 1.0, 2.0),
+        DVec3::new(0.0, 0.0, -10.0),
+        Vec3::Y,
+        50f32.to_radians(),
+        0.05,
+    );
+    // 12 x 12 instances (the narrow bound), then 64 x 64 (the wide one).
+    for side in [12usize, 64] {
+        let mut placements = Vec::new();
+        for i in 0..side {
+            for j in 0..side {
+                let z = -1.5 * (1.35f64).powf(j as f64 * 12.0 / side as f64);
+                let x = (i as f64 / side as f64 - 0.5) * 2.4 * z.abs().sqrt();
+                placements.push(Placement {
+                    mesh: ((i + j) % 2) as u32,
+                    transform: DMat4::from_rotation_translation(
+                        DQuat::from_rotation_y(0.37 * (i * side + j) as f64),
+                        DVec3::new(x, 0.0, z),
+                    ),
+                    color: [1.0; 3],
+                });
+            }
+        }
+        assert_eq!(
+            placements.len() >= WALK_WIDE_INSTANCES as usize,
+            side == 64,
+            "the second grid uses the wide bound"
+        );
+        let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+        // The big grid at one threshold (the CPU cut of 4,096 instances takes a while here).
+        let taus: &[f32] = if side == 12 { &[0.5, 1.0, 4.0] } else { &[1.0] };
+        for &tau in taus {
+            r.set_cull_workgroups(2).unwrap();
+            let (n, border) = compare(&mut r, &meshes, &placements, &camera, tau);
+            let settings = FrameSettings {
+                error_px: tau,
+                flags: VIEW_FLAG_NO_FRUSTUM,
+                ..Default::default()
+            };
+            let res = r.cull(&camera, 320, 240, &settings).expect("cull runs");
+            let local = res.counters.local_walks as usize;
+            let grass = placements.iter().filter(|p| p.mesh == 1).count();
+            eprintln!(
+                "{side}x{side}, tau={tau}: cut {n} clusters, {border} borderline, {local} of {} instances walked locally",
+                placements.len()
+            );
+            // Every grass clump (whose root alone is not fine) walks locally, and some spots do;
+            // the nearest spots still go through cluster_cull's queue.
+            assert!(local > grass / 2 && local < placements.len(), "{local}");
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}

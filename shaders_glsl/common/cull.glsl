@@ -135,10 +135,17 @@ void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) 
         float diameter_px = 2.0 * radius * view.proj_scale / dist;
         hw = diameter_px * inversesqrt(tris * 0.5) > view.hw_threshold_px;
     }
+    // The lists hold visible_capacity entries each; a cluster emitted twice (never, by the cut's
+    // rule, but a direct slot is not a count) must not write past them.
+    uint slot = hw ? atomicAdd(counters.hw_count, 1u) : atomicAdd(counters.sw_count, 1u);
+    if (slot >= view.visible_capacity) {
+        atomicAdd(counters.visible_overflow, 1u);
+        return;
+    }
     if (hw) {
-        hw_list[atomicAdd(counters.hw_count, 1u)] = v;
+        hw_list[slot] = v;
     } else {
-        sw_list[atomicAdd(counters.sw_count, 1u)] = v;
+        sw_list[slot] = v;
     }
     atomicAdd(counters.triangles, (clusters[cluster_index].counts >> 8) & 0xffu);
 }
@@ -192,6 +199,135 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
         emit_cluster(instance, ci, cc, cr);
     }
     return true;
+}
+
+// Nodes a local walk (instance_cull) keeps pending; per invocation.
+uint walk_stack[WALK_STACK];
+uint walk_sp;
+
+// One (instance, BVH node) item: frustum and LOD tests of the node, then its children (to the
+// global queue, or with `local` to `walk_stack` while it has room) or, for a leaf, the cut rule per
+// cluster and the drawn clusters' emission. cluster_cull runs it on the items of its queue,
+// instance_cull on a small instance's whole BVH (`walk_locally`): the same tests, so the same cut.
+void process_node(uint64_t item, bool local) {
+    uint instance = uint(item >> 32);
+    uint node_index = uint(item & 0xffffffffu);
+    atomicAdd(counters.nodes_visited, 1u);
+    InstanceVgeo inst = instances[instance];
+    MeshGpu mesh = meshes[inst.mesh];
+    BvhNode node = bvh[node_index];
+    float scale = inst.max_scale;
+    bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
+
+    if (frustum) {
+        vec3 bc = relative_position(inst, view, (node.bounds_min + node.bounds_max) * 0.5);
+        float br = length(node.bounds_max - node.bounds_min) * 0.5 * scale;
+        if (!sphere_in_frustum(view, bc, br)) {
+            return;
+        }
+    }
+    // Occlusion: in the main phase against the previous frame's HZB (rejected items wait for the
+    // post phase), in the post phase against this frame's (rejected for good).
+    if (hzb_occluded(inst, node.bounds_min, node.bounds_max)) {
+        if (pc.phase == 0u) {
+            uint j = atomicAdd(counters.post_node_count, 1u);
+            if (j < view.queue_capacity) {
+                post_nodes[j] = item;
+            } else {
+                atomicAdd(counters.queue_overflow, 1u);
+            }
+        } else {
+            atomicAdd(counters.occluded_nodes, 1u);
+        }
+        return;
+    }
+    // No cluster below can be drawn when even the largest parent error is already fine (the
+    // fallback cut is by level: every node is walked).
+    bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
+    vec3 lc = relative_position(inst, view, node.lod_sphere.xyz);
+    if (!fallback
+        && lod_error_px(node.max_parent_error * scale, lc, node.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
+        return;
+    }
+    if ((node.flags & BVH_FLAG_LEAF) == 0u) {
+        for (uint k = 0u; k < node.count; k++) {
+            uint child = mesh.bvh_offset + node.first + k;
+            if (local && walk_sp < WALK_STACK) {
+                walk_stack[walk_sp] = child;
+                walk_sp++;
+            } else {
+                push_item((uint64_t(instance) << 32) | uint64_t(child));
+            }
+        }
+        return;
+    }
+    for (uint g = 0u; g < node.count; g++) {
+        Group group = groups[mesh.group_offset + node.first + g];
+        for (uint k = 0u; k < group.cluster_count; k++) {
+            uint ci = mesh.cluster_offset + group.first_cluster + k;
+            Cluster cl = clusters[ci];
+            atomicAdd(counters.clusters_tested, 1u);
+            bool in_cut;
+            if (fallback) {
+                in_cut = cl.level <= mesh.fallback_level
+                    && groups[mesh.group_offset + cl.group].iteration >= mesh.fallback_level;
+            } else {
+                vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
+                vec3 pcen = relative_position(inst, view, cl.parent_sphere.xyz);
+                bool fine = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) <= view.error_px;
+                bool parent_coarse =
+                    lod_error_px(cl.parent_error * scale, pcen, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
+                in_cut = fine && parent_coarse;
+            }
+            if (!in_cut) {
+                continue;
+            }
+            vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
+            float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * scale;
+            if (frustum && !sphere_in_frustum(view, cc, cr)) {
+                continue;
+            }
+            if (!cluster_occluded(instance, inst, cl, ci)) {
+                emit_cluster(instance, ci, cc, cr);
+            }
+        }
+    }
+}
+
+// Whether instance_cull walks this instance's BVH itself: at most WALK_CLUSTERS of its mesh's
+// clusters can be in the cut (MeshGpu::walk_error projected on the sphere of radius walk_radius),
+// or WALK_CLUSTERS_WIDE in a view of at least WALK_WIDE_INSTANCES instances (walk_error_wide).
+// The fallback cut walks every node: never locally.
+bool walk_locally(InstanceVgeo inst, MeshGpu mesh) {
+    if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u) {
+        return false;
+    }
+    vec3 c = relative_position(inst, view, mesh.bounds_center);
+    float scale = inst.max_scale;
+    float e = view.instance_count >= WALK_WIDE_INSTANCES ? mesh.walk_error_wide : mesh.walk_error;
+    return lod_error_px(e * scale, c, mesh.walk_radius * scale, view.proj_scale) <= view.error_px;
+}
+
+// An (instance, BVH node) item of a visible instance: walked here, node and subtree, when the
+// instance is small (see walk_locally), else pushed to cluster_cull's queue.
+void walk_or_push_item(uint64_t item, InstanceVgeo inst, MeshGpu mesh) {
+    if (!walk_locally(inst, mesh)) {
+        push_item(item);
+        return;
+    }
+    atomicAdd(counters.local_walks, 1u);
+    uint64_t instance = item & 0xffffffff00000000ul;
+    walk_sp = 0u;
+    process_node(item, true);
+    while (walk_sp > 0u) {
+        walk_sp--;
+        process_node(instance | uint64_t(walk_stack[walk_sp]), true);
+    }
+}
+
+// A visible instance's cut, from its BVH root.
+void walk_or_push(uint instance, InstanceVgeo inst, MeshGpu mesh) {
+    walk_or_push_item((uint64_t(instance) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root), inst, mesh);
 }
 
 #endif

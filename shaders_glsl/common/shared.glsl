@@ -33,7 +33,10 @@ struct MeshGpu {
     uint root_cluster;
     uint fallback_level;
     uint uv_offset;  // first entry in the UV stream, NO_UVS: none
-    uint _pad0;
+    float walk_error;  // instance_cull walks the BVH itself below this (see src/shared.rs)
+    float walk_error_wide;  // the same for WALK_CLUSTERS_WIDE, with WALK_WIDE_INSTANCES instances
+    float walk_radius;
+    uint _pad0[2];
 };
 
 struct InstanceVgeo {
@@ -78,7 +81,7 @@ struct CullCounters {
     uint queue_overflow;
     uint visible_overflow;
     uint watchdog;
-    uint _pad0;
+    uint local_walks;
     uvec4 sw_dispatch;
     uvec4 hw_draw;
     uint post_instance_count;
