@@ -58,10 +58,10 @@ fn instance_of(mesh: u32, transform: &DMat4, color: [f32; 3]) -> InstanceVgeo {
     }
 }
 
-/// Bounding sphere (center, radius) of a built mesh's level-0 bounds.
 /// Bytes of one mesh record on the GPU.
 const MESH_GPU_BYTES: u64 = std::mem::size_of::<MeshGpu>() as u64;
 
+/// Bounding sphere (center, radius) of a built mesh's level-0 bounds.
 fn mesh_sphere(m: &BuiltMesh) -> ([f32; 3], f32) {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
@@ -1079,8 +1079,8 @@ impl GpuScene {
 
 /// `MeshGpu::walk_error`, `walk_error_wide` and `walk_radius` of a mesh whose bounding sphere is
 /// centred at `center`: the largest parent error but the [`crate::shared::WALK_CLUSTERS`]
-/// (`WALK_CLUSTERS_WIDE`) largest (0 when the mesh has no more clusters), and a radius around `center` enclosing every parent sphere and BVH LOD
-/// sphere. Any cluster (and node) outside those largest has a parent error at most `walk_error`
+/// (`WALK_CLUSTERS_WIDE`) largest (0 when the mesh has no more clusters), and a radius around
+/// `center` enclosing every parent sphere and BVH LOD sphere. Any cluster (and node) outside those largest has a parent error at most `walk_error`
 /// on a sphere inside that radius, so when `walk_error` projects under the threshold there, none
 /// of them is in the cut (nor walked): the walk is short. Only the walk's length depends on it,
 /// never the cut.

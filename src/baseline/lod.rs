@@ -76,8 +76,10 @@ impl LodChain {
     /// Simplifies `mesh` into [`LOD_COUNT`] levels (deterministic).
     ///
     /// Level `k` targets `LOD_FRACTIONS[k]` of the triangles, simplified from the full mesh with no
-    /// error limit; its error is meshoptimizer's absolute error, raised to the previous level's
-    /// error where smaller so errors never decrease. A level meshoptimizer cannot make smaller than
+    /// error limit (across attribute seams where keeping them leaves it 20 % over the target);
+    /// once a level has at most [`LOD_MIN_TRIANGLES`], the rest share it. Its error is the larger
+    /// of meshoptimizer's absolute error and the coverage error (`simplify::coverage_error`),
+    /// raised to the previous level's error where smaller so errors never decrease. A level meshoptimizer cannot make smaller than
     /// the previous one, or only makes empty (tiny meshes), reuses the previous level: counts never
     /// grow and no level of a non-empty mesh is empty.
     pub fn build(mesh: &Mesh) -> Self {
