@@ -200,6 +200,23 @@ fn quick_suite_runs_every_scene_in_every_mode_with_sane_results() {
         assert!(svg.contains("<svg") && svg.contains("vgeo"));
     }
     assert!(out.join("stress_scaling.svg").exists() && out.join("stress_memory.svg").exists());
+    // GPU time against instances too, and the instance counts in the scaling table.
+    let svg = std::fs::read_to_string(out.join("stress_instances.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("instances"));
+    let stress: Vec<_> = report
+        .scenes
+        .iter()
+        .filter(|s| s.name.starts_with("stress_n"))
+        .collect();
+    assert!(!stress.is_empty());
+    for s in stress {
+        assert!(
+            md.contains(&format!("| vgeo | {} | ", s.instances)),
+            "scaling row of {} with {} instances",
+            s.name,
+            s.instances
+        );
+    }
     assert!(out.join("images/outdoor_vgeo_1px.png").exists());
     std::fs::remove_dir_all(&out).ok();
 }

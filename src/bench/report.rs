@@ -261,6 +261,7 @@ pub fn write_outputs(report: &BenchReport, out: &Path) -> Result<()> {
         plot_scaling(
             &out.join("stress_scaling.svg"),
             "stress: GPU time against scene triangles (1 px)",
+            "scene triangles (instanced, full detail)",
             "GPU ms per frame",
             &scaling
                 .iter()
@@ -270,10 +271,21 @@ pub fn write_outputs(report: &BenchReport, out: &Path) -> Result<()> {
         plot_scaling(
             &out.join("stress_memory.svg"),
             "stress: GPU memory (geometry + instances) against scene triangles",
+            "scene triangles (instanced, full detail)",
             "MiB",
             &scaling
                 .iter()
                 .map(|(m, p)| (m.clone(), p.iter().map(|x| (x.0, x.2)).collect()))
+                .collect::<Vec<_>>(),
+        )?;
+        plot_scaling(
+            &out.join("stress_instances.svg"),
+            "stress: GPU time against instances (1 px)",
+            "instances",
+            "GPU ms per frame",
+            &scaling
+                .iter()
+                .map(|(m, p)| (m.clone(), p.iter().map(|x| (x.3, x.1)).collect()))
                 .collect::<Vec<_>>(),
         )?;
     }
@@ -331,25 +343,32 @@ fn speed_series(report: &BenchReport, scene: &str, axis: ErrorAxis) -> SpeedSeri
         .collect()
 }
 
-/// Per mode: (scene triangles, GPU ms, MiB) for each stress grid, at the sweep's threshold
-/// nearest 1 px (a fixed threshold, not equal error: the largest grids have no reference).
-type ScalingSeries = Vec<(String, Vec<(f64, f64, f64)>)>;
+/// Per mode: (scene triangles, GPU ms, MiB, instances) for each stress grid, at the sweep's
+/// threshold nearest 1 px (a fixed threshold, not equal error: the largest grids have no
+/// reference).
+type ScalingSeries = Vec<(String, Vec<(f64, f64, f64, f64)>)>;
 
 fn scaling_series(report: &BenchReport) -> ScalingSeries {
     let one = report.settings.first_one_px();
     ["brute", "lod", "vgeo"]
         .iter()
         .map(|mode| {
-            let mut pts: Vec<(f64, f64, f64)> = report
+            let mut pts: Vec<(f64, f64, f64, f64)> = report
                 .summary
                 .iter()
                 .filter(|s| s.scene.starts_with("stress_n") && s.mode == *mode)
                 .filter(|s| *mode == "brute" || s.error_px == one)
                 .map(|s| {
+                    let instances = report
+                        .scenes
+                        .iter()
+                        .find(|i| i.name == s.scene)
+                        .map_or(0.0, |i| i.instances as f64);
                     (
                         s.scene_triangles as f64,
                         s.gpu_ms_mean,
                         (s.geometry_bytes + s.instance_bytes) as f64 / (1u64 << 20) as f64,
+                        instances,
                     )
                 })
                 .collect();
@@ -460,6 +479,7 @@ fn plot_speed_error(
 fn plot_scaling(
     path: &Path,
     title: &str,
+    x_desc: &str,
     y_desc: &str,
     series: &[(String, Vec<(f64, f64)>)],
 ) -> Result<()> {
@@ -491,7 +511,7 @@ fn plot_scaling(
         )?;
     chart
         .configure_mesh()
-        .x_desc("scene triangles (instanced, full detail)")
+        .x_desc(x_desc)
         .y_desc(y_desc)
         .x_label_formatter(&|x| format!("{x:.0e}"))
         .draw()?;
@@ -656,10 +676,14 @@ pub fn markdown(report: &BenchReport) -> String {
     }
     let scaling = scaling_series(report);
     if scaling.iter().any(|(_, p)| !p.is_empty()) {
-        md.push_str("## stress scaling (threshold nearest 1 px, not equal error)\n\n| mode | scene triangles | GPU ms | MiB (geometry + instances) |\n|---|---|---|---|\n");
+        md.push_str("## stress scaling (threshold nearest 1 px, not equal error)\n\n| mode | instances | scene triangles | GPU ms | MiB (geometry + instances) |\n|---|---|---|---|---|\n");
         for (mode, pts) in &scaling {
             for p in pts {
-                let _ = writeln!(md, "| {mode} | {:.3e} | {:.3} | {:.1} |", p.0, p.1, p.2);
+                let _ = writeln!(
+                    md,
+                    "| {mode} | {:.0} | {:.3e} | {:.3} | {:.1} |",
+                    p.3, p.0, p.1, p.2
+                );
             }
         }
         md.push('\n');
