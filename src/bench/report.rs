@@ -258,36 +258,38 @@ pub fn write_outputs(report: &BenchReport, out: &Path) -> Result<()> {
     }
     let scaling = scaling_series(report);
     if scaling.iter().any(|(_, pts)| !pts.is_empty()) {
-        plot_scaling(
-            &out.join("stress_scaling.svg"),
-            "stress: GPU time against scene triangles (1 px)",
-            "scene triangles (instanced, full detail)",
-            "GPU ms per frame",
-            &scaling
+        const TRIANGLES: &str = "scene triangles (instanced, full detail)";
+        type Axes = fn(&(f64, f64, f64, f64)) -> (f64, f64);
+        let plots: [(&str, &str, &str, &str, Axes); 3] = [
+            (
+                "stress_scaling.svg",
+                "stress: GPU time against scene triangles (1 px)",
+                TRIANGLES,
+                "GPU ms per frame",
+                |x| (x.0, x.1),
+            ),
+            (
+                "stress_memory.svg",
+                "stress: GPU memory (geometry + instances) against scene triangles",
+                TRIANGLES,
+                "MiB",
+                |x| (x.0, x.2),
+            ),
+            (
+                "stress_instances.svg",
+                "stress: GPU time against instances (1 px)",
+                "instances",
+                "GPU ms per frame",
+                |x| (x.3, x.1),
+            ),
+        ];
+        for (file, title, x_desc, y_desc, axes) in plots {
+            let series: Vec<(String, Vec<(f64, f64)>)> = scaling
                 .iter()
-                .map(|(m, p)| (m.clone(), p.iter().map(|x| (x.0, x.1)).collect()))
-                .collect::<Vec<_>>(),
-        )?;
-        plot_scaling(
-            &out.join("stress_memory.svg"),
-            "stress: GPU memory (geometry + instances) against scene triangles",
-            "scene triangles (instanced, full detail)",
-            "MiB",
-            &scaling
-                .iter()
-                .map(|(m, p)| (m.clone(), p.iter().map(|x| (x.0, x.2)).collect()))
-                .collect::<Vec<_>>(),
-        )?;
-        plot_scaling(
-            &out.join("stress_instances.svg"),
-            "stress: GPU time against instances (1 px)",
-            "instances",
-            "GPU ms per frame",
-            &scaling
-                .iter()
-                .map(|(m, p)| (m.clone(), p.iter().map(|x| (x.3, x.1)).collect()))
-                .collect::<Vec<_>>(),
-        )?;
+                .map(|(m, p)| (m.clone(), p.iter().map(axes).collect()))
+                .collect();
+            plot_scaling(&out.join(file), title, x_desc, y_desc, &series)?;
+        }
     }
     if !report.images.is_empty() {
         let dir = out.join("images");
