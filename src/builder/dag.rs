@@ -15,6 +15,7 @@ use super::{
     BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
     LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
 };
+use super::{uf_find, uf_union};
 use crate::mesh::Mesh;
 use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
 
@@ -722,11 +723,10 @@ impl Level0 {
             let (a, b) = ((k >> 32) as u32, k as u32);
             border[a as usize] = true;
             border[b as usize] = true;
-            let (ra, rb) = (find(&mut comp, a), find(&mut comp, b));
-            comp[ra.max(rb) as usize] = ra.min(rb);
+            uf_union(&mut comp, a, b);
         }
         for x in 0..npid as u32 {
-            comp[x as usize] = find(&mut comp, x);
+            comp[x as usize] = uf_find(&mut comp, x);
         }
         Level0 {
             irregular,
@@ -780,8 +780,7 @@ fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
                 } else {
                     let (fv, ft) = owner[*f as usize];
                     seam |= fv != v;
-                    let (ra, rb) = (find(&mut parent, ft), find(&mut parent, ti as u32));
-                    parent[ra.max(rb) as usize] = ra.min(rb);
+                    uf_union(&mut parent, ft, ti as u32);
                 }
             }
         }
@@ -791,20 +790,10 @@ fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
             }
         }
         let pieces = (0..tris.len() as u32)
-            .filter(|&t| find(&mut parent, t) == t)
+            .filter(|&t| uf_find(&mut parent, t) == t)
             .count();
         (seam, pieces > 1)
     })
-}
-
-/// Union-find root of `x` (with path halving).
-fn find(c: &mut [u32], mut x: u32) -> u32 {
-    while c[x as usize] != x {
-        let p = c[c[x as usize] as usize];
-        c[x as usize] = p;
-        x = p;
-    }
-    x
 }
 
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {

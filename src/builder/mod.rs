@@ -25,6 +25,23 @@ pub mod quantize;
 pub mod simplify;
 pub mod verify;
 
+/// Union-find root of `x` in `parent` (with path halving): the builder's connected pieces, seam
+/// components and border loops, and the coverage error's pieces.
+pub(crate) fn uf_find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let p = parent[parent[x as usize] as usize];
+        parent[x as usize] = p;
+        x = p;
+    }
+    x
+}
+
+/// Joins the sets of `a` and `b` under the smaller root (so a set's root is its smallest member).
+pub(crate) fn uf_union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (uf_find(parent, a), uf_find(parent, b));
+    parent[ra.max(rb) as usize] = ra.min(rb);
+}
+
 use bytemuck::{Pod, Zeroable};
 
 use crate::mesh::{Material, Mesh};

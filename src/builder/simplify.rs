@@ -1,5 +1,8 @@
 //! Group simplification with meshoptimizer: locked border vertices, absolute object-space error.
 
+use super::uf_find;
+use super::uf_union;
+
 /// meshopt_SimplifyLockBorder is not used: locks are explicit per vertex.
 const OPT_SPARSE_NONE: u32 = 0;
 /// meshopt_SimplifyErrorAbsolute.
@@ -271,30 +274,16 @@ pub(crate) fn coverage_error(input: &[u32], output: &[u32], positions: &[[f32; 3
     }
     // Pieces: union-find over vertices, joined along triangles and at equal positions.
     let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(parent: &mut [u32], mut v: u32) -> u32 {
-        while parent[v as usize] != v {
-            let p = parent[parent[v as usize] as usize];
-            parent[v as usize] = p;
-            v = p;
-        }
-        v
-    }
-    let union = |parent: &mut Vec<u32>, a: u32, b: u32| {
-        let (ra, rb) = (find(parent, a), find(parent, b));
-        if ra != rb {
-            parent[ra.max(rb) as usize] = ra.min(rb);
-        }
-    };
     for t in input.chunks_exact(3) {
-        union(&mut parent, t[0], t[1]);
-        union(&mut parent, t[0], t[2]);
+        uf_union(&mut parent, t[0], t[1]);
+        uf_union(&mut parent, t[0], t[2]);
     }
     let mut by_position: Vec<u32> = (0..n as u32).collect();
     let key = |v: u32| positions[v as usize].map(f32::to_bits);
     by_position.sort_unstable_by_key(|&v| key(v));
     for w in by_position.windows(2) {
         if key(w[0]) == key(w[1]) {
-            union(&mut parent, w[0], w[1]);
+            uf_union(&mut parent, w[0], w[1]);
         }
     }
     let area = |t: &[u32]| {
@@ -305,11 +294,11 @@ pub(crate) fn coverage_error(input: &[u32], output: &[u32], positions: &[[f32; 3
     let mut before = vec![0.0f64; n];
     let mut after = vec![0.0f64; n];
     for t in input.chunks_exact(3) {
-        let r = find(&mut parent, t[0]);
+        let r = uf_find(&mut parent, t[0]);
         before[r as usize] += area(t);
     }
     for t in output.chunks_exact(3) {
-        let r = find(&mut parent, t[0]);
+        let r = uf_find(&mut parent, t[0]);
         after[r as usize] += area(t);
     }
     let mut lost_total = 0.0f64;

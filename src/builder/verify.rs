@@ -8,7 +8,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::cut::{cut_brute, cut_bvh, proj_scale};
-use super::{BVH_FLAG_LEAF, BuiltMesh, NO_GROUP, Sphere};
+use super::{BVH_FLAG_LEAF, BuiltMesh, NO_GROUP, Sphere, uf_find};
 use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
 
 mod reference;
@@ -668,15 +668,6 @@ fn local_edges(tris: &[[u32; 3]]) -> Vec<LocalEdge> {
     out
 }
 
-fn find(uf: &mut [u32], mut x: u32) -> u32 {
-    while uf[x as usize] != x {
-        let p = uf[uf[x as usize] as usize];
-        uf[x as usize] = p;
-        x = p;
-    }
-    x
-}
-
 impl Prep {
     fn new(m: &BuiltMesh, positions: &[[f32; 3]]) -> Self {
         let nc = m.clusters.len();
@@ -816,7 +807,7 @@ impl Prep {
             }
             border[e.x as usize] = true;
             border[e.y as usize] = true;
-            let (ra, rb) = (find(&mut uf, e.x), find(&mut uf, e.y));
+            let (ra, rb) = (uf_find(&mut uf, e.x), uf_find(&mut uf, e.y));
             uf[ra as usize] = rb;
             // Border edges used once, one way only, chain into loops; other uses (non-manifold,
             // multiply used) keep their points off the simple loops.
@@ -839,7 +830,7 @@ impl Prep {
                 }
             }
         }
-        let comp: Vec<u32> = (0..np as u32).map(|p| find(&mut uf, p)).collect();
+        let comp: Vec<u32> = (0..np as u32).map(|p| uf_find(&mut uf, p)).collect();
         drop(uf);
         // Simple border loops: every point with exactly one outgoing and one incoming border
         // edge; each point gets its loop and its index along it.
