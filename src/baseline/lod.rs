@@ -119,6 +119,7 @@ impl LodChain {
                     crate::builder::simplify::simplify(
                         &tris,
                         &mesh.positions,
+                        None,
                         Some(&attrs),
                         &|_| false,
                         target,

@@ -860,6 +860,7 @@ fn build_inner(
         let r = simplify(
             &tris,
             &positions,
+            Some(&pid),
             attrs,
             &|_| false,
             0,
@@ -881,6 +882,7 @@ fn build_inner(
             let r = simplify(
                 &tris,
                 &positions,
+                Some(&pid),
                 attrs,
                 &|_| false,
                 target,
@@ -1383,6 +1385,7 @@ impl GroupCtx<'_> {
             simplify(
                 &tris,
                 self.positions,
+                Some(self.pid),
                 self.attrs,
                 &lock,
                 goal,

@@ -44,12 +44,27 @@ fn local_pid_mesh(
     })
 }
 
-/// Unique vertices of the triangles `part` of `tris` (a small sort: parts are clusters).
+/// Unique vertices of the triangles `part` of `tris` (marks in a per-thread scratch map).
 fn vertex_count(tris: &[[u32; 3]], part: &[u32]) -> usize {
-    let mut v: Vec<u32> = part.iter().flat_map(|&t| tris[t as usize]).collect();
-    v.sort_unstable();
-    v.dedup();
-    v.len()
+    SCRATCH.with(|cell| {
+        let mut seen = cell.borrow_mut();
+        let mut verts: Vec<u32> = Vec::with_capacity(part.len() * 3);
+        for &t in part {
+            for v in tris[t as usize] {
+                if seen.len() <= v as usize {
+                    seen.resize(v as usize + 1, u32::MAX);
+                }
+                if seen[v as usize] == u32::MAX {
+                    seen[v as usize] = 0;
+                    verts.push(v);
+                }
+            }
+        }
+        for &v in &verts {
+            seen[v as usize] = u32::MAX;
+        }
+        verts.len()
+    })
 }
 
 /// Splits triangles (global vertex indices) into clusters of at most `max_tris` triangles and

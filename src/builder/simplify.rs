@@ -36,6 +36,31 @@ thread_local! {
     static SCRATCH: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
+/// Per vertex of `verts` (distinct global vertices), the first of them with the same position
+/// id (`pid`, indexed by global vertex): vertices with equal entries share a position.
+fn first_of_position(verts: &[u32], pid: &[u32]) -> Vec<u32> {
+    SCRATCH.with(|cell| {
+        let mut map = cell.borrow_mut();
+        let mut first = Vec::with_capacity(verts.len());
+        let mut touched = Vec::new();
+        for (local, &v) in verts.iter().enumerate() {
+            let p = pid[v as usize] as usize;
+            if map.len() <= p {
+                map.resize(p + 1, u32::MAX);
+            }
+            if map[p] == u32::MAX {
+                map[p] = local as u32;
+                touched.push(p);
+            }
+            first.push(map[p]);
+        }
+        for p in touched {
+            map[p] = u32::MAX;
+        }
+        first
+    })
+}
+
 /// The distinct vertices of `tris` in first-use order, and `tris` as indices into them.
 pub(crate) fn compact(tris: &[[u32; 3]], vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
     SCRATCH.with(|cell| {
@@ -129,10 +154,14 @@ impl Simplified {
 
 /// Simplifies `tris` (global vertex indices into `positions`) towards `target_tris` triangles.
 /// `locked(v)` says whether global vertex `v` must keep its place; `attrs` (indexed like
-/// `positions`) adds attribute deviation to the error (see [`Attributes`]).
+/// `positions`) adds attribute deviation to the error (see [`Attributes`]). `pid`, when given,
+/// is each vertex's position id (equal for the vertices that share a position): the coverage
+/// error then joins pieces by it instead of comparing positions.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn simplify(
     tris: &[[u32; 3]],
     positions: &[[f32; 3]],
+    pid: Option<&[u32]>,
     attrs: Option<&Attributes>,
     locked: &dyn Fn(u32) -> bool,
     target_tris: usize,
@@ -232,7 +261,8 @@ pub(crate) fn simplify(
         }
     };
     let count = count.min(dest.len());
-    let coverage = coverage_error(&indices, &dest[..count], &pos);
+    let first = pid.map(|p| first_of_position(&verts, p));
+    let coverage = coverage_error(&indices, &dest[..count], &pos, first.as_deref());
     let tris: Vec<[u32; 3]> = dest[..count]
         .chunks_exact(3)
         .map(|t| {
@@ -266,25 +296,38 @@ pub(crate) const COVERAGE_LOSS_SHARE: f64 = 0.25;
 /// share of their area to simplification and are not affected; small disconnected parts (blades,
 /// leaves, rivets) are, until they are about a pixel in size. `input` and `output` are index
 /// lists (triples) into `positions`; output vertices are input vertices (edge collapses and
-/// vertex clustering both keep that).
-pub(crate) fn coverage_error(input: &[u32], output: &[u32], positions: &[[f32; 3]]) -> f32 {
+/// vertex clustering both keep that). `first_of_position`, when given, names per vertex the
+/// first vertex at its position (a vertex's own index where it is the first); else vertices at
+/// equal positions are found by sorting.
+pub(crate) fn coverage_error(
+    input: &[u32],
+    output: &[u32],
+    positions: &[[f32; 3]],
+    first_of_position: Option<&[u32]>,
+) -> f32 {
     let n = positions.len();
     if input.is_empty() || n == 0 {
         return 0.0;
     }
-    // Pieces: union-find over vertices, joined along triangles and at equal positions.
-    let mut parent: Vec<u32> = (0..n as u32).collect();
+    // Pieces: union-find over vertices, joined at equal positions and along triangles.
+    let mut parent: Vec<u32> = match first_of_position {
+        Some(f) if f.len() == n && f.iter().all(|&r| f.get(r as usize) == Some(&r)) => f.to_vec(),
+        _ => {
+            let mut parent: Vec<u32> = (0..n as u32).collect();
+            let mut by_position: Vec<u32> = (0..n as u32).collect();
+            let key = |v: u32| positions[v as usize].map(f32::to_bits);
+            by_position.sort_unstable_by_key(|&v| key(v));
+            for w in by_position.windows(2) {
+                if key(w[0]) == key(w[1]) {
+                    uf_union(&mut parent, w[0], w[1]);
+                }
+            }
+            parent
+        }
+    };
     for t in input.chunks_exact(3) {
         uf_union(&mut parent, t[0], t[1]);
         uf_union(&mut parent, t[0], t[2]);
-    }
-    let mut by_position: Vec<u32> = (0..n as u32).collect();
-    let key = |v: u32| positions[v as usize].map(f32::to_bits);
-    by_position.sort_unstable_by_key(|&v| key(v));
-    for w in by_position.windows(2) {
-        if key(w[0]) == key(w[1]) {
-            uf_union(&mut parent, w[0], w[1]);
-        }
     }
     let area = |t: &[u32]| {
         let p = |k: usize| glam::DVec3::from(positions[t[k] as usize].map(f64::from));
@@ -339,17 +382,41 @@ mod tests {
     fn coverage_error_counts_the_area_of_vanished_and_shrunk_pieces() {
         let (p, idx) = squares();
         // Nothing lost.
-        assert_eq!(coverage_error(&idx, &idx, &p), 0.0);
+        assert_eq!(coverage_error(&idx, &idx, &p, None), 0.0);
         // The second square gone: its area (1) is lost.
-        assert_eq!(coverage_error(&idx, &idx[..6], &p), 1.0);
+        assert_eq!(coverage_error(&idx, &idx[..6], &p, None), 1.0);
         // Half of each square gone: 0.5 + 0.5 lost (more than a quarter of each piece).
         let half: Vec<u32> = [&idx[..3], &idx[6..9]].concat();
-        assert!((coverage_error(&idx, &half, &p) - 1.0).abs() < 1e-6);
+        assert!((coverage_error(&idx, &half, &p, None) - 1.0).abs() < 1e-6);
         // Half of the second square (split copies join it into one piece): 0.5 lost.
         let one: Vec<u32> = [&idx[..6], &idx[9..12]].concat();
-        assert!((coverage_error(&idx, &one, &p) - 0.5f32.sqrt()).abs() < 1e-6);
+        assert!((coverage_error(&idx, &one, &p, None) - 0.5f32.sqrt()).abs() < 1e-6);
         // Everything gone.
-        assert!((coverage_error(&idx, &[], &p) - 2.0f32.sqrt()).abs() < 1e-6);
+        assert!((coverage_error(&idx, &[], &p, None) - 2.0f32.sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn coverage_error_joins_pieces_by_position_ids_as_by_positions() {
+        let (p, idx) = squares();
+        // Position ids: the split copies 8 and 9 share vertices 4's and 6's ids.
+        let pid: Vec<u32> = vec![0, 1, 2, 3, 4, 5, 6, 7, 4, 6];
+        let verts: Vec<u32> = (0..p.len() as u32).collect();
+        let first = first_of_position(&verts, &pid);
+        assert_eq!(first, vec![0, 1, 2, 3, 4, 5, 6, 7, 4, 6]);
+        let one: Vec<u32> = [&idx[..6], &idx[9..12]].concat();
+        let half: Vec<u32> = [&idx[..3], &idx[6..9]].concat();
+        for out in [&idx[..], &idx[..6], &one[..], &half[..], &[][..]] {
+            let by_id = coverage_error(&idx, out, &p, Some(&first));
+            assert_eq!(by_id, coverage_error(&idx, out, &p, None));
+        }
+        // Ids that do not name first vertices are not trusted: positions decide.
+        let bad: Vec<u32> = (0..p.len() as u32)
+            .map(|v| (v + 1) % p.len() as u32)
+            .collect();
+        assert_eq!(
+            coverage_error(&idx, &one, &p, Some(&bad)),
+            coverage_error(&idx, &one, &p, None)
+        );
     }
 
     #[test]
@@ -363,8 +430,8 @@ mod tests {
         let idx: Vec<u32> = (0..10u32)
             .flat_map(|k| [0, 1 + k, 1 + (k + 1) % 10])
             .collect();
-        assert_eq!(coverage_error(&idx, &idx[3..], &p), 0.0);
+        assert_eq!(coverage_error(&idx, &idx[3..], &p, None), 0.0);
         // Three of ten (30 %): counted.
-        assert!(coverage_error(&idx, &idx[9..], &p) > 0.0);
+        assert!(coverage_error(&idx, &idx[9..], &p, None) > 0.0);
     }
 }
