@@ -159,7 +159,8 @@ pub(crate) fn morton_codes(points: &[[f32; 3]]) -> Vec<u64> {
             0.0
         }
     });
-    points.iter().map(|p| morton(*p, lo, inv)).collect()
+    use rayon::prelude::*;
+    points.par_iter().map(|p| morton(*p, lo, inv)).collect()
 }
 
 /// Chain edges between consecutive items in Morton order (low weight): keeps disconnected parts

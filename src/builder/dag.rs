@@ -264,48 +264,73 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
     // single material (the common case), the welding is done by sorting instead and the cache
     // answers every corner.
     let mut cache: Vec<(u16, u32)> = vec![(u16::MAX, 0); mesh.positions.len()];
+    let mut welded = false;
     if let Some(w) = weld_by_sort(mesh, &encoded) {
         vertices = w.vertices;
         materials = w.materials;
         pid = w.pid;
         cache = w.cache;
+        welded = true;
     }
-    // (canonical point triple, triangle index) of the kept triangles, for duplicate removal.
-    let mut keys: Vec<([u32; 3], u32)> = Vec::with_capacity(mesh.triangle_count());
-    for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
-        let mat = mesh.material_ids[t] as u16;
-        let mut tri = [0u32; 3];
-        for k in 0..3 {
-            let v = idx[k] as usize;
-            if cache[v].0 == mat {
-                tri[k] = cache[v].1;
-                continue;
+    // A triangle's points (position ids), `None` when two coincide (degenerate: dropped).
+    let points = |tri: [u32; 3], pid: &[u32]| {
+        let p = tri.map(|v| pid[v as usize]);
+        (p[0] != p[1] && p[1] != p[2] && p[0] != p[2]).then_some(p)
+    };
+    if welded {
+        // Every corner's vertex is in the cache: the triangles are mapped in parallel (the same
+        // ids as the loop below would give, in the same order).
+        let mapped: Vec<Option<[u32; 3]>> = mesh
+            .indices
+            .par_chunks_exact(3)
+            .map(|idx| {
+                let tri = [0, 1, 2].map(|k| cache[idx[k] as usize].1);
+                points(tri, &pid).map(|_| tri)
+            })
+            .collect();
+        dropped = mapped.iter().filter(|t| t.is_none()).count();
+        tris = mapped.into_iter().flatten().collect();
+    } else {
+        for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
+            let mat = mesh.material_ids[t] as u16;
+            let mut tri = [0u32; 3];
+            for k in 0..3 {
+                let v = idx[k] as usize;
+                if cache[v].0 == mat {
+                    tri[k] = cache[v].1;
+                    continue;
+                }
+                let pv = encoded[v];
+                let next = vertices.len() as u32;
+                let id = *key_to_vertex.entry((pv, mat)).or_insert(next);
+                if id == next {
+                    vertices.push(pv);
+                    materials.push(mat);
+                    let np = pos_to_pid.len() as u32;
+                    pid.push(*pos_to_pid.entry(pv.position).or_insert(np));
+                }
+                cache[v] = (mat, id);
+                tri[k] = id;
             }
-            let pv = encoded[v];
-            let next = vertices.len() as u32;
-            let id = *key_to_vertex.entry((pv, mat)).or_insert(next);
-            if id == next {
-                vertices.push(pv);
-                materials.push(mat);
-                let np = pos_to_pid.len() as u32;
-                pid.push(*pos_to_pid.entry(pv.position).or_insert(np));
+            if points(tri, &pid).is_some() {
+                tris.push(tri);
+            } else {
+                dropped += 1;
             }
-            cache[v] = (mat, id);
-            tri[k] = id;
         }
-        let p = [
-            pid[tri[0] as usize],
-            pid[tri[1] as usize],
-            pid[tri[2] as usize],
-        ];
-        if p[0] == p[1] || p[1] == p[2] || p[0] == p[2] {
-            dropped += 1;
-            continue;
-        }
-        let r = (0..3).min_by_key(|&i| p[i]).unwrap_or(0);
-        keys.push(([p[r], p[(r + 1) % 3], p[(r + 2) % 3]], tris.len() as u32));
-        tris.push(tri);
     }
+    drop(cache);
+    // (canonical point triple: rotated to start at the smallest, triangle index) of the kept
+    // triangles, for duplicate removal.
+    let mut keys: Vec<([u32; 3], u32)> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(i, &tri)| {
+            let p = tri.map(|v| pid[v as usize]);
+            let r = (0..3).min_by_key(|&i| p[i]).unwrap_or(0);
+            ([p[r], p[(r + 1) % 3], p[(r + 2) % 3]], i as u32)
+        })
+        .collect();
     // Exact duplicates (same three points, same winding) are dropped, the first one kept: they
     // add nothing to the surface and make coincident layers that simplification cannot keep
     // consistent.
@@ -326,7 +351,7 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         });
     }
     let positions: Vec<[f32; 3]> = vertices
-        .iter()
+        .par_iter()
         .map(|v| decode_position(&quant, v.position))
         .collect();
     let npid = pid.iter().max().map_or(0, |&m| m as usize + 1);
@@ -411,21 +436,47 @@ struct Welded {
 /// a single material (else `None`). Ids are assigned in order of first use by the corners, and
 /// position ids in order of vertex creation: exactly what the hash-map path produces.
 fn weld_by_sort(mesh: &Mesh, encoded: &[PackedVertex]) -> Option<Welded> {
+    use std::sync::atomic::{AtomicBool, AtomicU32, Ordering::Relaxed};
     let nv = encoded.len();
-    let mut vm = vec![u16::MAX; nv];
-    let mut first: Vec<u32> = Vec::with_capacity(nv);
-    for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
-        let m = mesh.material_ids[t] as u16;
-        for &v in idx {
-            let slot = &mut vm[v as usize];
-            if *slot == u16::MAX {
-                *slot = m;
-                first.push(v);
-            } else if *slot != m {
-                return None;
-            }
-        }
+    // Corner indices are kept as u32 below (the hash-map path takes larger meshes).
+    if mesh.indices.len() > u32::MAX as usize {
+        return None;
     }
+    // Per vertex, its material (the same for every corner, else `None`) and its first corner.
+    let vmat: Vec<AtomicU32> = (0..nv).map(|_| AtomicU32::new(u32::MAX)).collect();
+    let first_corner: Vec<AtomicU32> = (0..nv).map(|_| AtomicU32::new(u32::MAX)).collect();
+    let mixed = AtomicBool::new(false);
+    mesh.indices
+        .par_chunks_exact(3)
+        .enumerate()
+        .for_each(|(t, idx)| {
+            let m = mesh.material_ids[t] as u16 as u32;
+            for (k, &v) in idx.iter().enumerate() {
+                let v = v as usize;
+                if let Err(other) = vmat[v].compare_exchange(u32::MAX, m, Relaxed, Relaxed)
+                    && other != m
+                {
+                    mixed.store(true, Relaxed);
+                }
+                first_corner[v].fetch_min((3 * t + k) as u32, Relaxed);
+            }
+        });
+    if mixed.load(Relaxed) {
+        return None;
+    }
+    let vm: Vec<u16> = vmat.into_iter().map(|m| m.into_inner() as u16).collect();
+    // The used vertices in order of first use.
+    let mut by_first: Vec<u64> = first_corner
+        .into_par_iter()
+        .enumerate()
+        .filter_map(|(v, c)| {
+            let c = c.into_inner();
+            (c != u32::MAX).then_some((c as u64) << 32 | v as u64)
+        })
+        .collect();
+    by_first.par_sort_unstable();
+    let first: Vec<u32> = by_first.par_iter().map(|&k| k as u32).collect();
+    drop(by_first);
     // Rank = order of first use; equal keys take the smallest rank's id.
     let mut keyed: Vec<(PackedVertex, u16, u32)> = first
         .iter()
@@ -434,18 +485,14 @@ fn weld_by_sort(mesh: &Mesh, encoded: &[PackedVertex]) -> Option<Welded> {
         .collect();
     keyed.par_sort_unstable();
     let mut rep = vec![0u32; first.len()];
-    let mut i = 0;
-    while i < keyed.len() {
-        let mut j = i + 1;
-        while j < keyed.len() && keyed[j].0 == keyed[i].0 && keyed[j].1 == keyed[i].1 {
-            j += 1;
-        }
-        for e in &keyed[i..j] {
-            rep[e.2 as usize] = keyed[i].2;
-        }
-        i = j;
-    }
+    let reps: Vec<(u32, u32)> = keyed
+        .par_chunk_by(|a, b| a.0 == b.0 && a.1 == b.1)
+        .flat_map_iter(|same| same.iter().map(move |e| (e.2, same[0].2)))
+        .collect();
     drop(keyed);
+    for (r, to) in reps {
+        rep[r as usize] = to;
+    }
     let mut id_of_rank = vec![0u32; first.len()];
     let mut vertices = Vec::new();
     let mut materials = Vec::new();
@@ -701,22 +748,74 @@ struct Level0 {
 
 impl Level0 {
     fn new(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> Level0 {
-        let mut keys: Vec<u64> = tris
-            .par_iter()
-            .flat_map_iter(|t| {
-                (0..3).map(move |e| undirected(pid[t[e] as usize], pid[t[(e + 1) % 3] as usize]))
+        use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+        // The directed edge uses, bucketed by their smaller point (counting sort: one count and
+        // one fill pass, in parallel), each use stored as `larger point << 1 | (from < to)`.
+        // Position ids are below 2^31 (`prepare` checks), so the entry fits.
+        let edges = |t: &[u32; 3]| {
+            let p = t.map(|v| pid[v as usize]);
+            [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])]
+        };
+        let counts: Vec<AtomicU32> = (0..npid).map(|_| AtomicU32::new(0)).collect();
+        tris.par_iter().for_each(|t| {
+            for (a, b) in edges(t) {
+                counts[a.min(b) as usize].fetch_add(1, Relaxed);
+            }
+        });
+        let mut start = Vec::with_capacity(npid + 1);
+        let mut total = 0u32;
+        start.push(0);
+        for c in &counts {
+            total += c.load(Relaxed);
+            start.push(total);
+        }
+        let cursor: Vec<AtomicU32> = start[..npid].iter().map(|&s| AtomicU32::new(s)).collect();
+        drop(counts);
+        let slots: Vec<AtomicU32> = (0..total).map(|_| AtomicU32::new(0)).collect();
+        tris.par_iter().for_each(|t| {
+            for (a, b) in edges(t) {
+                let at = cursor[a.min(b) as usize].fetch_add(1, Relaxed);
+                slots[at as usize].store(a.max(b) << 1 | (a < b) as u32, Relaxed);
+            }
+        });
+        drop(cursor);
+        let mut uses: Vec<u32> = slots.into_iter().map(AtomicU32::into_inner).collect();
+        // Per bucket (in parallel over runs of points), sorted: the uses of one undirected edge
+        // are adjacent, buckets in point order, so the irregular edges come out sorted by key.
+        let runs = (rayon::current_num_threads() * 8).clamp(1, npid.max(1));
+        let mut pieces: Vec<(usize, &mut [u32])> = Vec::with_capacity(runs);
+        let mut rest: &mut [u32] = &mut uses;
+        let mut first = 0usize;
+        for k in 1..=runs {
+            let end = npid * k / runs;
+            let len = (start[end] - start[first]) as usize;
+            let (head, tail) = rest.split_at_mut(len);
+            pieces.push((first, head));
+            rest = tail;
+            first = end;
+        }
+        let irregular: Vec<(u64, u32, u32)> = pieces
+            .into_par_iter()
+            .enumerate()
+            .flat_map_iter(|(k, (first, piece))| {
+                let end = npid * (k + 1) / runs;
+                let base = start[first] as usize;
+                let mut out = Vec::new();
+                for a in first..end {
+                    let bucket = &mut piece[start[a] as usize - base..start[a + 1] as usize - base];
+                    bucket.sort_unstable();
+                    for same in bucket.chunk_by(|x, y| x >> 1 == y >> 1) {
+                        let f = same.iter().filter(|&&x| x & 1 == 1).count() as u32;
+                        let r = same.len() as u32 - f;
+                        if (f, r) != (1, 1) {
+                            out.push(((a as u64) << 32 | (same[0] >> 1) as u64, f, r));
+                        }
+                    }
+                }
+                out
             })
             .collect();
-        keys.par_sort_unstable();
-        let irregular: Vec<(u64, u32, u32)> = keys
-            .par_chunk_by(|a, b| a >> 1 == b >> 1)
-            .filter_map(|uses| {
-                let f = uses.iter().filter(|&&k| k & 1 == 1).count() as u32;
-                let r = uses.len() as u32 - f;
-                ((f, r) != (1, 1)).then_some((uses[0] >> 1, f, r))
-            })
-            .collect();
-        drop(keys);
+        drop(uses);
         let mut border = vec![false; npid];
         let mut comp: Vec<u32> = (0..npid as u32).collect();
         for &(k, _, _) in &irregular {
@@ -919,7 +1018,7 @@ fn build_inner(
     let chunks: Vec<Vec<u32>> =
         if opts.partitioner != Partitioner::Metis && tris.len() > 2 * LEVEL0_CHUNK {
             let centroids: Vec<[f32; 3]> = tris
-                .iter()
+                .par_iter()
                 .map(|t| {
                     let (a, b, c) = (
                         positions[t[0] as usize],
@@ -930,8 +1029,17 @@ fn build_inner(
                 })
                 .collect();
             let codes = super::cluster::morton_codes(&centroids);
-            let mut order: Vec<u32> = (0..tris.len() as u32).collect();
-            order.par_sort_unstable_by_key(|&i| (codes[i as usize], i));
+            // (code, index) pairs sort without an indirection per comparison; the order is that
+            // of (code, index), as before.
+            let mut keyed: Vec<(u64, u32)> = codes
+                .par_iter()
+                .enumerate()
+                .map(|(i, &c)| (c, i as u32))
+                .collect();
+            drop(codes);
+            keyed.par_sort_unstable();
+            let order: Vec<u32> = keyed.par_iter().map(|k| k.1).collect();
+            drop(keyed);
             let n = order.len().div_ceil(LEVEL0_CHUNK);
             (0..n)
                 .map(|k| order[k * order.len() / n..(k + 1) * order.len() / n].to_vec())
