@@ -1,7 +1,8 @@
 //! Build benchmark: `cargo bench --bench build [-- FILTER]` builds bunny, lucy, turbineblade (from the
 //! shared assets) and a generated 2M-triangle subdivided surface (`-- torus10M`: a 10M-triangle
-//! one, only when named), with 1 thread and with all threads, and prints per mesh: input triangles/s (and per core), peak memory (VmHWM, reset before
-//! each build through /proc/self/clear_refs), bytes per input triangle of the .vgeo file, levels.
+//! one, only when named), with 1 thread and with all threads, and prints per mesh: input
+//! triangles/s (and per core), peak memory (VmHWM, reset before each build through
+//! /proc/self/clear_refs), bytes per input triangle of the .vgeo file, levels.
 //! `VGEO_PARTITIONER=metis|meshopt-flex` picks another partitioner; `VGEO_PHASES=1` prints the
 //! time of each build phase.
 
