@@ -288,8 +288,8 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
                 points(tri, &pid).map(|_| tri)
             })
             .collect();
-        dropped = mapped.iter().filter(|t| t.is_none()).count();
-        tris = mapped.into_iter().flatten().collect();
+        dropped = mapped.par_iter().filter(|t| t.is_none()).count();
+        tris = mapped.into_par_iter().flatten().collect();
     } else {
         for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
             let mat = mesh.material_ids[t] as u16;

@@ -113,11 +113,13 @@ impl Mesh {
                 self.indices.len()
             ));
         }
+        // The first offender of each kind (in parallel: meshes reach billions of indices).
+        use rayon::prelude::*;
         if let Some((i, &v)) = self
             .indices
-            .iter()
+            .par_iter()
             .enumerate()
-            .find(|(_, v)| **v as usize >= n)
+            .find_first(|(_, v)| **v as usize >= n)
         {
             return Err(format!("index {i} = {v} is out of range ({n} vertices)"));
         }
@@ -130,8 +132,8 @@ impl Mesh {
         }
         if let Some(m) = self
             .material_ids
-            .iter()
-            .find(|m| **m as usize >= self.materials.len())
+            .par_iter()
+            .find_first(|m| **m as usize >= self.materials.len())
         {
             return Err(format!(
                 "material id {m} out of range ({} materials)",
@@ -140,8 +142,8 @@ impl Mesh {
         }
         if let Some(i) = self
             .positions
-            .iter()
-            .position(|p| !p.iter().all(|c| c.is_finite()))
+            .par_iter()
+            .position_first(|p| !p.iter().all(|c| c.is_finite()))
         {
             return Err(format!("position {i} is not finite"));
         }
