@@ -289,7 +289,9 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
             })
             .collect();
         dropped = mapped.par_iter().filter(|t| t.is_none()).count();
-        tris = mapped.into_par_iter().flatten().collect();
+        // (`filter_map`, not `flatten`: rayon's flatten drives every Option as its own parallel
+        // iterator, a small allocation per triangle.)
+        tris = mapped.into_par_iter().filter_map(|t| t).collect();
     } else {
         for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
             let mat = mesh.material_ids[t] as u16;
