@@ -2,7 +2,7 @@
 // Pass `debug_view`: the visibility buffer as colours (RGBA8 storage image), one thread per pixel.
 // Modes (push constant, DebugViewPush::mode; src/passes/debug_view.rs ViewMode): 0 lit, 1 depth,
 // 2 triangles, 3 clusters, 4 instances, 5 LOD level, 6 HW/SW, 7 groups, 8 overdraw (the counter at
-// binding 11, filled by the rasterizers), 9 fallback (Lambert, cluster tint, cluster borders and a
+// binding 10, filled by the rasterizers), 9 fallback (Lambert, cluster tint, cluster borders and a
 // faint wireframe; the frame forces the cut to the DAG roots). Empty pixels get the background.
 // The `mark` variant is the pass's first step: it flags every visible entry that is in the HW list
 // (flags[] cleared to 0 before), which the HW/SW mode reads.
@@ -31,7 +31,7 @@ void main() {
 
 #else
 
-#define VISBUFFER_BINDING 10
+#define VISBUFFER_BINDING 9
 #define VISBUFFER_READONLY
 #include "visbuffer.glsl"
 #include "shading.glsl"
@@ -44,12 +44,11 @@ layout(set = 0, binding = 2, scalar) readonly buffer Flags { uint hw_flags[]; };
 layout(set = 0, binding = 3, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
 layout(set = 0, binding = 4, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
 layout(set = 0, binding = 5, scalar) readonly buffer Clusters { Cluster clusters[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Vertices { PackedVertex vertices[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
-layout(set = 0, binding = 8, scalar) readonly buffer Triangles { uint triangle_words[]; };
-layout(set = 0, binding = 9, rgba8) uniform writeonly image2D out_image;
-// binding 10: the visibility buffer (visbuffer.glsl)
-layout(set = 0, binding = 11, scalar) readonly buffer Overdraw { uint overdraw_counts[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Pages { PageGpu pages[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer Pool { uint pool[]; };
+layout(set = 0, binding = 8, rgba8) uniform writeonly image2D out_image;
+// binding 9: the visibility buffer (visbuffer.glsl)
+layout(set = 0, binding = 10, scalar) readonly buffer Overdraw { uint overdraw_counts[]; };
 
 layout(push_constant, scalar) uniform Push {
     vec4 background;  // sRGB-encoded
@@ -117,11 +116,12 @@ vec3 lit_color(uvec2 entry, uint tri, ivec2 px) {
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
     Cluster c = clusters[entry.y];
-    uvec3 t = cluster_triangle(mesh, c, tri);
+    PageGpu page = cluster_page(mesh, c);
+    uvec3 t = cluster_triangle(page, c, tri);
     vec3 p[3];
     vec3 n[3];
     for (uint k = 0u; k < 3u; k++) {
-        PackedVertex pv = vertices[cluster_vertex(mesh, c, t[k])];
+        PackedVertex pv = page_vertex(page, cluster_vertex(page, c, t[k]));
         p[k] = relative_position(inst, decode_position(mesh, pv));
         n[k] = decode_normal(pv.normal);
     }

@@ -11,7 +11,7 @@
 #include "shared.glsl"
 #include "material.glsl"
 
-#define VISBUFFER_BINDING 12
+#define VISBUFFER_BINDING 11
 #define VISBUFFER_READONLY
 #include "visbuffer.glsl"
 
@@ -19,10 +19,10 @@ layout(local_size_x = 16, local_size_y = 16) in;
 
 #include "emit_bindings.glsl"
 layout(set = 0, binding = 1, scalar) readonly buffer Tiles { uvec2 tiles[]; };
-layout(set = 0, binding = 15, scalar) readonly buffer PixelMaterials { uint pixel_materials[]; };
-layout(set = 0, binding = 16, rgba8) uniform writeonly image2D albedo_image;
-layout(set = 0, binding = 17, rgba16f) uniform writeonly image2D normal_image;
-layout(set = 0, binding = 18, rgba8) uniform writeonly image2D params_image;
+layout(set = 0, binding = 13, scalar) readonly buffer PixelMaterials { uint pixel_materials[]; };
+layout(set = 0, binding = 14, rgba8) uniform writeonly image2D albedo_image;
+layout(set = 0, binding = 15, rgba16f) uniform writeonly image2D normal_image;
+layout(set = 0, binding = 16, rgba8) uniform writeonly image2D params_image;
 
 layout(push_constant, scalar) uniform Push { uint material; };
 

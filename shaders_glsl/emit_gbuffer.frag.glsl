@@ -11,7 +11,7 @@
 #include "shared.glsl"
 #include "material.glsl"
 
-#define VISBUFFER_BINDING 12
+#define VISBUFFER_BINDING 11
 #define VISBUFFER_READONLY
 #include "visbuffer.glsl"
 

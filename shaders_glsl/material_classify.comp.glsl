@@ -18,9 +18,9 @@ layout(set = 0, binding = 1, scalar) readonly buffer Visible { uvec2 visible[]; 
 layout(set = 0, binding = 2, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
 layout(set = 0, binding = 3, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
 layout(set = 0, binding = 4, scalar) readonly buffer Clusters { Cluster clusters[]; };
-layout(set = 0, binding = 5, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Triangles { uint triangle_words[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer VertexMaterials { uint vertex_materials[]; };
+layout(set = 0, binding = 5, scalar) readonly buffer Pages { PageGpu pages[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Pool { uint pool[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer MeshMaterials { MeshMaterialGpu mesh_materials[]; };
 layout(set = 0, binding = 8, scalar) writeonly buffer Tiles { uvec2 tiles[]; };
 layout(set = 0, binding = 10, scalar) writeonly buffer PixelMaterials { uint pixel_materials[]; };
 
@@ -55,10 +55,17 @@ void main() {
                 uint vi = low >> VISBUFFER_TRIANGLE_BITS;
                 if (vi < mview.visible_capacity) {
                     uvec2 entry = visible[vi];
-                    MeshGpu mesh = meshes[instances[entry.x].mesh];
+                    uint mi = instances[entry.x].mesh;
+                    MeshGpu mesh = meshes[mi];
+                    MeshMaterialGpu mm = mesh_materials[mi];
                     Cluster c = clusters[entry.y];
-                    uvec3 t = cluster_triangle(mesh, c, tri);
-                    id = vertex_materials[cluster_vertex(mesh, c, t.x)];
+                    id = mm.material_offset;
+                    if ((mesh.streams & MESH_STREAM_MATERIALS) != 0u) {
+                        PageGpu page = cluster_page(mesh, c);
+                        uvec3 t = cluster_triangle(page, c, tri);
+                        uint local = page_material(page, cluster_vertex(page, c, t.x));
+                        id += min(local, max(mm.material_count, 1u) - 1u);
+                    }
                     lo = min(lo, id);
                     hi = max(hi, id);
                 }

@@ -3,10 +3,10 @@
 // from the snapped vertices with raster_sw's exact integer edge functions and float operations (so
 // both rasterizers write bit-identical values), atomicMax into the visibility buffer. Triangles
 // with a vertex that cannot be snapped (behind the near plane) use the hardware's depth. With
-// VIEW_FLAG_COUNT_OVERDRAW each fragment also increments the overdraw counter (binding 10).
+// VIEW_FLAG_COUNT_OVERDRAW each fragment also increments the overdraw counter (binding 9).
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-#define VISBUFFER_BINDING 9
+#define VISBUFFER_BINDING 8
 #include "shared.glsl"
 #include "visbuffer.glsl"
 
@@ -20,7 +20,7 @@ layout(location = 4) flat in vec3 in_z;
 
 #define RASTER_NO_SCENE
 #include "raster.glsl"
-#define OVERDRAW_BINDING 10
+#define OVERDRAW_BINDING 9
 #include "overdraw.glsl"
 
 void main() {

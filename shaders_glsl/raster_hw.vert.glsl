@@ -12,9 +12,8 @@ layout(set = 0, binding = 2, scalar) readonly buffer HwList { uint hw_list[]; };
 layout(set = 0, binding = 3, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
 layout(set = 0, binding = 4, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
 layout(set = 0, binding = 5, scalar) readonly buffer Clusters { Cluster clusters[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Vertices { PackedVertex vertices[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
-layout(set = 0, binding = 8, scalar) readonly buffer Triangles { uint triangle_words[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Pages { PageGpu pages[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer Pool { uint pool[]; };
 
 #include "raster.glsl"
 
@@ -42,13 +41,14 @@ void main() {
         gl_Position = vec4(2.0, 2.0, 0.5, 1.0);
         return;
     }
-    uvec3 t = cluster_triangle(mesh, c, tri);
+    PageGpu page = cluster_page(mesh, c);
+    uvec3 t = cluster_triangle(page, c, tri);
     vec4 clip[3];
     ivec2 xy[3];
     vec3 z;
     bool ok = true;
     for (uint k = 0u; k < 3u; k++) {
-        PackedVertex pv = vertices[cluster_vertex(mesh, c, t[k])];
+        PackedVertex pv = page_vertex(page, cluster_vertex(page, c, t[k]));
         clip[k] = clip_position(relative_position(inst, decode_position(mesh, pv)));
         float zk;
         ok = project_fixed(clip[k], xy[k], zk) && ok;

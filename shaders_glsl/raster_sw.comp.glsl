@@ -8,7 +8,7 @@
 // With VIEW_FLAG_COUNT_OVERDRAW each covered pixel also adds 1 to the overdraw counter (binding 11)
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-#define VISBUFFER_BINDING 10
+#define VISBUFFER_BINDING 9
 #include "shared.glsl"
 #include "visbuffer.glsl"
 
@@ -21,12 +21,11 @@ layout(set = 0, binding = 3, scalar) readonly buffer SwList { uint sw_list[]; };
 layout(set = 0, binding = 4, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
 layout(set = 0, binding = 5, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
 layout(set = 0, binding = 6, scalar) readonly buffer Clusters { Cluster clusters[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer Vertices { PackedVertex vertices[]; };
-layout(set = 0, binding = 8, scalar) readonly buffer VertexRefs { uint vertex_refs[]; };
-layout(set = 0, binding = 9, scalar) readonly buffer Triangles { uint triangle_words[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer Pages { PageGpu pages[]; };
+layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 
 #include "raster.glsl"
-#define OVERDRAW_BINDING 11
+#define OVERDRAW_BINDING 10
 #include "overdraw.glsl"
 
 // Bounding boxes of at most this many pixels, with vertex extents under 64 pixels (int32-safe
@@ -147,10 +146,11 @@ void main() {
         InstanceVgeo inst = instances[entry.x];
         MeshGpu mesh = meshes[inst.mesh];
         Cluster c = clusters[entry.y];
+        PageGpu page = cluster_page(mesh, c);
         uint vcount = cluster_vertex_count(c);
         uint tcount = cluster_triangle_count(c);
         for (uint k = tid; k < vcount; k += RASTER_SW_WORKGROUP_SIZE) {
-            PackedVertex pv = vertices[cluster_vertex(mesh, c, k)];
+            PackedVertex pv = page_vertex(page, cluster_vertex(page, c, k));
             vec4 clip = clip_position(relative_position(inst, decode_position(mesh, pv)));
             ivec2 xy;
             float z;
@@ -160,7 +160,7 @@ void main() {
         }
         barrier();
         if (tid < tcount) {
-            uvec3 t = cluster_triangle(mesh, c, tid);
+            uvec3 t = cluster_triangle(page, c, tid);
             vec3 z = vec3(s_z[t.x], s_z[t.y], s_z[t.z]);
             // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
             if (min(z.x, min(z.y, z.z)) >= 0.0) {

@@ -1,49 +1,64 @@
-//! The `.vgeo` file: one built mesh.
+//! The `.vgeo` file: one built mesh, its geometry in pages that can be read one at a time.
 //!
 //! Layout (little-endian): a 32-byte header (`magic`, `version`, `section_count`, `checksum`,
 //! `file_length`), a section table of `section_count` entries `{id: u32, reserved: u32, offset: u64,
-//! length: u64}`, then the sections, each 16-byte aligned. `checksum` is FNV-1a 64 over the whole
-//! file with the checksum field taken as zero. Sections: metadata (JSON), vertex positions (grid
-//! codes, 2 x u32 per vertex), vertex normals (octahedral, u32 per vertex), vertex UVs (u32 per
-//! vertex; empty when the mesh has no UVs), vertex materials (u16; empty with one material),
-//! clusters ([`Cluster`], 96 B), vertex references (u32 words), packed local triangle indices
-//! (bit streams, see [`Cluster::triangle_offset`]), groups ([`Group`], 64 B), BVH nodes
-//! ([`BvhNode`], 64 B).
-//! The GPU uploads the binary sections as they are.
+//! length: u64}`, then the sections, each 16-byte aligned, the page data last. Sections: metadata
+//! (JSON), clusters ([`Cluster`], 96 B), groups ([`Group`], 64 B), BVH nodes ([`BvhNode`], 64 B),
+//! the page table (one [`PageEntry`] of 64 B per page: the builder's [`Page`], where its bytes lie
+//! in the file, their length and FNV-1a 64 checksum) and the page data (every page's bytes,
+//! `builder::page::page_bytes`, each 16-byte aligned, in page order).
 //!
-//! [`load`] checks everything before use: magic, version, lengths, the checksum, section bounds,
-//! element sizes, and every index inside the data (so a loaded mesh can be indexed without checks);
-//! allocations never exceed the input's size.
+//! `checksum` is FNV-1a 64 over the file up to the page data, with the checksum field taken as
+//! zero: opening a file ([`VgeoFile::open`]) reads and checks only that head; each page is checked
+//! by its own checksum when it is read ([`VgeoFile::read_page`]). Version 2 files (vertex streams
+//! in whole-mesh sections) predate pages and are refused with a hint to rebuild.
+//!
+//! [`load`] and [`VgeoFile`] check everything before use: magic, version, lengths, checksums,
+//! section bounds, element sizes, and every index inside the data (so a loaded mesh can be indexed
+//! without checks, and a page read can go to the GPU as it is); allocations never exceed the
+//! input's size.
 
-use std::path::PathBuf;
+use std::os::unix::fs::FileExt;
+use std::path::{Path, PathBuf};
 
-use bytemuck::Pod;
+use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use crate::builder::{BuildStats, BuiltMesh, BvhNode, Cluster, Group, PackedVertex, Quantization};
+use crate::builder::page::{Page, decode_page};
+use crate::builder::{BuildStats, BuiltMesh, BvhNode, Cluster, Group, Quantization};
 use crate::mesh::Material;
 
 /// File magic.
 pub const MAGIC: [u8; 8] = *b"VGEO\0\r\n\x1a";
 /// Current format version.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 const HEADER_LEN: usize = 32;
 const ENTRY_LEN: usize = 24;
 const MAX_SECTIONS: u32 = 64;
 
-/// Section ids.
+/// Section ids (2, 3, 5, 6, 9 and 10 were version 2's vertex streams).
 pub mod section {
     pub const META: u32 = 1;
-    pub const POSITIONS: u32 = 2;
-    pub const VERTEX_MATERIALS: u32 = 3;
     pub const CLUSTERS: u32 = 4;
-    pub const VERTEX_REFS: u32 = 5;
-    pub const TRIANGLES: u32 = 6;
     pub const GROUPS: u32 = 7;
     pub const BVH: u32 = 8;
-    pub const NORMALS: u32 = 9;
-    pub const UVS: u32 = 10;
+    pub const PAGE_TABLE: u32 = 11;
+    pub const PAGE_DATA: u32 = 12;
 }
+
+/// One page of the page table: the builder's [`Page`] and where its bytes lie in the file.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct PageEntry {
+    pub page: Page,
+    /// File offset and length of the page's bytes.
+    pub offset: u64,
+    pub length: u64,
+    /// FNV-1a 64 of the page's bytes.
+    pub checksum: u64,
+    pub _reserved: u64,
+}
+const _: () = assert!(size_of::<PageEntry>() == 64);
 
 /// Why a file could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -51,7 +66,10 @@ pub enum FormatError {
     #[error("not a .vgeo file (bad magic)")]
     /// Not a .vgeo file.
     BadMagic,
-    #[error("unsupported .vgeo version {0} (this build reads version {VERSION})")]
+    #[error(
+        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 2 and \
+         older predate geometry pages: rebuild them with `vgeo build`)"
+    )]
     /// A format version this build does not read.
     Version(u32),
     #[error("truncated .vgeo file: {0}")]
@@ -70,6 +88,21 @@ pub enum FormatError {
     #[error("invalid .vgeo file: {0}")]
     /// A section's content breaks an invariant.
     Invalid(String),
+    #[error(
+        "corrupted .vgeo page {page}: checksum {found:#018x} does not match the stored {stored:#018x}"
+    )]
+    /// A page's bytes do not match its checksum.
+    PageChecksum {
+        /// The page.
+        page: u32,
+        /// The checksum the page table stores.
+        stored: u64,
+        /// The checksum of the page's bytes.
+        found: u64,
+    },
+    #[error("cannot read .vgeo file: {0}")]
+    /// The file could not be read.
+    Io(String),
 }
 
 /// FNV-1a 64-bit hash.
@@ -106,6 +139,7 @@ struct Meta {
     has_normals: bool,
     has_uvs: bool,
     root: u32,
+    resident_pages: u32,
     materials: Vec<MetaMaterial>,
     stats: BuildStats,
 }
@@ -122,6 +156,7 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
         has_normals: m.has_normals,
         has_uvs: m.has_uvs,
         root: m.root,
+        resident_pages: m.resident_pages,
         materials: m
             .materials
             .iter()
@@ -147,54 +182,73 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
         stats: m.stats.clone(),
     };
     let meta_json = serde_json::to_vec(&meta).unwrap_or_default();
-    let positions: Vec<[u32; 2]> = m.vertices.iter().map(|v| v.position).collect();
-    let normals: Vec<u32> = m.vertices.iter().map(|v| v.normal).collect();
-    let uvs: Vec<u32> = if m.has_uvs {
-        m.vertices.iter().map(|v| v.uv).collect()
-    } else {
-        Vec::new()
-    };
-    let sections: Vec<(u32, &[u8])> = vec![
-        (section::META, &meta_json),
-        (section::POSITIONS, bytemuck::cast_slice(&positions)),
-        (section::NORMALS, bytemuck::cast_slice(&normals)),
-        (section::UVS, bytemuck::cast_slice(&uvs)),
-        (
-            section::VERTEX_MATERIALS,
-            bytemuck::cast_slice(&m.vertex_materials),
-        ),
-        (section::CLUSTERS, bytemuck::cast_slice(&m.clusters)),
-        (section::VERTEX_REFS, bytemuck::cast_slice(&m.vertex_refs)),
-        (section::TRIANGLES, &m.triangles),
-        (section::GROUPS, bytemuck::cast_slice(&m.groups)),
-        (section::BVH, bytemuck::cast_slice(&m.bvh)),
-    ];
     let align = |x: usize| x.div_ceil(16) * 16;
-    let mut offset = align(HEADER_LEN + ENTRY_LEN * sections.len());
-    let mut table = Vec::new();
-    for (id, data) in &sections {
-        table.push((*id, offset as u64, data.len() as u64));
-        offset = align(offset + data.len());
+    // The page data, each page 16-aligned (offsets relative to the section for now).
+    let mut data = Vec::new();
+    let mut entries: Vec<PageEntry> = Vec::with_capacity(m.pages.len());
+    for p in &m.pages {
+        data.resize(align(data.len()), 0);
+        let bytes = crate::builder::page::page_bytes(m, p);
+        entries.push(PageEntry {
+            page: *p,
+            offset: data.len() as u64,
+            length: bytes.len() as u64,
+            checksum: fnv1a64(&bytes),
+            _reserved: 0,
+        });
+        data.extend_from_slice(&bytes);
     }
-    let mut out = Vec::with_capacity(offset);
+    let count = 6usize;
+    let table_len = std::mem::size_of_val(entries.as_slice());
+    let head_sections: [(u32, usize); 5] = [
+        (section::META, meta_json.len()),
+        (
+            section::CLUSTERS,
+            std::mem::size_of_val(m.clusters.as_slice()),
+        ),
+        (section::GROUPS, std::mem::size_of_val(m.groups.as_slice())),
+        (section::BVH, std::mem::size_of_val(m.bvh.as_slice())),
+        (section::PAGE_TABLE, table_len),
+    ];
+    let mut offset = align(HEADER_LEN + ENTRY_LEN * count);
+    let mut table = Vec::new();
+    for (id, len) in head_sections {
+        table.push((id, offset as u64, len as u64));
+        offset = align(offset + len);
+    }
+    let data_off = offset;
+    for e in &mut entries {
+        e.offset += data_off as u64;
+    }
+    table.push((section::PAGE_DATA, data_off as u64, data.len() as u64));
+    let file_len = data_off + data.len();
+    let mut out = Vec::with_capacity(file_len);
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&VERSION.to_le_bytes());
-    out.extend_from_slice(&(sections.len() as u32).to_le_bytes());
+    out.extend_from_slice(&(count as u32).to_le_bytes());
     out.extend_from_slice(&0u64.to_le_bytes()); // checksum, patched below
-    out.extend_from_slice(&(offset as u64).to_le_bytes());
+    out.extend_from_slice(&(file_len as u64).to_le_bytes());
     for (id, off, len) in &table {
         out.extend_from_slice(&id.to_le_bytes());
         out.extend_from_slice(&0u32.to_le_bytes());
         out.extend_from_slice(&off.to_le_bytes());
         out.extend_from_slice(&len.to_le_bytes());
     }
-    for ((_, data), (_, off, _)) in sections.iter().zip(&table) {
+    let contents: [&[u8]; 5] = [
+        &meta_json,
+        bytemuck::cast_slice(&m.clusters),
+        bytemuck::cast_slice(&m.groups),
+        bytemuck::cast_slice(&m.bvh),
+        bytemuck::cast_slice(&entries),
+    ];
+    for (c, (_, off, _)) in contents.iter().zip(&table) {
         out.resize(*off as usize, 0);
-        out.extend_from_slice(data);
+        out.extend_from_slice(c);
     }
-    out.resize(offset, 0);
+    out.resize(data_off, 0);
     let sum = fnv1a64(&out);
     out[16..24].copy_from_slice(&sum.to_le_bytes());
+    out.extend_from_slice(&data);
     out
 }
 
@@ -221,76 +275,111 @@ fn pod_vec<T: Pod>(data: &[u8], what: &str) -> Result<Vec<T>, FormatError> {
     Ok(bytemuck::pod_collect_to_vec(data))
 }
 
-/// Parses and checks a `.vgeo` file.
-pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
-    if bytes.len() < 8 || bytes[..8] != MAGIC {
-        return Err(if bytes.len() < 8 && MAGIC.starts_with(bytes) {
-            FormatError::Truncated(format!("{} bytes", bytes.len()))
+/// What the fixed part of a file says: its length and where the page data lies.
+struct Header {
+    length: u64,
+    stored: u64,
+    /// (id, offset, length) per section.
+    sections: Vec<(u32, u64, u64)>,
+    /// Offset and length of the page data section.
+    data: (u64, u64),
+}
+
+/// Parses the header and section table from the first bytes of a file (`head` may be shorter than
+/// the file: it must hold the table).
+fn parse_header(head: &[u8]) -> Result<Header, FormatError> {
+    if head.len() < 8 || head[..8] != MAGIC {
+        return Err(if head.len() < 8 && MAGIC.starts_with(head) {
+            FormatError::Truncated(format!("{} bytes", head.len()))
         } else {
             FormatError::BadMagic
         });
     }
-    let trunc = || FormatError::Truncated(format!("{} bytes, header incomplete", bytes.len()));
-    let version = u32_at(bytes, 8).ok_or_else(trunc)?;
+    let trunc = || FormatError::Truncated(format!("{} bytes, header incomplete", head.len()));
+    let version = u32_at(head, 8).ok_or_else(trunc)?;
     if version != VERSION {
         return Err(FormatError::Version(version));
     }
-    let count = u32_at(bytes, 12).ok_or_else(trunc)?;
-    let stored = u64_at(bytes, 16).ok_or_else(trunc)?;
-    let length = u64_at(bytes, 24).ok_or_else(trunc)?;
-    if length != bytes.len() as u64 {
-        return Err(if length > bytes.len() as u64 {
-            FormatError::Truncated(format!("{} bytes of {length}", bytes.len()))
-        } else {
-            FormatError::Invalid(format!(
-                "{} bytes but the header says {length}",
-                bytes.len()
-            ))
-        });
-    }
+    let count = u32_at(head, 12).ok_or_else(trunc)?;
+    let stored = u64_at(head, 16).ok_or_else(trunc)?;
+    let length = u64_at(head, 24).ok_or_else(trunc)?;
     if count > MAX_SECTIONS {
         return Err(FormatError::Invalid(format!(
             "{count} sections (at most {MAX_SECTIONS})"
         )));
     }
-    let mut zeroed = bytes.to_vec();
-    zeroed[16..24].fill(0);
-    let found = fnv1a64(&zeroed);
-    drop(zeroed);
-    if found != stored {
-        return Err(FormatError::Checksum { stored, found });
-    }
-    let table_end = HEADER_LEN + ENTRY_LEN * count as usize;
-    if table_end > bytes.len() {
+    let table_end = (HEADER_LEN + ENTRY_LEN * count as usize) as u64;
+    if table_end > length {
         return Err(FormatError::Invalid(format!(
             "section table of {count} entries exceeds the file"
         )));
     }
-    let mut found_sections: Vec<(u32, &[u8])> = Vec::new();
+    let mut sections: Vec<(u32, u64, u64)> = Vec::new();
     for i in 0..count as usize {
         let e = HEADER_LEN + ENTRY_LEN * i;
-        let id = u32_at(bytes, e).ok_or_else(trunc)?;
-        let off = u64_at(bytes, e + 8).ok_or_else(trunc)?;
-        let len = u64_at(bytes, e + 16).ok_or_else(trunc)?;
-        let end = off
+        let id = u32_at(head, e).ok_or_else(trunc)?;
+        let off = u64_at(head, e + 8).ok_or_else(trunc)?;
+        let len = u64_at(head, e + 16).ok_or_else(trunc)?;
+        if off
             .checked_add(len)
-            .filter(|&end| end <= bytes.len() as u64 && off >= table_end as u64);
-        let Some(end) = end else {
+            .is_none_or(|end| end > length || off < table_end)
+        {
             return Err(FormatError::Invalid(format!(
                 "section {id} ({off}+{len}) lies outside the file"
             )));
-        };
-        if found_sections.iter().any(|(x, _)| *x == id) {
+        }
+        if sections.iter().any(|(x, _, _)| *x == id) {
             return Err(FormatError::Invalid(format!("section {id} appears twice")));
         }
-        found_sections.push((id, &bytes[off as usize..end as usize]));
+        sections.push((id, off, len));
     }
-    let get = |id: u32, name: &str| {
-        found_sections
+    let (_, doff, dlen) = *sections
+        .iter()
+        .find(|(id, _, _)| *id == section::PAGE_DATA)
+        .ok_or_else(|| FormatError::Invalid("section page data (id 12) is missing".into()))?;
+    if doff + dlen != length {
+        return Err(FormatError::Invalid(
+            "the page data is not the file's last section".into(),
+        ));
+    }
+    if let Some((id, ..)) = sections
+        .iter()
+        .find(|(id, off, len)| *id != section::PAGE_DATA && off + len > doff)
+    {
+        return Err(FormatError::Invalid(format!(
+            "section {id} overlaps the page data"
+        )));
+    }
+    Ok(Header {
+        length,
+        stored,
+        sections,
+        data: (doff, dlen),
+    })
+}
+
+/// The mesh without its pages' content (the streams empty), and the page table, from a file's
+/// head (`head`: its bytes up to the page data), checked: the head checksum, every section, the
+/// page table against the page data's extent, and the structure without the pages' content.
+fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), FormatError> {
+    let mut zeroed = head.to_vec();
+    zeroed[16..24].fill(0);
+    let found = fnv1a64(&zeroed);
+    drop(zeroed);
+    if found != h.stored {
+        return Err(FormatError::Checksum {
+            stored: h.stored,
+            found,
+        });
+    }
+    let get = |id: u32, name: &str| -> Result<&[u8], FormatError> {
+        let (_, off, len) = h
+            .sections
             .iter()
-            .find(|(x, _)| *x == id)
-            .map(|(_, d)| *d)
-            .ok_or_else(|| FormatError::Invalid(format!("section {name} (id {id}) is missing")))
+            .find(|(x, _, _)| *x == id)
+            .ok_or_else(|| FormatError::Invalid(format!("section {name} (id {id}) is missing")))?;
+        head.get(*off as usize..(*off + *len) as usize)
+            .ok_or_else(|| FormatError::Invalid(format!("section {name} lies outside the head")))
     };
     let meta: Meta = serde_json::from_slice(get(section::META, "meta")?)
         .map_err(|e| FormatError::Invalid(format!("section meta: {e}")))?;
@@ -301,29 +390,7 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
             "section meta: quantization grid is not finite and positive".into(),
         ));
     }
-    let positions = pod_vec::<[u32; 2]>(get(section::POSITIONS, "positions")?, "positions")?;
-    let normals = pod_vec::<u32>(get(section::NORMALS, "normals")?, "normals")?;
-    let uvs = pod_vec::<u32>(get(section::UVS, "uvs")?, "uvs")?;
-    if normals.len() != positions.len()
-        || uvs.len() != if meta.has_uvs { positions.len() } else { 0 }
-    {
-        return Err(FormatError::Invalid(format!(
-            "{} positions, {} normals, {} UVs (has UVs: {})",
-            positions.len(),
-            normals.len(),
-            uvs.len(),
-            meta.has_uvs
-        )));
-    }
-    let vertices = positions
-        .iter()
-        .enumerate()
-        .map(|(i, &position)| PackedVertex {
-            position,
-            normal: normals[i],
-            uv: uvs.get(i).copied().unwrap_or(0),
-        })
-        .collect();
+    let entries = pod_vec::<PageEntry>(get(section::PAGE_TABLE, "page table")?, "page table")?;
     let m = BuiltMesh {
         name: meta.name,
         quantization: Quantization {
@@ -347,22 +414,175 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
                 metallic_roughness_texture: x.metallic_roughness_texture.map(PathBuf::from),
             })
             .collect(),
-        vertices,
-        vertex_materials: pod_vec::<u16>(
-            get(section::VERTEX_MATERIALS, "vertex materials")?,
-            "vertex materials",
-        )?,
+        vertices: Vec::new(),
+        vertex_materials: Vec::new(),
         clusters: pod_vec::<Cluster>(get(section::CLUSTERS, "clusters")?, "clusters")?,
-        vertex_refs: pod_vec::<u32>(
-            get(section::VERTEX_REFS, "vertex references")?,
-            "vertex references",
-        )?,
-        triangles: get(section::TRIANGLES, "triangles")?.to_vec(),
+        vertex_refs: Vec::new(),
+        triangles: Vec::new(),
         groups: pod_vec::<Group>(get(section::GROUPS, "groups")?, "groups")?,
         bvh: pod_vec::<BvhNode>(get(section::BVH, "bvh")?, "bvh")?,
         root: meta.root,
+        pages: entries.iter().map(|e| e.page).collect(),
+        resident_pages: meta.resident_pages,
         stats: meta.stats,
     };
+    let (doff, dlen) = h.data;
+    for (i, e) in entries.iter().enumerate() {
+        let want = m.page_layout(&e.page).len as u64;
+        if e.length != want
+            || e.offset < doff
+            || e.offset
+                .checked_add(e.length)
+                .is_none_or(|end| end > doff + dlen)
+        {
+            return Err(FormatError::Invalid(format!(
+                "page {i}: {}+{} bytes, its layout has {want} inside the page data ({doff}+{dlen})",
+                e.offset, e.length
+            )));
+        }
+    }
+    let errors = crate::builder::verify::head_errors(&m);
+    if let Some(first) = errors.first() {
+        return Err(FormatError::Invalid(format!(
+            "{first} ({} problems)",
+            errors.len()
+        )));
+    }
+    Ok((m, entries))
+}
+
+/// Checks page `i`'s bytes (its checksum, and every cluster stored in it against them: vertex
+/// references inside the page, local indices below the cluster's vertex count, materials in
+/// range) and decodes them.
+fn check_page(
+    m: &BuiltMesh,
+    e: &PageEntry,
+    i: u32,
+    clusters: &[u32],
+    bytes: &[u8],
+) -> Result<crate::builder::page::PageStreams, FormatError> {
+    let found = fnv1a64(bytes);
+    if found != e.checksum {
+        return Err(FormatError::PageChecksum {
+            page: i,
+            stored: e.checksum,
+            found,
+        });
+    }
+    let p = &e.page;
+    let bad = |what: String| FormatError::Invalid(format!("page {i}: {what}"));
+    let st = decode_page(bytes, p, m.has_uvs, m.has_material_stream())
+        .ok_or_else(|| bad(format!("{} bytes do not fit its layout", bytes.len())))?;
+    for &ci in clusters {
+        let c = &m.clusters[ci as usize];
+        let (vc, tc) = (c.vertex_count(), c.triangle_count());
+        let ro = (c.vertex_ref_offset - p.ref_first) as usize;
+        for k in 0..vc as usize {
+            let v = if c.flags() & crate::builder::CLUSTER_FLAG_REFS_U32 != 0 {
+                st.refs[ro + k] as u64
+            } else {
+                let w = st.refs[ro + k / 2];
+                c.vertex_base as u64 + ((w >> (16 * (k & 1))) & 0xffff) as u64
+            };
+            if v < p.vertex_first as u64 || v >= p.vertex_first as u64 + p.vertex_count as u64 {
+                return Err(bad(format!(
+                    "cluster {ci}: vertex reference {k} = {v} outside the page"
+                )));
+            }
+        }
+        let to = (c.triangle_offset - p.triangle_first) as usize;
+        let bits = crate::builder::index_bits(vc);
+        if let Some(l) = (0..3 * tc as usize)
+            .map(|k| crate::builder::unpack_index(&st.triangles[to..], bits, k).unwrap_or(u32::MAX))
+            .find(|&l| l >= vc)
+        {
+            return Err(bad(format!(
+                "cluster {ci}: local index {l} >= vertex count {vc}"
+            )));
+        }
+    }
+    if let Some(v) = st
+        .materials
+        .iter()
+        .find(|&&v| v as usize >= m.materials.len().max(1))
+    {
+        return Err(bad(format!(
+            "vertex material {v} out of range ({} materials)",
+            m.materials.len()
+        )));
+    }
+    Ok(st)
+}
+
+/// Per page, the clusters stored in it.
+fn clusters_by_page(m: &BuiltMesh) -> Vec<Vec<u32>> {
+    let mut by = vec![Vec::new(); m.pages.len()];
+    for (ci, c) in m.clusters.iter().enumerate() {
+        by[c.page as usize].push(ci as u32);
+    }
+    by
+}
+
+/// Makes `bytes`'s stored length and checksums (the head's and every page's the page table can
+/// locate) match its content, where its header can be parsed: what a fuzzer applies to a mutated
+/// file so that the checks behind the checksums are reached. Not for use on real files.
+pub fn fix_checksums(bytes: &mut [u8]) {
+    if bytes.len() < HEADER_LEN || !bytes.starts_with(&MAGIC) {
+        return;
+    }
+    let len = bytes.len() as u64;
+    bytes[24..32].copy_from_slice(&len.to_le_bytes());
+    let Ok(h) = parse_header(bytes) else { return };
+    if let Some(&(_, off, n)) = h
+        .sections
+        .iter()
+        .find(|(id, _, _)| *id == section::PAGE_TABLE)
+    {
+        let esz = size_of::<PageEntry>() as u64;
+        for k in 0..n / esz {
+            let at = (off + k * esz) as usize;
+            let (Some(o), Some(l)) = (u64_at(bytes, at + 32), u64_at(bytes, at + 40)) else {
+                continue;
+            };
+            let Some(end) = o.checked_add(l).filter(|&e| e <= len) else {
+                continue;
+            };
+            let sum = fnv1a64(&bytes[o as usize..end as usize]);
+            if at + 56 <= h.data.0 as usize {
+                bytes[at + 48..at + 56].copy_from_slice(&sum.to_le_bytes());
+            }
+        }
+    }
+    let head = h.data.0 as usize;
+    bytes[16..24].fill(0);
+    let sum = fnv1a64(&bytes[..head]);
+    bytes[16..24].copy_from_slice(&sum.to_le_bytes());
+}
+
+/// Parses and checks a whole `.vgeo` file.
+pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
+    let h = parse_header(bytes)?;
+    if h.length != bytes.len() as u64 {
+        return Err(if h.length > bytes.len() as u64 {
+            FormatError::Truncated(format!("{} bytes of {}", bytes.len(), h.length))
+        } else {
+            FormatError::Invalid(format!(
+                "{} bytes but the header says {}",
+                bytes.len(),
+                h.length
+            ))
+        });
+    }
+    let (mut m, entries) = parse_head(&h, &bytes[..h.data.0 as usize])?;
+    let by = clusters_by_page(&m);
+    for (i, e) in entries.iter().enumerate() {
+        let page = &bytes[e.offset as usize..(e.offset + e.length) as usize];
+        let st = check_page(&m, e, i as u32, &by[i], page)?;
+        m.vertices.extend(st.vertices);
+        m.vertex_materials.extend(st.materials);
+        m.vertex_refs.extend(st.refs);
+        m.triangles.extend(st.triangles);
+    }
     let errors = crate::builder::verify::structure_errors(&m);
     if let Some(first) = errors.first() {
         return Err(FormatError::Invalid(format!(
@@ -370,17 +590,85 @@ pub fn load(bytes: &[u8]) -> Result<BuiltMesh, FormatError> {
             errors.len()
         )));
     }
-    if let Some(v) = m
-        .vertex_materials
-        .iter()
-        .find(|&&v| v as usize >= m.materials.len().max(1))
-    {
-        return Err(FormatError::Invalid(format!(
-            "vertex material {v} out of range ({} materials)",
-            m.materials.len()
-        )));
-    }
     Ok(m)
+}
+
+/// A `.vgeo` file opened for reading page by page: [`VgeoFile::open`] reads and checks its head
+/// (metadata, clusters, groups, BVH, page table; no page content), [`VgeoFile::read_page`] one
+/// page, checked, ready for the GPU.
+pub struct VgeoFile {
+    file: std::fs::File,
+    path: PathBuf,
+    head: BuiltMesh,
+    entries: Vec<PageEntry>,
+    by_page: Vec<Vec<u32>>,
+}
+
+impl VgeoFile {
+    /// Opens `path` and checks its head.
+    pub fn open(path: &Path) -> Result<Self, FormatError> {
+        let io = |e: std::io::Error| FormatError::Io(format!("{}: {e}", path.display()));
+        let file = std::fs::File::open(path).map_err(io)?;
+        let len = file.metadata().map_err(io)?.len();
+        let read = |off: u64, n: u64| -> Result<Vec<u8>, FormatError> {
+            let n = n.min(len.saturating_sub(off));
+            let mut buf = vec![0u8; n as usize];
+            file.read_exact_at(&mut buf, off).map_err(io)?;
+            Ok(buf)
+        };
+        let first = read(0, HEADER_LEN as u64)?;
+        let count = u32_at(&first, 12).unwrap_or(0).min(MAX_SECTIONS);
+        let table = read(0, (HEADER_LEN + ENTRY_LEN * count as usize) as u64)?;
+        let h = parse_header(&table)?;
+        if h.length != len {
+            return Err(if h.length > len {
+                FormatError::Truncated(format!("{len} bytes of {}", h.length))
+            } else {
+                FormatError::Invalid(format!("{len} bytes but the header says {}", h.length))
+            });
+        }
+        let head_bytes = read(0, h.data.0)?;
+        let (head, entries) = parse_head(&h, &head_bytes)?;
+        let by_page = clusters_by_page(&head);
+        Ok(Self {
+            file,
+            path: path.to_path_buf(),
+            head,
+            entries,
+            by_page,
+        })
+    }
+
+    /// The mesh without its pages' content: metadata, clusters, groups, BVH and pages (the
+    /// vertex, reference, triangle and material streams are empty).
+    pub fn head(&self) -> &BuiltMesh {
+        &self.head
+    }
+
+    /// Pages in the file.
+    pub fn page_count(&self) -> u32 {
+        self.entries.len() as u32
+    }
+
+    /// The page table's entry of page `i`.
+    pub fn page_entry(&self, i: u32) -> Option<&PageEntry> {
+        self.entries.get(i as usize)
+    }
+
+    /// Page `i`'s bytes (`builder::page::page_bytes`), read alone and checked (checksum, and its
+    /// clusters' references, indices and materials against them).
+    pub fn read_page(&self, i: u32) -> Result<Vec<u8>, FormatError> {
+        let e = self
+            .entries
+            .get(i as usize)
+            .ok_or_else(|| FormatError::Invalid(format!("page {i} out of range")))?;
+        let mut buf = vec![0u8; e.length as usize];
+        self.file
+            .read_exact_at(&mut buf, e.offset)
+            .map_err(|err| FormatError::Io(format!("{}: page {i}: {err}", self.path.display())))?;
+        check_page(&self.head, e, i, &self.by_page[i as usize], &buf)?;
+        Ok(buf)
+    }
 }
 
 /// Bytes of `file` per input triangle of the mesh it holds.

@@ -124,6 +124,8 @@ pub mod scene;
 pub mod scene_gpu;
 #[doc(hidden)]
 pub mod shared;
+#[doc(hidden)]
+pub mod streaming;
 
 /// ash's Vulkan types, as vgeo uses them (the host's handles are these).
 pub use ash::vk;
@@ -151,6 +153,7 @@ pub use render::{BACKGROUND, Frame, Light, Placement};
 pub use scene::generated::generated_mesh;
 pub use scene::load::LoadedScene;
 pub use scene_gpu::{GpuScene, InstanceDesc, InstanceHandle, MeshHandle, SceneMemory};
+pub use streaming::{PageSource, StreamOptions, StreamStats, Streamer};
 
 /// The command line's workflows as functions, for tools built on vgeo: `vgeo build` (plan,
 /// write, describe), `vgeo verify`, `vgeo info` and `vgeo render --lod-strip`. The `vgeo` binary

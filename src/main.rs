@@ -126,6 +126,15 @@ struct RenderArgs {
     /// but fallback, which replaces the cut).
     #[arg(long, default_value = "clusters")]
     strip_view: String,
+    /// `--mode vgeo`: stream the meshes' geometry pages under this GPU budget (MiB): only the
+    /// pages the view needs stay resident, loaded on the GPU's requests between frames and
+    /// evicted least-recently-used (use `--frames` to let the detail stream in; `--stats` prints
+    /// each frame's residency, requests, uploads and evictions). Default: everything resident.
+    #[arg(long, value_name = "MIB")]
+    geometry_budget: Option<f64>,
+    /// With `--geometry-budget`: most page bytes read and uploaded between two frames (MiB).
+    #[arg(long, value_name = "MIB", default_value_t = 16.0)]
+    stream_mib_per_frame: f64,
 }
 
 /// RenderDoc, loaded before any Vulkan instance when a capture is asked for.
@@ -214,6 +223,8 @@ fn main() -> ExitCode {
             lod_strip: false,
             panels: 5,
             strip_view: "clusters".into(),
+            geometry_budget: None,
+            stream_mib_per_frame: 16.0,
         }),
         Some(Command::Render(a)) => render(&a),
         Some(Command::Build(a)) => cli::build::run_build(&a),
@@ -326,9 +337,18 @@ fn render(a: &RenderArgs) -> Result<()> {
     let load_s = t0.elapsed().as_secs_f64();
     let ctx = context()?;
     let mut stats_lines = Vec::new();
+    if a.geometry_budget.is_some() && a.mode != "vgeo" {
+        anyhow::bail!("--geometry-budget streams vgeo's pages: it needs --mode vgeo");
+    }
     if a.mode == "vgeo" {
         let built = loaded.built_meshes(&|line| eprintln!("{line}"))?;
-        let mut r = VgeoRenderer::new(&ctx, &built, &loaded.placements)?;
+        let (mut r, mut streamer) = match a.geometry_budget {
+            None => (VgeoRenderer::new(&ctx, &built, &loaded.placements)?, None),
+            Some(mib) => {
+                let (r, s) = streamed_renderer(&ctx, &built, &loaded.placements, mib, a)?;
+                (r, Some(s))
+            }
+        };
         r.set_emit_path(emit);
         let settings = FrameSettings {
             error_px: a.error_px,
@@ -347,6 +367,24 @@ fn render(a: &RenderArgs) -> Result<()> {
             } else {
                 frame()?
             });
+            if let Some(s) = streamer.as_mut() {
+                let st = s.update(&mut r.scene)?;
+                for e in s.take_errors() {
+                    eprintln!("warning: {e}");
+                }
+                if a.stats {
+                    stats_lines.push(format!(
+                        "  streaming after frame {}: {} pages resident ({:.2} MiB), {} requested, {} loaded ({:.2} MiB), {} evicted",
+                        i + 1,
+                        st.resident_pages,
+                        st.resident_bytes as f64 / (1 << 20) as f64,
+                        st.requests,
+                        st.uploads,
+                        st.upload_bytes as f64 / (1 << 20) as f64,
+                        st.evictions
+                    ));
+                }
+            }
         }
         let vf = last.context("no frame rendered")?;
         vf.check()
@@ -425,6 +463,46 @@ fn render(a: &RenderArgs) -> Result<()> {
         }
     };
     finish(a, &ctx, &loaded, frame, load_s, &[], &stats_lines)
+}
+
+/// A vgeo renderer whose meshes stream their pages under `--geometry-budget` (the scene's meshes
+/// are in memory; each serves its own pages).
+fn streamed_renderer(
+    ctx: &Context,
+    built: &[&vgeo::BuiltMesh],
+    placements: &[vgeo::Placement],
+    budget_mib: f64,
+    a: &RenderArgs,
+) -> Result<(VgeoRenderer, vgeo::Streamer)> {
+    let mib = |x: f64, what: &str| -> Result<u64> {
+        if !(x.is_finite() && x > 0.0) {
+            anyhow::bail!("{what} must be a positive number of MiB");
+        }
+        Ok((x * (1u64 << 20) as f64) as u64)
+    };
+    let opts = vgeo::StreamOptions {
+        budget_bytes: mib(budget_mib, "--geometry-budget")?,
+        upload_bytes_per_frame: mib(a.stream_mib_per_frame, "--stream-mib-per-frame")?,
+    };
+    let mut r = VgeoRenderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
+    let sources: Vec<(vgeo::BuiltMesh, Box<dyn vgeo::PageSource>)> = built
+        .iter()
+        .map(|m| {
+            let m: vgeo::BuiltMesh = (*m).clone();
+            (m.clone(), Box::new(m) as Box<dyn vgeo::PageSource>)
+        })
+        .collect();
+    let (streamer, handles) = vgeo::Streamer::new(&mut r.scene, sources, opts)?;
+    let descs: Vec<vgeo::InstanceDesc> = placements
+        .iter()
+        .map(|p| vgeo::InstanceDesc {
+            mesh: handles[p.mesh as usize],
+            transform: p.transform,
+            color: p.color,
+        })
+        .collect();
+    r.scene.add_instances(&descs)?;
+    Ok((r, streamer))
 }
 
 /// `render --lod-strip`: the strip PNG and one line per panel.

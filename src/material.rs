@@ -46,7 +46,9 @@ pub struct MeshMaterialGpu {
     pub flags: u32,
     /// Global id of the mesh's material 0.
     pub material_offset: u32,
-    pub _pad: [u32; 2],
+    /// The mesh's materials (local ids past the last count as the last).
+    pub material_count: u32,
+    pub _pad: u32,
 }
 const _: () = assert!(size_of::<MeshMaterialGpu>() == 32);
 
@@ -217,9 +219,6 @@ impl TextureKind {
 pub struct MeshMaterialSource {
     pub name: String,
     pub materials: Vec<Material>,
-    /// Local material per vertex (missing entries: 0).
-    pub vertex_materials: Vec<u16>,
-    pub vertex_count: u32,
     pub uv_min: [f32; 2],
     pub uv_max: [f32; 2],
     pub has_uvs: bool,
@@ -232,8 +231,6 @@ impl MeshMaterialSource {
         Self {
             name: m.name.clone(),
             materials: m.materials.clone(),
-            vertex_materials: m.vertex_materials.clone(),
-            vertex_count: m.vertices.len() as u32,
             uv_min: m.quantization.uv_min,
             uv_max: m.quantization.uv_max,
             has_uvs: m.has_uvs,
@@ -252,7 +249,9 @@ pub struct SceneMaterials {
     pub names: Vec<String>,
     /// Per mesh: UV range, flags, first global material.
     pub meshes: Vec<MeshMaterialGpu>,
-    /// Global material id of every vertex, in the scene's vertex order (meshes concatenated).
+    /// Global material id of every vertex, in the scene's vertex order (meshes concatenated):
+    /// [`SceneMaterials::new`] only, for CPU references (the GPU reads the local ids from the
+    /// meshes' pages and adds `MeshMaterialGpu::material_offset`).
     pub vertex_materials: Vec<u32>,
     /// Texture files by index (index 0, the white texture, has none); each file once per use
     /// (colour or normal map).
@@ -294,7 +293,8 @@ impl SceneMaterials {
                 uv_max: q.uv_max,
                 flags: mesh_flags(m.has_uvs, m.has_normals),
                 material_offset: offset,
-                _pad: [0; 2],
+                material_count: count,
+                _pad: 0,
             });
             let last = count - 1;
             s.vertex_materials.extend((0..m.vertices.len()).map(|v| {
@@ -305,20 +305,17 @@ impl SceneMaterials {
         Ok(s)
     }
 
-    /// The table for a scene whose meshes live at arbitrary places of the vertex buffer (a scene
-    /// that changes, `crate::scene_gpu`): one entry per mesh slot (`None`: a free slot, whose
-    /// [`MeshMaterialGpu`] is all zeros), each mesh with its first vertex; `vertex_count` is the
-    /// vertex buffer's length (holes get material 0). With the slots in order and the meshes'
-    /// vertices concatenated, this equals [`SceneMaterials::new`] of the same meshes.
+    /// The table for a scene whose meshes come and go (`crate::scene_gpu`): one entry per mesh
+    /// slot (`None`: a free slot, whose [`MeshMaterialGpu`] is all zeros). With every slot used,
+    /// in order, this equals [`SceneMaterials::new`] of the same meshes but for
+    /// `vertex_materials`, which stays empty.
     pub fn with_layout<'a>(
-        meshes: impl IntoIterator<Item = Option<(&'a MeshMaterialSource, u32)>>,
-        vertex_count: usize,
+        meshes: impl IntoIterator<Item = Option<&'a MeshMaterialSource>>,
     ) -> Result<Self, String> {
         let mut s = Self::empty();
         let mut by_path = BTreeMap::new();
-        s.vertex_materials = vec![0; vertex_count];
         for m in meshes {
-            let Some((m, first)) = m else {
+            let Some(m) = m else {
                 s.meshes.push(MeshMaterialGpu::default());
                 continue;
             };
@@ -328,16 +325,9 @@ impl SceneMaterials {
                 uv_max: m.uv_max,
                 flags: mesh_flags(m.has_uvs, m.has_normals),
                 material_offset: offset,
-                _pad: [0; 2],
+                material_count: count,
+                _pad: 0,
             });
-            let last = count - 1;
-            let dst = s
-                .vertex_materials
-                .get_mut(first as usize..first as usize + m.vertex_count as usize)
-                .ok_or_else(|| format!("mesh {}: vertices outside the vertex buffer", m.name))?;
-            for (v, out) in dst.iter_mut().enumerate() {
-                *out = offset + (m.vertex_materials.get(v).copied().unwrap_or(0) as u32).min(last);
-            }
         }
         s.check_count()?;
         Ok(s)
@@ -351,13 +341,14 @@ impl SceneMaterials {
         let mut s = Self::empty();
         let mut by_path = BTreeMap::new();
         for m in meshes {
-            let (offset, _) = s.push_table(&mut by_path, &m.name, &m.materials);
+            let (offset, count) = s.push_table(&mut by_path, &m.name, &m.materials);
             s.meshes.push(MeshMaterialGpu {
                 uv_min: [0.0; 2],
                 uv_max: [1.0; 2],
                 flags: mesh_flags(m.has_uvs, m.has_normals),
                 material_offset: offset,
-                _pad: [0; 2],
+                material_count: count,
+                _pad: 0,
             });
         }
         s.check_count()?;
@@ -474,8 +465,6 @@ pub struct GpuMaterials {
     pub table: Buffer,
     /// [`MeshMaterialGpu`] per mesh.
     pub meshes: Buffer,
-    /// Global material id (u32) per scene vertex.
-    pub vertex_materials: Buffer,
     /// Base-colour (sRGB) and normal (linear) textures with their mip chains.
     pub textures: TextureSet,
     /// Number of materials.
@@ -519,10 +508,6 @@ impl GpuMaterials {
         Ok(Self {
             table: up("materials", bytemuck::cast_slice(&s.materials))?,
             meshes: up("mesh materials", bytemuck::cast_slice(&s.meshes))?,
-            vertex_materials: up(
-                "vertex materials",
-                bytemuck::cast_slice(&s.vertex_materials),
-            )?,
             textures: TextureSet::new(ctx, "material textures", images)?,
             count: s.count(),
             warnings,

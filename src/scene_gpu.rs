@@ -11,10 +11,14 @@ use std::borrow::Borrow;
 use glam::{DMat4, DVec3, Mat3};
 
 use crate::builder::BuiltMesh;
+use crate::builder::page::{Page, PageLayout};
 use crate::gpu::{Buffer, Cmd, Context, Desc, GpuError, GpuResult, MemoryKind, vk};
 use crate::material::{MeshMaterialSource, SceneMaterials};
 use crate::render::Placement;
-use crate::shared::{GpuVertex, InstanceVgeo, MeshGpu, NO_UVS};
+use crate::shared::{
+    InstanceVgeo, MESH_STREAM_MATERIALS, MESH_STREAM_PARTIAL, MESH_STREAM_UVS, MeshGpu,
+    PAGE_NOT_RESIDENT, PageGpu,
+};
 
 pub use arena::RangeAllocator;
 use arena::{Arena, grow_buffer};
@@ -121,6 +125,15 @@ pub struct InstanceDesc {
     pub color: [f32; 3],
 }
 
+/// A page to load into the geometry pool, or to evict ([`GpuScene::update_pages`]).
+#[derive(Clone, Debug)]
+pub struct PageChange {
+    pub mesh: MeshHandle,
+    pub page: u32,
+    /// The pool word (a reserved slot) and the page's bytes; `None`: evict.
+    pub load: Option<(u32, Vec<u8>)>,
+}
+
 /// Errors of scene changes (never a panic).
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -141,6 +154,9 @@ pub enum SceneError {
     #[error("scene limit: {0}")]
     /// A size limit of the GPU layout (instances, clusters, buffer bytes).
     Limit(String),
+    #[error("invalid page residency: {0}")]
+    /// A page residency that does not fit the mesh (length, always-resident pages).
+    Residency(String),
     #[error(transparent)]
     /// A GPU error while uploading or growing a buffer.
     Gpu(#[from] GpuError),
@@ -207,24 +223,51 @@ impl std::fmt::Display for SceneMemory {
 }
 
 /// The geometry arenas, in the order of [`GpuScene::arena_buffer`].
-const ARENAS: usize = 7;
+const ARENAS: usize = 5;
 const ARENA_NAMES: [&str; ARENAS] = [
     "scene clusters",
     "scene groups",
     "scene bvh",
-    "scene vertices",
-    "scene uvs",
-    "scene vertex refs",
-    "scene triangles",
+    "scene pages",
+    "scene geometry pool",
 ];
+/// The arena of [`PageGpu`] entries and the geometry pool's (u32 words).
+const PAGES: usize = 3;
+const POOL: usize = 4;
 
 /// A live mesh: its ranges in the arenas and what instances need of it.
 struct LiveMesh {
     /// (start, length) in elements, per arena.
     ranges: [(u64, u64); ARENAS],
+    /// The mesh's pages, and what their layout depends on.
+    page_records: Vec<Page>,
+    has_uvs: bool,
+    has_materials: bool,
+    /// Per page, the pool word where its bytes are (whether or not the cull may use them), or
+    /// [`PAGE_NOT_RESIDENT`].
+    loaded: Vec<u32>,
+    resident_pages: u32,
     instances: u32,
     bvh_nodes: u64,
     material: MeshMaterialSource,
+}
+
+impl LiveMesh {
+    /// Page `p`'s entry where its bytes are loaded (absent when they are not).
+    fn entry(&self, p: usize) -> PageGpu {
+        if self.loaded[p] == PAGE_NOT_RESIDENT {
+            return PageGpu::absent();
+        }
+        let r = &self.page_records[p];
+        let l = crate::builder::page::layout(
+            r.vertex_count as usize,
+            r.ref_words as usize,
+            r.triangle_bytes as usize,
+            self.has_uvs,
+            self.has_materials,
+        );
+        PageGpu::at(r, &l, self.loaded[p])
+    }
 }
 
 struct MeshSlot {
@@ -262,15 +305,17 @@ pub struct GpuScene {
     pub groups: Buffer,
     /// Every live mesh's cluster BVH nodes.
     pub bvh: Buffer,
-    /// Every live mesh's packed vertices.
-    pub vertices: Buffer,
-    /// Texture coordinates (2 x 16 bits) of the meshes with UVs (`MeshGpu::uv_offset`).
-    pub uvs: Buffer,
-    /// Every live mesh's cluster-local vertex references.
-    pub vertex_refs: Buffer,
-    /// Local triangle indices, 3 bytes per triangle, packed into u32 words (little-endian); each
-    /// mesh's range starts on a word.
-    pub triangles: Buffer,
+    /// [`PageGpu`] per page of every live mesh (`MeshGpu::page_offset`): where the page lies in
+    /// the pool.
+    pub pages: Buffer,
+    /// The geometry pool (u32 words): every page's bytes (`src/builder/page.rs`: vertices,
+    /// references and packed triangles of its clusters).
+    pub pool: Buffer,
+    /// Per entry of `pages`, written by the cull for meshes with absent pages
+    /// ([`crate::shared::MESH_STREAM_PARTIAL`]): the largest wish to refine into the page (f32
+    /// bits: projected error over the threshold), and 1 when a drawn cluster used it.
+    pub page_requests: Buffer,
+    pub page_usage: Buffer,
     /// [`MeshGpu`] per mesh slot (all zeros for a free slot).
     pub mesh_table: Vec<MeshGpu>,
     /// Instances in the scene (the dense instance array's length).
@@ -309,6 +354,23 @@ pub struct GpuScene {
     regions: Vec<vk::BufferCopy>,
     /// Buffers replaced by growth, kept until the GPU is done with them.
     retired: Vec<Buffer>,
+}
+
+impl GpuScene {
+    /// The geometry pool is one storage buffer: it must fit the device's `maxStorageBufferRange`.
+    fn check_pool(&self) -> SceneResult<()> {
+        let bytes = 4 * self.arenas[POOL].size();
+        let limit = self.ctx.caps().max_storage_buffer_range as u64;
+        if bytes > limit {
+            return Err(SceneError::Limit(format!(
+                "the geometry pool needs {:.1} MiB, more than this device binds in one buffer \
+                 ({:.1} MiB, maxStorageBufferRange): stream the meshes under a geometry budget",
+                bytes as f64 / (1u64 << 20) as f64,
+                limit as f64 / (1u64 << 20) as f64
+            )));
+        }
+        Ok(())
+    }
 }
 
 fn oversize(what: &str) -> SceneError {
@@ -352,10 +414,8 @@ impl GpuScene {
             size_of::<crate::builder::Cluster>(),
             size_of::<crate::builder::Group>(),
             size_of::<crate::builder::BvhNode>(),
-            size_of::<GpuVertex>(),
+            size_of::<PageGpu>(),
             4,
-            4,
-            1,
         ];
         Ok(Self {
             ctx: ctx.clone(),
@@ -364,16 +424,15 @@ impl GpuScene {
             clusters: buf(ARENA_NAMES[0])?,
             groups: buf(ARENA_NAMES[1])?,
             bvh: buf(ARENA_NAMES[2])?,
-            vertices: buf(ARENA_NAMES[3])?,
-            uvs: buf(ARENA_NAMES[4])?,
-            vertex_refs: buf(ARENA_NAMES[5])?,
-            triangles: buf(ARENA_NAMES[6])?,
+            pages: buf(ARENA_NAMES[PAGES])?,
+            pool: buf(ARENA_NAMES[POOL])?,
+            page_requests: buf("scene page requests")?,
+            page_usage: buf("scene page usage")?,
             mesh_table: Vec::new(),
             instance_count: 0,
             total_clusters: 0,
             instance_clusters: 0,
-            // Triangle ranges start on a word (the byte arena's ranges are multiples of 4).
-            arenas: std::array::from_fn(|k| Arena::new(elem[k] as u64, if k == 6 { 4 } else { 1 })),
+            arenas: std::array::from_fn(|k| Arena::new(elem[k] as u64, 1)),
             mesh_slots: Vec::new(),
             free_meshes: Vec::new(),
             mesh_epoch: 0,
@@ -401,10 +460,8 @@ impl GpuScene {
             &self.clusters,
             &self.groups,
             &self.bvh,
-            &self.vertices,
-            &self.uvs,
-            &self.vertex_refs,
-            &self.triangles,
+            &self.pages,
+            &self.pool,
         ]
     }
 
@@ -413,10 +470,8 @@ impl GpuScene {
             0 => &mut self.clusters,
             1 => &mut self.groups,
             2 => &mut self.bvh,
-            3 => &mut self.vertices,
-            4 => &mut self.uvs,
-            5 => &mut self.vertex_refs,
-            _ => &mut self.triangles,
+            PAGES => &mut self.pages,
+            _ => &mut self.pool,
         };
         (&mut self.arenas[k], buf)
     }
@@ -437,19 +492,20 @@ impl GpuScene {
     }
 
     /// Element counts of `m` per arena.
-    fn lengths(m: &BuiltMesh) -> [u64; ARENAS] {
+    fn lengths(m: &BuiltMesh, present: Option<&[Vec<u8>]>) -> [u64; ARENAS] {
         [
             m.clusters.len() as u64,
             m.groups.len() as u64,
             m.bvh.len() as u64,
-            m.vertices.len() as u64,
-            if m.has_uvs {
-                m.vertices.len() as u64
-            } else {
-                0
+            m.pages.len() as u64,
+            match present {
+                None => m
+                    .pages
+                    .iter()
+                    .map(|p| (m.page_layout(p).len / 4) as u64)
+                    .sum(),
+                Some(b) => b.iter().map(|b| (b.len() / 4) as u64).sum(),
             },
-            m.vertex_refs.len() as u64,
-            m.triangles.len() as u64,
         ]
     }
 
@@ -464,13 +520,52 @@ impl GpuScene {
         &mut self,
         built: &[B],
     ) -> SceneResult<Vec<MeshHandle>> {
+        let items: Vec<(&BuiltMesh, Option<&[Vec<u8>]>)> =
+            built.iter().map(|m| (m.borrow(), None)).collect();
+        self.add_meshes_paged(&items)
+    }
+
+    /// Adds a mesh of which only the first pages are in memory: `present[p]` is page `p`'s bytes
+    /// (`builder::page::page_bytes`, or a `.vgeo` file's page) for the first `present.len()`
+    /// pages, at least the always-resident ones; the other pages are absent (the mesh is drawn
+    /// coarser where it would need them, and the cull asks for them: a streamed mesh, see
+    /// [`crate::streaming`]). `head` needs no vertex data (a `.vgeo` file's head).
+    pub fn add_partial_mesh(
+        &mut self,
+        head: &BuiltMesh,
+        present: &[Vec<u8>],
+    ) -> SceneResult<MeshHandle> {
+        if present.len() < head.resident_pages as usize || present.len() > head.pages.len() {
+            return Err(SceneError::Residency(format!(
+                "{} pages given, {} always resident of {}",
+                present.len(),
+                head.resident_pages,
+                head.pages.len()
+            )));
+        }
+        for (i, (b, p)) in present.iter().zip(&head.pages).enumerate() {
+            if b.len() != head.page_layout(p).len {
+                return Err(SceneError::Residency(format!(
+                    "page {i}: {} bytes, its layout has {}",
+                    b.len(),
+                    head.page_layout(p).len
+                )));
+            }
+        }
+        Ok(self.add_meshes_paged(&[(head, Some(present))])?[0])
+    }
+
+    fn add_meshes_paged(
+        &mut self,
+        built: &[(&BuiltMesh, Option<&[Vec<u8>]>)],
+    ) -> SceneResult<Vec<MeshHandle>> {
         if built.is_empty() {
             return Ok(Vec::new());
         }
         // Room for all of them after the last allocated element of each arena.
         let mut totals = [0u64; ARENAS];
-        for m in built {
-            for (k, l) in Self::lengths(m.borrow()).into_iter().enumerate() {
+        for &(m, present) in built {
+            for (k, l) in Self::lengths(m, present).into_iter().enumerate() {
                 totals[k] += self.arenas[k].rounded(l);
             }
         }
@@ -480,9 +575,26 @@ impl GpuScene {
             let old = arena.reserve(&ctx, buf, total)?;
             self.retire(old);
         }
+        // The streaming feedback follows the page table's size (its content is per frame).
+        let feedback = 4 * (self.pages.size() / size_of::<PageGpu>() as u64).max(1);
+        let grew_feedback = self.page_requests.size() < feedback;
+        for k in 0..2 {
+            let buf = if k == 0 {
+                &mut self.page_requests
+            } else {
+                &mut self.page_usage
+            };
+            if buf.size() < feedback {
+                let old = grow_buffer(&self.ctx, buf, feedback, 0)?;
+                self.retired.push(old);
+            }
+        }
         // Every range now lies in the arenas (the batch fits after the last allocated element):
-        // every offset below u32::MAX (so a UV offset never reads as NO_UVS), clusters below 2^31.
+        // every offset below u32::MAX, clusters below 2^31.
+        self.check_pool()?;
+        // The pool below 2^31 words (materials are addressed in u16 units).
         if self.arenas[0].size() >= 1 << 31
+            || self.arenas[POOL].size() >= 1 << 31
             || self.arenas.iter().any(|a| a.size() >= u32::MAX as u64)
         {
             return Err(oversize("scene geometry"));
@@ -493,9 +605,8 @@ impl GpuScene {
         let mut copies: Vec<(usize, u64, u64, u64)> = Vec::new();
         let mut new_slots = Vec::with_capacity(built.len());
         let old_slots = self.mesh_table.len() as u64;
-        for m in built {
-            let m = m.borrow();
-            let lens = Self::lengths(m);
+        for &(m, present) in built {
+            let lens = Self::lengths(m, present);
             let mut ranges = [(0u64, 0u64); ARENAS];
             for k in 0..ARENAS {
                 let ctx = self.ctx.clone();
@@ -511,9 +622,9 @@ impl GpuScene {
                 cluster_offset: ranges[0].0 as u32,
                 group_offset: ranges[1].0 as u32,
                 bvh_offset: ranges[2].0 as u32,
-                vertex_offset: ranges[3].0 as u32,
-                vertex_ref_offset: ranges[5].0 as u32,
-                triangle_offset: ranges[6].0 as u32,
+                page_offset: ranges[PAGES].0 as u32,
+                page_count: m.pages.len() as u32,
+                resident_pages: m.resident_pages,
                 cluster_count: m.clusters.len() as u32,
                 bvh_root: 0,
                 quant_origin: [q.origin[0] as f32, q.origin[1] as f32, q.origin[2] as f32],
@@ -523,37 +634,29 @@ impl GpuScene {
                 root_cluster: m.root,
                 fallback_level: m
                     .fallback_level(crate::builder::BuildOptions::default().fallback_triangles),
-                uv_offset: if m.has_uvs {
-                    ranges[4].0 as u32
-                } else {
-                    NO_UVS
-                },
+                streams: if m.has_uvs { MESH_STREAM_UVS } else { 0 }
+                    | if m.has_material_stream() {
+                        MESH_STREAM_MATERIALS
+                    } else {
+                        0
+                    },
                 walk_error,
                 walk_error_wide,
                 walk_radius,
                 _pad: [0; 2],
             };
-            let vertices: Vec<GpuVertex> = m
-                .vertices
-                .iter()
-                .map(|v| GpuVertex {
-                    position: v.position,
-                    normal: v.normal,
-                })
-                .collect();
-            let uvs: Vec<u32> = if m.has_uvs {
-                m.vertices.iter().map(|v| v.uv).collect()
-            } else {
-                Vec::new()
+            let (pages, pool) = page_upload(m, ranges[POOL].0 as u32, present);
+            let partial = pages.iter().any(|e| e.word == PAGE_NOT_RESIDENT);
+            let gpu = MeshGpu {
+                streams: gpu.streams | if partial { MESH_STREAM_PARTIAL } else { 0 },
+                ..gpu
             };
             let data: [&[u8]; ARENAS] = [
                 bytemuck::cast_slice(&m.clusters),
                 bytemuck::cast_slice(&m.groups),
                 bytemuck::cast_slice(&m.bvh),
-                bytemuck::cast_slice(&vertices),
-                bytemuck::cast_slice(&uvs),
-                bytemuck::cast_slice(&m.vertex_refs),
-                &m.triangles,
+                bytemuck::cast_slice(&pages),
+                &pool,
             ];
             for (k, d) in data.iter().enumerate() {
                 if !d.is_empty() {
@@ -578,6 +681,11 @@ impl GpuScene {
             let ms = &mut self.mesh_slots[slot as usize];
             ms.live = Some(LiveMesh {
                 ranges,
+                page_records: m.pages.clone(),
+                has_uvs: m.has_uvs,
+                has_materials: m.has_material_stream(),
+                loaded: pages.iter().map(|e| e.word).collect(),
+                resident_pages: m.resident_pages,
                 instances: 0,
                 bvh_nodes: m.bvh.len() as u64,
                 material: MeshMaterialSource::of(m),
@@ -636,6 +744,10 @@ impl GpuScene {
             );
         })?;
         self.mesh_epoch += 1;
+        if grew_feedback {
+            // New feedback buffers start empty (no wish, nothing used).
+            self.clear_page_feedback()?;
+        }
         Ok(handles)
     }
 
@@ -673,6 +785,271 @@ impl GpuScene {
         Ok(())
     }
 
+    /// Sets which of mesh `h`'s pages the cull may use (`resident[p]`; the page data stays in the
+    /// pool): absent pages are marked [`crate::shared::PAGE_NOT_RESIDENT`] and the mesh's cut
+    /// follows the partial-residency rule (`src/builder/cut.rs`), asking for absent pages through
+    /// [`GpuScene::page_requests`]. The always-resident pages must be resident; the set should be
+    /// closed ([`crate::builder::page::close_residency`]) or the cut may crack. A one-shot
+    /// submission (waited for).
+    pub fn set_page_residency(&mut self, h: MeshHandle, resident: &[bool]) -> SceneResult<()> {
+        let live = self.live_mesh(h)?;
+        if resident.len() != live.page_records.len() {
+            return Err(SceneError::Residency(format!(
+                "{} flags for {} pages",
+                resident.len(),
+                live.page_records.len()
+            )));
+        }
+        if let Some(p) = resident[..live.resident_pages as usize]
+            .iter()
+            .position(|&r| !r)
+        {
+            return Err(SceneError::Residency(format!(
+                "page {p} is always resident (the first {} are)",
+                live.resident_pages
+            )));
+        }
+        if let Some(p) =
+            (0..resident.len()).find(|&p| resident[p] && live.loaded[p] == PAGE_NOT_RESIDENT)
+        {
+            return Err(SceneError::Residency(format!(
+                "page {p} is not in the pool"
+            )));
+        }
+        let entries: Vec<PageGpu> = (0..resident.len())
+            .map(|p| {
+                if resident[p] {
+                    live.entry(p)
+                } else {
+                    PageGpu::absent()
+                }
+            })
+            .collect();
+        let first = live.ranges[PAGES].0;
+        let partial = resident.iter().any(|&r| !r);
+        let slot = h.index as usize;
+        let e = &mut self.mesh_table[slot];
+        e.streams = if partial {
+            e.streams | MESH_STREAM_PARTIAL
+        } else {
+            e.streams & !MESH_STREAM_PARTIAL
+        };
+        let staging = Buffer::staging(
+            &self.ctx,
+            "scene page residency (staging)",
+            bytemuck::cast_slice(&entries),
+        )?;
+        let (pages, meshes, entry) = (&self.pages, &self.meshes, *e);
+        self.ctx.submit_and_wait("scene page residency", |cmd| {
+            use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+            cmd.barrier(
+                (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            );
+            cmd.copy_buffer_region(
+                &staging,
+                0,
+                pages,
+                first * size_of::<PageGpu>() as u64,
+                std::mem::size_of_val(entries.as_slice()) as u64,
+            );
+            cmd.update_buffer(
+                meshes,
+                MESH_GPU_BYTES * slot as u64,
+                bytemuck::bytes_of(&entry),
+            );
+            cmd.barrier(
+                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                (S::ALL_COMMANDS, A::MEMORY_READ),
+            );
+        })?;
+        Ok(())
+    }
+
+    /// Reserves `count` page slots of [`crate::shared::PAGE_BYTES`] each in the geometry pool
+    /// (for [`GpuScene::update_pages`]); the first slot's pool word. The pool grows as needed (a
+    /// one-shot copy).
+    pub fn reserve_page_slots(&mut self, count: u32) -> SceneResult<u32> {
+        let words = count as u64 * (crate::shared::PAGE_BYTES / 4) as u64;
+        let ctx = self.ctx.clone();
+        let (arena, buf) = self.arena_buffer(POOL);
+        let (start, old) = arena.alloc(&ctx, buf, words)?;
+        self.retire(old);
+        if let Err(e) = self.check_pool() {
+            self.arenas[POOL].free(start, words);
+            return Err(e);
+        }
+        if self.arenas[POOL].size() >= 1 << 31 {
+            self.arenas[POOL].free(start, words);
+            return Err(oversize("geometry pool"));
+        }
+        Ok(start as u32)
+    }
+
+    /// Loads pages into the pool and evicts others, in one submission (waited for): each change
+    /// names a mesh's page and either its bytes and the pool word to put them at (a slot of
+    /// [`GpuScene::reserve_page_slots`]), or `None` to mark it absent (its slot may be reused
+    /// after this call). The cull uses loaded pages from the next frame on.
+    pub fn update_pages(&mut self, changes: &[PageChange]) -> SceneResult<()> {
+        if changes.is_empty() {
+            return Ok(());
+        }
+        let pool_words = self.arenas[POOL].size();
+        let mut staged: Vec<u8> = Vec::new();
+        // (staging offset, destination buffer 0 = pool / 1 = pages, destination offset, bytes)
+        let mut copies: Vec<(u64, usize, u64, u64)> = Vec::new();
+        let mut touched: Vec<u32> = Vec::new();
+        for c in changes {
+            let live = self.live_mesh(c.mesh)?;
+            let p = c.page as usize;
+            if p >= live.page_records.len() || p < live.resident_pages as usize {
+                return Err(SceneError::Residency(format!(
+                    "page {p} of {} cannot be loaded or evicted (always resident: {})",
+                    live.page_records.len(),
+                    live.resident_pages
+                )));
+            }
+            let word = match &c.load {
+                Some((word, bytes)) => {
+                    let r = &live.page_records[p];
+                    let len = crate::builder::page::layout(
+                        r.vertex_count as usize,
+                        r.ref_words as usize,
+                        r.triangle_bytes as usize,
+                        live.has_uvs,
+                        live.has_materials,
+                    )
+                    .len;
+                    if bytes.len() != len || *word as u64 + (len / 4) as u64 > pool_words {
+                        return Err(SceneError::Residency(format!(
+                            "page {p}: {} bytes at word {word} (its layout has {len}, the pool {pool_words} words)",
+                            bytes.len()
+                        )));
+                    }
+                    copies.push((staged.len() as u64, 0, 4 * *word as u64, len as u64));
+                    staged.extend_from_slice(bytes);
+                    *word
+                }
+                None => PAGE_NOT_RESIDENT,
+            };
+            let ri = c.mesh.index as usize;
+            let first = {
+                let live = self.mesh_slots[ri].live.as_mut().expect("checked live");
+                live.loaded[p] = word;
+                live.ranges[PAGES].0
+            };
+            let entry = self.mesh_slots[ri]
+                .live
+                .as_ref()
+                .expect("checked live")
+                .entry(p);
+            copies.push((
+                staged.len() as u64,
+                1,
+                (first + p as u64) * size_of::<PageGpu>() as u64,
+                size_of::<PageGpu>() as u64,
+            ));
+            staged.extend_from_slice(bytemuck::bytes_of(&entry));
+            if !touched.contains(&c.mesh.index) {
+                touched.push(c.mesh.index);
+            }
+        }
+        // The meshes' partial flag follows their pages.
+        for &i in &touched {
+            let live = self.mesh_slots[i as usize].live.as_ref().expect("live");
+            let partial = live.loaded.contains(&PAGE_NOT_RESIDENT);
+            let e = &mut self.mesh_table[i as usize];
+            e.streams = if partial {
+                e.streams | MESH_STREAM_PARTIAL
+            } else {
+                e.streams & !MESH_STREAM_PARTIAL
+            };
+        }
+        let staging = Buffer::staging(&self.ctx, "scene page upload (staging)", &staged)?;
+        let (pool, pages, meshes, table) =
+            (&self.pool, &self.pages, &self.meshes, &self.mesh_table);
+        self.ctx.submit_and_wait("scene page upload", |cmd| {
+            use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+            cmd.barrier(
+                (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            );
+            for &(src, dst, at, bytes) in &copies {
+                let d = if dst == 0 { pool } else { pages };
+                cmd.copy_buffer_region(&staging, src, d, at, bytes);
+            }
+            for &i in &touched {
+                cmd.update_buffer(
+                    meshes,
+                    MESH_GPU_BYTES * i as u64,
+                    bytemuck::bytes_of(&table[i as usize]),
+                );
+            }
+            cmd.barrier(
+                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                (S::ALL_COMMANDS, A::MEMORY_READ),
+            );
+        })?;
+        Ok(())
+    }
+
+    /// The streaming feedback of mesh `h`'s pages since the last
+    /// [`GpuScene::clear_page_feedback`]: per page, the largest wish to refine into it (projected
+    /// error over the threshold; 0: not asked for) and whether a drawn cluster used it. Waits for
+    /// the GPU.
+    pub fn page_feedback(&self, h: MeshHandle) -> SceneResult<(Vec<f32>, Vec<bool>)> {
+        let live = self.live_mesh(h)?;
+        let (first, n) = live.ranges[PAGES];
+        let words = |b: &Buffer| -> SceneResult<Vec<u32>> {
+            let bytes = b.download_prefix(4 * (first + n))?;
+            Ok(bytemuck::pod_collect_to_vec(&bytes[4 * first as usize..]))
+        };
+        let wish = words(&self.page_requests)?
+            .into_iter()
+            .map(f32::from_bits)
+            .collect();
+        let used = words(&self.page_usage)?
+            .into_iter()
+            .map(|u| u != 0)
+            .collect();
+        Ok((wish, used))
+    }
+
+    /// The streaming feedback of every page entry of the scene (requests as f32 bits, usage
+    /// flags), indexed by [`GpuScene::page_range`]'s first entry plus the page. Waits for the GPU.
+    pub fn page_feedback_words(&self) -> SceneResult<(Vec<u32>, Vec<u32>)> {
+        let n = 4 * self.arenas[PAGES].size();
+        let words = |b: &Buffer| -> SceneResult<Vec<u32>> {
+            Ok(bytemuck::pod_collect_to_vec(&b.download_prefix(n)?))
+        };
+        Ok((words(&self.page_requests)?, words(&self.page_usage)?))
+    }
+
+    /// Mesh `h`'s first entry in the scene's page table, and its page count.
+    pub fn page_range(&self, h: MeshHandle) -> SceneResult<(u64, u64)> {
+        Ok(self.live_mesh(h)?.ranges[PAGES])
+    }
+
+    /// Zeroes the streaming feedback of every page (one-shot submission, waited for).
+    pub fn clear_page_feedback(&self) -> SceneResult<()> {
+        let (req, used) = (&self.page_requests, &self.page_usage);
+        self.ctx
+            .submit_and_wait("scene clear page feedback", |cmd| {
+                use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+                cmd.barrier(
+                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                );
+                cmd.fill_buffer(req, 0);
+                cmd.fill_buffer(used, 0);
+                cmd.barrier(
+                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+                );
+            })?;
+        Ok(())
+    }
+
     /// Whether `h` names a mesh of this scene.
     pub fn contains_mesh(&self, h: MeshHandle) -> bool {
         self.live_mesh(h).is_ok()
@@ -697,15 +1074,13 @@ impl GpuScene {
         self.mesh_epoch
     }
 
-    /// The material table of the live meshes, laid out as the vertex buffer is
+    /// The material table of the live meshes, one entry per mesh slot
     /// ([`SceneMaterials::with_layout`]).
     pub fn materials(&self) -> Result<SceneMaterials, String> {
         SceneMaterials::with_layout(
             self.mesh_slots
                 .iter()
-                .zip(&self.mesh_table)
-                .map(|(s, t)| s.live.as_ref().map(|l| (&l.material, t.vertex_offset))),
-            self.arenas[3].size() as usize,
+                .map(|s| s.live.as_ref().map(|l| &l.material)),
         )
     }
 
@@ -1026,20 +1401,18 @@ impl GpuScene {
     }
 
     /// The descriptors every pass that decodes clusters binds, in this order: instances, meshes,
-    /// clusters, vertices, vertex references, triangles (see `shaders_glsl/common/raster.glsl`).
-    pub fn geometry_descs(&self) -> [Desc<'_>; 6] {
+    /// clusters, pages, the geometry pool (see `shaders_glsl/common/raster.glsl`).
+    pub fn geometry_descs(&self) -> [Desc<'_>; 5] {
         [
             Desc::Storage(&self.instances),
             Desc::Storage(&self.meshes),
             Desc::Storage(&self.clusters),
-            Desc::Storage(&self.vertices),
-            Desc::Storage(&self.vertex_refs),
-            Desc::Storage(&self.triangles),
+            Desc::Storage(&self.pages),
+            Desc::Storage(&self.pool),
         ]
     }
 
-    /// GPU bytes of geometry (clusters, groups, BVH, vertices, UVs, references, triangles), as
-    /// allocated.
+    /// GPU bytes of geometry (clusters, groups, BVH, pages, the pool), as allocated.
     pub fn geometry_bytes(&self) -> u64 {
         self.arena_buffers().iter().map(|b| b.size()).sum()
     }
@@ -1074,6 +1447,60 @@ impl GpuScene {
             capacity_bytes: self.ring.iter().map(|b| b.size()).sum(),
         });
         SceneMemory { buffers }
+    }
+}
+
+/// The [`PageGpu`] entries of `m`'s pages and the pages' bytes, for the pool range starting at
+/// word `pool_word` (pages back to back, each a whole number of words). With `present`, only its
+/// pages (the first ones) are there; the others are [`PAGE_NOT_RESIDENT`].
+fn page_upload(
+    m: &BuiltMesh,
+    pool_word: u32,
+    present: Option<&[Vec<u8>]>,
+) -> (Vec<PageGpu>, Vec<u8>) {
+    let mut bytes = Vec::new();
+    let pages = m
+        .pages
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let data = match present {
+                None => crate::builder::page::page_bytes(m, p),
+                Some(b) => match b.get(i) {
+                    Some(d) => d.clone(),
+                    None => return PageGpu::absent(),
+                },
+            };
+            let word = pool_word.wrapping_add((bytes.len() / 4) as u32);
+            bytes.extend_from_slice(&data);
+            PageGpu::at(p, &m.page_layout(p), word)
+        })
+        .collect();
+    (pages, bytes)
+}
+
+impl PageGpu {
+    /// The entry of page `p` (layout `l`) whose bytes start at pool word `word`.
+    pub fn at(p: &Page, l: &PageLayout, word: u32) -> Self {
+        let at = |byte: usize| word.wrapping_add((byte / 4) as u32);
+        PageGpu {
+            position_base: at(l.positions).wrapping_sub(2u32.wrapping_mul(p.vertex_first)),
+            normal_base: at(l.normals).wrapping_sub(p.vertex_first),
+            uv_base: at(l.uvs).wrapping_sub(p.vertex_first),
+            material_base: at(l.materials).wrapping_mul(2).wrapping_sub(p.vertex_first),
+            ref_base: at(l.refs).wrapping_sub(p.ref_first),
+            triangle_base: at(l.triangles).wrapping_sub(p.triangle_first / 4),
+            word,
+            _pad: 0,
+        }
+    }
+
+    /// The entry of an absent page.
+    pub fn absent() -> Self {
+        PageGpu {
+            word: PAGE_NOT_RESIDENT,
+            ..Default::default()
+        }
     }
 }
 

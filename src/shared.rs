@@ -80,8 +80,22 @@ pub const VIEW_FLAG_COUNT_OVERDRAW: u32 = 16;
 pub const VIEW_FLAG_FALLBACK_CUT: u32 = 32;
 /// `BvhNode::flags`: the node is a leaf over groups `first .. first + count`.
 pub const BVH_FLAG_LEAF: u32 = 1;
+/// `MeshGpu::streams`: the mesh's pages hold UVs.
+pub const MESH_STREAM_UVS: u32 = 1;
+/// `MeshGpu::streams`: the mesh's pages hold per-vertex materials (u16).
+pub const MESH_STREAM_MATERIALS: u32 = 2;
+/// `MeshGpu::streams`: some of the mesh's pages may be absent (`PageGpu::word` is
+/// [`PAGE_NOT_RESIDENT`]): the cull checks residency (see `src/builder/cut.rs`).
+pub const MESH_STREAM_PARTIAL: u32 = 4;
+/// `PageGpu::word` of a page that is not in the pool.
+pub const PAGE_NOT_RESIDENT: u32 = 0xffffffff;
+/// `Cluster::creator` of a level-0 cluster (the builder's `NO_GROUP`).
+pub const NO_GROUP_ID: u32 = 0xffffffff;
 /// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).
 pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
+/// Most bytes of one geometry page (vertices, references and triangles of whole groups; see
+/// `src/builder/page.rs`): the unit a `.vgeo` file stores and checks, and the GPU holds per slot.
+pub const PAGE_BYTES: u32 = 131072;
 // END SHADER CONSTANTS
 const _: () = assert!(2 * HZB_GROUP == 1 << (HZB_HEAD_LEVELS - 1));
 
@@ -126,14 +140,14 @@ const _: () = assert!(size_of::<VertexGpu>() == 36);
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct MeshGpu {
-    /// First cluster / group / BVH node / vertex / vertex-reference word of the mesh.
+    /// First cluster / group / BVH node / page ([`PageGpu`]) of the mesh.
     pub cluster_offset: u32,
     pub group_offset: u32,
     pub bvh_offset: u32,
-    pub vertex_offset: u32,
-    pub vertex_ref_offset: u32,
-    /// Byte offset of the mesh's local triangle indices (3 bytes per triangle).
-    pub triangle_offset: u32,
+    pub page_offset: u32,
+    /// Pages of the mesh, and how many of them (the first) are always resident.
+    pub page_count: u32,
+    pub resident_pages: u32,
     pub cluster_count: u32,
     /// BVH root node, relative to `bvh_offset` (0 when the mesh has a BVH).
     pub bvh_root: u32,
@@ -149,9 +163,8 @@ pub struct MeshGpu {
     /// DAG level of the fallback mesh ([`crate::builder::BuiltMesh::fallback_level`]), drawn
     /// under [`VIEW_FLAG_FALLBACK_CUT`].
     pub fallback_level: u32,
-    /// First entry of the mesh's UVs in the scene's UV stream ([`NO_UVS`]: the mesh has none, and
-    /// stores none on the GPU).
-    pub uv_offset: u32,
+    /// `MESH_STREAM_*`: which optional vertex streams the mesh's pages hold.
+    pub streams: u32,
     /// The largest parent error among the mesh's clusters but its [`WALK_CLUSTERS`] largest
     /// (0 when it has no more clusters): when it projects under the threshold on the sphere of
     /// radius `walk_radius` around `bounds_center`, at most that many clusters can be in the cut
@@ -165,20 +178,28 @@ pub struct MeshGpu {
     pub _pad: [u32; 2],
 }
 
-/// [`MeshGpu::uv_offset`] of a mesh without texture coordinates.
-pub const NO_UVS: u32 = u32::MAX;
-
-/// A vertex of the vgeo path on the GPU: the builder's `PackedVertex` without its UV, which lives
-/// in a separate stream only for meshes that have UVs (12 bytes instead of 16 per vertex).
+/// Where one page of a mesh lies in the scene's geometry pool (`u32` words), as bases to which
+/// the builder's stream indices are added directly (wrapping `u32` arithmetic: each base is the
+/// page's word in the pool minus the page's first element, see `src/builder/page.rs`): the
+/// position of the mesh's vertex `v` is at words `position_base + 2 v` and `+ 1`, its normal at
+/// `normal_base + v`, its UV at `uv_base + v`, its material at u16 `material_base + v`; a
+/// cluster's references start at `ref_base + vertex_ref_offset`, its triangles at word
+/// `triangle_base + triangle_offset / 4`.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct GpuVertex {
-    /// Low and high words of `x | y << 21 | z << 42` on the mesh's grid.
-    pub position: [u32; 2],
-    /// Octahedral normal, 2 x 16 bits.
-    pub normal: u32,
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct PageGpu {
+    pub position_base: u32,
+    pub normal_base: u32,
+    pub uv_base: u32,
+    pub material_base: u32,
+    pub ref_base: u32,
+    pub triangle_base: u32,
+    /// The pool word where the page's bytes start.
+    pub word: u32,
+    pub _pad: u32,
 }
-const _: () = assert!(size_of::<GpuVertex>() == 12);
+const _: () = assert!(size_of::<PageGpu>() == 32);
+
 const _: () = assert!(size_of::<MeshGpu>() == 96);
 
 /// One instance of the vgeo path. The translation is split into high and low f32 parts so that

@@ -278,3 +278,136 @@ fn small_instances_walk_locally_with_the_same_cut() {
     }
     assert_no_validation_errors(&ctx);
 }
+
+/// Partial residency on the GPU: with random closed sets of bunny's pages marked absent
+/// (`GpuScene::set_page_residency`), the GPU cut equals the CPU cut under the same residency
+/// (`reference_cut_resident`, the rule of `builder::cut`), draws only resident pages, marks
+/// exactly the pages of drawn clusters used, and asks for exactly the absent pages of the groups
+/// that drawn clusters would refine into.
+#[test]
+fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_pages() {
+    use vgeo::builder::cut::{group_resident, lod_error_px};
+    use vgeo::builder::page::{close_residency, group_needs, paginate};
+    use vgeo::reference::cut::reference_cut_resident;
+    let ctx = gpu();
+    let mut bunny = built(&shared_assets().join("scanned/bunny.ply"));
+    // Small pages, so that residency has many pages to choose from.
+    let level = bunny.fallback_level(2000);
+    paginate(&mut bunny, 16384, level);
+    assert!(bunny.pages.len() > 40, "{} pages", bunny.pages.len());
+    let needs = group_needs(&bunny);
+    let meshes = vec![bunny];
+    let m = &meshes[0];
+    let placements = vec![Placement {
+        mesh: 0,
+        transform: DMat4::IDENTITY,
+        color: [1.0; 3],
+    }];
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    let h = r.scene.mesh_handle(0).expect("mesh");
+    let center = DVec3::new(-0.017, 0.11, 0.0);
+    let (w, hgt) = (320, 240);
+    let mut asked_total = 0;
+    for seed in 0..6u32 {
+        let mut res: Vec<bool> = (0..m.pages.len())
+            .map(|p| (p as u32 * 7 + seed * 11) % 6 < seed % 6)
+            .collect();
+        close_residency(m, &needs, &mut res);
+        r.scene.set_page_residency(h, &res).expect("residency");
+        for (dist, tau) in [(0.3, 1.0), (0.8, 0.5), (3.0, 2.0)] {
+            let eye = center + DVec3::new(0.3, 0.2, 1.0).normalize() * dist;
+            let camera = Camera::look_at(eye, center, Vec3::Y, 45f32.to_radians(), 0.01);
+            let settings = FrameSettings {
+                error_px: tau,
+                flags: VIEW_FLAG_NO_FRUSTUM,
+                ..Default::default()
+            };
+            r.scene.clear_page_feedback().expect("clear");
+            let out = r.cull(&camera, w, hgt, &settings).expect("cull runs");
+            out.check().expect("no overflow, no watchdog");
+            let gpu: BTreeSet<u32> = out.visible.iter().map(|v| v[1]).collect();
+            let view = view_for(&camera, w, hgt, &settings);
+            let (cut, borderline) =
+                reference_cut_resident(&meshes, &[Some(&res)], &placements, &view, 1e-4);
+            let cpu: BTreeSet<u32> = cut.iter().map(|e| e.cluster).collect();
+            let border: BTreeSet<u32> = borderline.iter().map(|e| e.cluster).collect();
+            let hard: Vec<_> = gpu
+                .symmetric_difference(&cpu)
+                .filter(|c| !border.contains(c))
+                .collect();
+            assert!(
+                hard.is_empty(),
+                "seed {seed}: GPU and CPU cuts differ on {hard:?}"
+            );
+            for &c in &gpu {
+                assert!(
+                    res[m.clusters[c as usize].page as usize],
+                    "cluster {c} not resident"
+                );
+            }
+            // Feedback: used pages are the drawn clusters'; asked pages are the absent children
+            // of drawn clusters coarser than wanted.
+            let (wish, used) = r.scene.page_feedback(h).expect("feedback");
+            let want_used: BTreeSet<u32> =
+                gpu.iter().map(|&c| m.clusters[c as usize].page).collect();
+            let got_used: BTreeSet<u32> = (0..used.len() as u32)
+                .filter(|&p| used[p as usize])
+                .collect();
+            assert_eq!(got_used, want_used, "seed {seed}: used pages");
+            let mut want_asked = BTreeSet::new();
+            let mut near = BTreeSet::new();
+            for &c in &cpu {
+                let cl = &m.clusters[c as usize];
+                if cl.creator == vgeo::builder::NO_GROUP
+                    || group_resident(m, Some(&res), cl.creator)
+                {
+                    continue;
+                }
+                let sc = Vec3::from_slice(&cl.self_sphere[..3]) - camera.position.as_vec3();
+                let px = lod_error_px(
+                    cl.self_error,
+                    sc,
+                    cl.self_sphere[3],
+                    Vec3::ZERO,
+                    view.proj_scale,
+                );
+                let g = &m.groups[cl.creator as usize];
+                for p in g.page_first..g.page_first + g.page_count {
+                    if res[p as usize] {
+                        continue;
+                    }
+                    if (px - tau).abs() <= 1e-3 * tau {
+                        near.insert(p);
+                    } else if px > tau {
+                        want_asked.insert(p);
+                    }
+                }
+            }
+            let got_asked: BTreeSet<u32> = (0..wish.len() as u32)
+                .filter(|&p| wish[p as usize] > 0.0)
+                .collect();
+            let diff: Vec<_> = got_asked
+                .symmetric_difference(&want_asked)
+                .filter(|p| !near.contains(p))
+                .collect();
+            assert!(
+                diff.is_empty(),
+                "seed {seed}: asked pages differ on {diff:?}"
+            );
+            for &p in &got_asked {
+                assert!(
+                    !res[p as usize] && wish[p as usize] >= 1.0,
+                    "page {p}: wish {}",
+                    wish[p as usize]
+                );
+            }
+            asked_total += got_asked.len();
+        }
+    }
+    assert!(asked_total > 10, "only {asked_total} pages asked for");
+    // The always-resident pages cannot be marked absent.
+    let mut bad = vec![true; m.pages.len()];
+    bad[0] = false;
+    assert!(r.scene.set_page_residency(h, &bad).is_err());
+    assert_no_validation_errors(&ctx);
+}

@@ -99,6 +99,14 @@ fn front_camera(dist: f64) -> Camera {
     )
 }
 
+/// The global material of mesh `mesh`'s vertex `v`: the mesh's first global id plus the vertex's
+/// local material (clamped to the mesh's last), as `material_classify` computes it.
+fn global_material(mats: &SceneMaterials, built: &BuiltMesh, mesh: usize, v: u32) -> u32 {
+    let mm = &mats.meshes[mesh];
+    let local = built.vertex_materials.get(v as usize).copied().unwrap_or(0) as u32;
+    mm.material_offset + local.min(mm.material_count.max(1) - 1)
+}
+
 /// Per pixel, the global material of its triangle's first vertex from the visibility buffer (CPU
 /// decode), `NO_MATERIAL` where empty.
 fn cpu_pixel_materials(
@@ -107,11 +115,11 @@ fn cpu_pixel_materials(
     placements: &[Placement],
     mats: &SceneMaterials,
 ) -> Vec<u32> {
-    // First cluster and first vertex of each mesh in the scene's concatenation.
-    let mut first = vec![(0u32, 0u32)];
+    // First cluster of each mesh in the scene's concatenation.
+    let mut first = vec![0u32];
     for b in built {
-        let (c, v) = *first.last().unwrap();
-        first.push((c + b.clusters.len() as u32, v + b.vertices.len() as u32));
+        let c = *first.last().unwrap();
+        first.push(c + b.clusters.len() as u32);
     }
     f.visbuffer
         .iter()
@@ -123,9 +131,9 @@ fn cpu_pixel_materials(
             let ([instance, cluster], _) =
                 f.resolve(v).expect("a drawn pixel names a visible cluster");
             let mesh = placements[instance as usize].mesh as usize;
-            let (c0, v0) = first[mesh];
+            let c0 = first[mesh];
             let tri = built[mesh].cluster_triangles((cluster - c0) as usize)[(lo & 127) as usize];
-            mats.vertex_materials[(v0 + tri[0]) as usize]
+            global_material(mats, &built[mesh], mesh, tri[0])
         })
         .collect()
 }
@@ -460,7 +468,7 @@ fn cpu_shade(
             built.vertices[v as usize].uv,
         ))
     });
-    let mat = mats.materials[mats.vertex_materials[tri[0] as usize] as usize];
+    let mat = mats.materials[global_material(mats, built, 0, tri[0]) as usize];
     let dir = ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
     let face = (p[1] - p[0]).cross(p[2] - p[0]);
     let mut albedo = Vec4::from(mat.base_color) * tint.extend(1.0);

@@ -65,6 +65,9 @@ fn set_local_triangles(m: &mut BuiltMesh, ci: usize, tris: &[[u8; 3]]) {
     let c = &mut m.clusters[ci];
     c.triangle_offset = at as u32;
     c.counts = c.vertex_count() | (tris.len() as u32) << 8 | c.flags() << 16;
+    // Lay the pages out again, so that the new triangles lie in the cluster's page.
+    let level = m.fallback_level(BuildOptions::default().fallback_triangles);
+    builder::page::paginate(m, builder::page::PAGE_BYTES as usize, level);
 }
 
 /// The numbers before " unmatched and " and " over-used edges" summed over the report's lines.
@@ -326,4 +329,115 @@ fn verify_fails_non_monotonic_error() {
     assert!(!r.ok(), "{r}");
     assert!(has(&r, "> parent error"), "{r}");
     assert!(has(&r, "not covered exactly once"), "{r}");
+}
+
+/// For each cluster, (fewest, most) drawn clusters on its paths up to the root (a cluster's
+/// parents are the clusters its group produced): a cut is sound when every level-0 cluster has
+/// (1, 1).
+fn path_crossings(m: &BuiltMesh, cut: &[u32]) -> Vec<(u32, u32)> {
+    let mut drawn = vec![0u32; m.clusters.len()];
+    for &c in cut {
+        drawn[c as usize] = 1;
+    }
+    let mut parents: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
+    for (ci, c) in m.clusters.iter().enumerate() {
+        if c.creator != builder::NO_GROUP {
+            parents[c.creator as usize].push(ci as u32);
+        }
+    }
+    let mut order: Vec<u32> = (0..m.clusters.len() as u32).collect();
+    order.sort_by_key(|&c| std::cmp::Reverse(m.clusters[c as usize].level));
+    let mut up = vec![(0u32, 0u32); m.clusters.len()];
+    for c in order {
+        let d = drawn[c as usize];
+        let ps = &parents[m.clusters[c as usize].group as usize];
+        up[c as usize] = if ps.is_empty() {
+            (d, d)
+        } else {
+            let mn = ps.iter().map(|&p| up[p as usize].0).min().unwrap_or(0);
+            let mx = ps.iter().map(|&p| up[p as usize].1).max().unwrap_or(0);
+            (d + mn, d + mx)
+        };
+    }
+    up
+}
+
+/// Under a closed page residency (`page::close_residency`) the cut draws only resident clusters
+/// and crosses every leaf-to-root path once; the BVH walk finds the same cut. A residency that is
+/// not closed (a group resident without the pages its products need) breaks the cut: the check
+/// can fail. `verify` tests such cuts in every fourth view.
+#[test]
+fn cuts_under_closed_residency_are_sound_and_draw_only_resident_pages() {
+    use builder::cut::{cut_brute, cut_bvh, proj_scale};
+    use builder::page::{close_residency, group_needs, paginate};
+    let mut m = sample();
+    // Small pages, so that the sample has many.
+    let level = m.fallback_level(2000);
+    paginate(&mut m, 4096, level);
+    assert!(m.pages.len() >= 12, "{} pages", m.pages.len());
+    let needs = group_needs(&m);
+    let scale = proj_scale(1080.0, 60f32.to_radians());
+    let cams = [
+        glam::Vec3::new(2.0, 1.0, 3.0),
+        glam::Vec3::new(5.0, 1.0, 2.5),
+        glam::Vec3::new(-20.0, 5.0, 10.0),
+    ];
+    let mut partial_cuts = 0;
+    for seed in 0..12u32 {
+        let mut res: Vec<bool> = (0..m.pages.len())
+            .map(|p| (p as u32 * 7 + seed * 13) % 5 < seed % 5)
+            .collect();
+        close_residency(&m, &needs, &mut res);
+        for cam in cams {
+            for tau in [0.0, 0.5, 2.0, 8.0] {
+                let cut = cut_brute(&m, cam, scale, tau, Some(&res));
+                assert_eq!(cut_bvh(&m, cam, scale, tau, Some(&res)), Some(cut.clone()));
+                for &c in &cut {
+                    assert!(
+                        res[m.clusters[c as usize].page as usize],
+                        "cluster {c} not resident"
+                    );
+                }
+                let up = path_crossings(&m, &cut);
+                for (ci, c) in m.clusters.iter().enumerate() {
+                    if c.level == 0 {
+                        assert_eq!(up[ci], (1, 1), "seed {seed}, tau {tau}: cluster {ci}");
+                    }
+                }
+                if cut != cut_brute(&m, cam, scale, tau, None) {
+                    partial_cuts += 1;
+                }
+            }
+        }
+    }
+    assert!(
+        partial_cuts > 20,
+        "residency changed only {partial_cuts} cuts"
+    );
+    // Not closed: every page resident but one that a resident group needs.
+    let (g, p) = needs
+        .iter()
+        .enumerate()
+        .find_map(|(g, n)| {
+            let own = m.groups[g].page_first..m.groups[g].page_first + m.groups[g].page_count;
+            n.iter()
+                .find(|&&p| !own.contains(&p) && p >= m.resident_pages)
+                .map(|&p| (g, p))
+        })
+        .expect("a group needing another page");
+    let mut res = vec![true; m.pages.len()];
+    res[p as usize] = false;
+    let broken = (0..64).any(|k| {
+        let cam = m.groups[g].lod_sphere;
+        let cam = glam::Vec3::new(cam[0], cam[1], cam[2] + 0.05 * k as f32);
+        [0.0, 0.25, 1.0, 4.0].iter().any(|&tau| {
+            let cut = cut_brute(&m, cam, scale, tau, Some(&res));
+            let up = path_crossings(&m, &cut);
+            m.clusters
+                .iter()
+                .enumerate()
+                .any(|(ci, c)| c.level == 0 && up[ci] != (1, 1))
+        })
+    });
+    assert!(broken, "an open residency set must break some cut");
 }

@@ -55,21 +55,15 @@ pub fn import(format: Format, name: &str, data: &[u8]) -> Outcome {
     }
 }
 
-/// Loads `data` as a `.vgeo` file twice: as it is, and with the header's length and checksum made
-/// right (a mutation almost always breaks the checksum, which would hide every later check from
+/// Loads `data` as a `.vgeo` file twice: as it is, and with the header's length and the head's and
+/// pages' checksums made right (`format::fix_checksums`) (a mutation almost always breaks the checksum, which would hide every later check from
 /// the fuzzer). The outcome is the second load's. A loaded mesh must survive what its users do
 /// without checks (decode every cluster's triangles, every level as a mesh) and save to a file
 /// that loads again and saves to the same bytes.
 pub fn load_vgeo(data: &[u8]) -> Outcome {
     let _ = format::load(data);
     let mut fixed = data.to_vec();
-    if fixed.len() >= 32 && fixed.starts_with(&format::MAGIC) {
-        let len = fixed.len() as u64;
-        fixed[24..32].copy_from_slice(&len.to_le_bytes());
-        fixed[16..24].fill(0);
-        let sum = format::fnv1a64(&fixed);
-        fixed[16..24].copy_from_slice(&sum.to_le_bytes());
-    }
+    format::fix_checksums(&mut fixed);
     let m = match format::load(&fixed) {
         Ok(m) => m,
         Err(e) => return Outcome::Refused(e.to_string()),

@@ -169,6 +169,49 @@ bool cluster_occluded(uint instance, InstanceVgeo inst, Cluster cl, uint ci) {
     return true;
 }
 
+// Partial residency (meshes with MESH_STREAM_PARTIAL; src/builder/cut.rs): a group is refinable
+// only when all its pages are resident; its error otherwise counts as 0, so its members are never
+// drawn and the clusters it produced are never refined (they ask for its pages instead).
+bool page_resident(MeshGpu mesh, uint page) {
+    return pages[mesh.page_offset + page].word != PAGE_NOT_RESIDENT;
+}
+
+bool group_pages_resident(MeshGpu mesh, Group g) {
+    for (uint p = g.page_first; p < g.page_first + g.page_count; p++) {
+        if (!page_resident(mesh, p)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool mesh_partial(MeshGpu mesh) {
+    return (mesh.streams & MESH_STREAM_PARTIAL) != 0u;
+}
+
+// Whether cluster `cl`'s children (the members of the group that produced it) are all resident.
+bool children_resident(MeshGpu mesh, Cluster cl) {
+    return !mesh_partial(mesh) || cl.creator == NO_GROUP_ID
+        || group_pages_resident(mesh, groups[mesh.group_offset + cl.creator]);
+}
+
+// A drawn cluster that is coarser than wanted (`wish`: its projected error over the threshold)
+// because its children are absent asks for their pages; a drawn cluster marks its page used.
+void request_children(MeshGpu mesh, Cluster cl, float wish) {
+    Group g = groups[mesh.group_offset + cl.creator];
+    for (uint p = g.page_first; p < g.page_first + g.page_count; p++) {
+        if (!page_resident(mesh, p)) {
+            atomicMax(page_requests[mesh.page_offset + p], floatBitsToUint(min(wish, 1e30)));
+        }
+    }
+}
+
+void mark_used(MeshGpu mesh, Cluster cl) {
+    if (mesh_partial(mesh)) {
+        page_usage[mesh.page_offset + cl.page] = 1u;
+    }
+}
+
 // Instance-level LOD. When the mesh's root cluster alone is fine for this view, the cut is exactly
 // {root}: every other cluster's parent error projects to at most the root's own (errors and LOD
 // spheres grow towards the root), so none of them is drawn and the BVH walk is skipped. The root
@@ -185,10 +228,15 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
         }
     } else {
         vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
-        if (lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) > view.error_px) {
-            return false;
+        float self_px = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale);
+        if (self_px > view.error_px) {
+            if (children_resident(mesh, cl)) {
+                return false;
+            }
+            request_children(mesh, cl, self_px / view.error_px);
         }
     }
+    mark_used(mesh, cl);
     atomicAdd(counters.clusters_tested, 1u);
     vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
     float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * scale;
@@ -261,8 +309,13 @@ void process_node(uint64_t item, bool local) {
         }
         return;
     }
+    bool partial = mesh_partial(mesh);
     for (uint g = 0u; g < node.count; g++) {
         Group group = groups[mesh.group_offset + node.first + g];
+        // A group not wholly resident: its members' parent error counts as 0, none is drawn.
+        if (partial && !fallback && !group_pages_resident(mesh, group)) {
+            continue;
+        }
         for (uint k = 0u; k < group.cluster_count; k++) {
             uint ci = mesh.cluster_offset + group.first_cluster + k;
             Cluster cl = clusters[ci];
@@ -274,14 +327,20 @@ void process_node(uint64_t item, bool local) {
             } else {
                 vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
                 vec3 pcen = relative_position(inst, view, cl.parent_sphere.xyz);
-                bool fine = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale) <= view.error_px;
+                float self_px = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale);
                 bool parent_coarse =
                     lod_error_px(cl.parent_error * scale, pcen, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
+                bool fine = self_px <= view.error_px;
+                if (partial && parent_coarse && !fine && !children_resident(mesh, cl)) {
+                    request_children(mesh, cl, self_px / view.error_px);
+                    fine = true;
+                }
                 in_cut = fine && parent_coarse;
             }
             if (!in_cut) {
                 continue;
             }
+            mark_used(mesh, cl);
             vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
             float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * scale;
             if (frustum && !sphere_in_frustum(view, cc, cr)) {

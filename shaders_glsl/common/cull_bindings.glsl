@@ -22,6 +22,12 @@ layout(set = 0, binding = 13, scalar) coherent buffer MainCounters { CullCounter
 layout(set = 0, binding = 14) buffer PostInstances { uint post_instances[]; };
 layout(set = 0, binding = 15) buffer PostNodes { uint64_t post_nodes[]; };
 layout(set = 0, binding = 16) buffer PostClusters { uvec2 post_clusters[]; };
+// Geometry pages (residency: `word` != PAGE_NOT_RESIDENT), and per page of the scene the
+// streaming feedback: the largest wish to refine into it this frame (projected error over the
+// threshold, as float bits), and whether a drawn cluster used it.
+layout(set = 0, binding = 17, scalar) readonly buffer Pages { PageGpu pages[]; };
+layout(set = 0, binding = 18) buffer PageRequests { uint page_requests[]; };
+layout(set = 0, binding = 19) buffer PageUsage { uint page_usage[]; };
 
 // 0: main phase (test against the previous frame's HZB, defer what it rejects);
 // 1: post phase (retest what was deferred against this frame's HZB).

@@ -19,7 +19,7 @@ struct MeshMaterialGpu {
     vec2 uv_max;
     uint flags;  // 1: has UVs, 2: has normals
     uint material_offset;
-    uint _pad0;
+    uint material_count;  // the mesh's materials (local ids are clamped to the last)
     uint _pad1;
 };
 

@@ -5,9 +5,8 @@
 // SW and HW must agree on depth bit for bit.
 //
 // The including shader declares the scene buffers with these names before including this file:
-// `instances[]` (InstanceVgeo), `meshes[]` (MeshGpu), `clusters[]` (Cluster), `vertices[]`
-// (PackedVertex), `vertex_refs[]` (uint), `triangle_words[]` (uint, 3 bytes per triangle) and
-// `view` (ViewGpu). A shader with only `view` defines RASTER_NO_SCENE first (fixed-point helpers only).
+// `instances[]` (InstanceVgeo), `meshes[]` (MeshGpu), `clusters[]` (Cluster), `pages[]`
+// (PageGpu), `pool[]` (uint: the geometry pool, every resident page's bytes) and `view` (ViewGpu). A shader with only `view` defines RASTER_NO_SCENE first (fixed-point helpers only).
 #ifndef VGEO_RASTER_GLSL
 #define VGEO_RASTER_GLSL
 
@@ -24,35 +23,58 @@ uint cluster_vertex_count(Cluster c) { return c.counts & 0xffu; }
 uint cluster_triangle_count(Cluster c) { return (c.counts >> 8) & 0xffu; }
 uint cluster_flags(Cluster c) { return c.counts >> 16; }
 
-// Global vertex index (into vertices[]) of the cluster's local vertex `i`.
-uint cluster_vertex(MeshGpu mesh, Cluster c, uint i) {
-    uint base = mesh.vertex_ref_offset + c.vertex_ref_offset;
-    uint v;
+// The page holding the cluster's data.
+PageGpu cluster_page(MeshGpu mesh, Cluster c) {
+    return pages[mesh.page_offset + c.page];
+}
+
+// The mesh's vertex index (the builder's, see PageGpu) of the cluster's local vertex `i`.
+uint cluster_vertex(PageGpu page, Cluster c, uint i) {
+    uint base = page.ref_base + c.vertex_ref_offset;
     if ((cluster_flags(c) & CLUSTER_FLAG_REFS_U32) != 0u) {
-        v = vertex_refs[base + i];
-    } else {
-        uint w = vertex_refs[base + (i >> 1)];
-        v = c.vertex_base + ((w >> (16u * (i & 1u))) & 0xffffu);
+        return pool[base + i];
     }
-    return mesh.vertex_offset + v;
+    uint w = pool[base + (i >> 1)];
+    return c.vertex_base + ((w >> (16u * (i & 1u))) & 0xffffu);
+}
+
+// The mesh's vertex `v` as stored in its page.
+PackedVertex page_vertex(PageGpu page, uint v) {
+    PackedVertex pv;
+    uint at = page.position_base + 2u * v;
+    pv.position = uvec2(pool[at], pool[at + 1u]);
+    pv.normal = pool[page.normal_base + v];
+    return pv;
+}
+
+// The packed UV (2 x 16 bits) of the mesh's vertex `v` (meshes with MESH_STREAM_UVS).
+uint page_uv(PageGpu page, uint v) {
+    return pool[page.uv_base + v];
+}
+
+// The mesh-local material of the mesh's vertex `v` (meshes with MESH_STREAM_MATERIALS).
+uint page_material(PageGpu page, uint v) {
+    uint h = page.material_base + v;
+    return (pool[h >> 1] >> (16u * (h & 1u))) & 0xffffu;
 }
 
 // The three local vertex indices of the cluster's triangle `t`. Indices are bit-packed per cluster
 // (src/builder/mod.rs `pack_indices`): `index_bits(vertex_count)` bits each, little-endian, from the
 // cluster's 4-byte-aligned `triangle_offset`.
-uvec3 cluster_triangle(MeshGpu mesh, Cluster c, uint t) {
+uvec3 cluster_triangle(PageGpu page, Cluster c, uint t) {
     uint vc = max(cluster_vertex_count(c), 1u);
     uint bits = uint(max(findMSB(vc - 1u) + 1, 1));
     uint mask = (1u << bits) - 1u;
-    uint base = (mesh.triangle_offset + c.triangle_offset) * 8u + 3u * t * bits;
+    uint word0 = page.triangle_base + (c.triangle_offset >> 2);
+    uint base = 3u * t * bits;
     uvec3 r;
     for (uint k = 0u; k < 3u; k++) {
         uint bit = base + k * bits;
-        uint w = bit >> 5;
+        uint w = word0 + (bit >> 5);
         uint sh = bit & 31u;
-        uint v = triangle_words[w] >> sh;
+        uint v = pool[w] >> sh;
         if (sh + bits > 32u) {
-            v |= triangle_words[w + 1u] << (32u - sh);
+            v |= pool[w + 1u] << (32u - sh);
         }
         r[k] = v & mask;
     }

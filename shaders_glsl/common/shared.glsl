@@ -21,9 +21,9 @@ struct MeshGpu {
     uint cluster_offset;
     uint group_offset;
     uint bvh_offset;
-    uint vertex_offset;
-    uint vertex_ref_offset;
-    uint triangle_offset;
+    uint page_offset;  // first PageGpu of the mesh
+    uint page_count;
+    uint resident_pages;
     uint cluster_count;
     uint bvh_root;
     vec3 quant_origin;
@@ -32,11 +32,24 @@ struct MeshGpu {
     float bounds_radius;
     uint root_cluster;
     uint fallback_level;
-    uint uv_offset;  // first entry in the UV stream, NO_UVS: none
+    uint streams;  // MESH_STREAM_*
     float walk_error;  // instance_cull walks the BVH itself below this (see src/shared.rs)
     float walk_error_wide;  // the same for WALK_CLUSTERS_WIDE, with WALK_WIDE_INSTANCES instances
     float walk_radius;
     uint _pad0[2];
+};
+
+// Where a page lies in the geometry pool (src/shared.rs PageGpu): bases to which the builder's
+// stream indices are added (wrapping uint arithmetic).
+struct PageGpu {
+    uint position_base;
+    uint normal_base;
+    uint uv_base;
+    uint material_base;  // in u16 units
+    uint ref_base;
+    uint triangle_base;
+    uint word;
+    uint _pad;
 };
 
 struct InstanceVgeo {
@@ -119,7 +132,7 @@ struct Cluster {
     uint group;
     uint creator;
     uint level;
-    uint _pad;
+    uint page;
 };
 
 struct Group {
@@ -130,8 +143,8 @@ struct Group {
     uint first_cluster;
     uint cluster_count;
     uint iteration;
-    uint _pad0;
-    uint _pad1;
+    uint page_first;
+    uint page_count;
 };
 
 struct BvhNode {
@@ -146,13 +159,10 @@ struct BvhNode {
     uint _pad1;
 };
 
-// GpuVertex (src/shared.rs): the builder's packed vertex without its UV (a separate stream,
-// `MeshGpu::uv_offset`, only for meshes with UVs).
+// A decoded vertex of a page (positions and normals are separate streams in the pool).
 struct PackedVertex {
     uvec2 position;  // x | y << 21 | z << 42 on the mesh grid
     uint normal;     // octahedral, 2 x 16 bits
 };
-
-#define NO_UVS 0xffffffffu
 
 #endif

@@ -3,10 +3,18 @@
 //!
 //! Cluster `c` is drawn for threshold `tau` pixels iff
 //! `lod_error_px(c.self) <= tau && lod_error_px(c.parent) > tau`.
+//!
+//! **Under partial residency** (some pages absent, `res[page]` false) a group counts as refinable
+//! only when all its pages are resident: the error of a group that is not counts as 0, so its
+//! members (whose parent error it is) are never drawn and the clusters it produced (whose self
+//! error it is) are never refined. With a closed residency set ([`super::page::close_residency`]:
+//! a resident group's products' groups are resident) the errors stay monotonic along the DAG, so
+//! the cut is that of the same DAG with those errors: crack-free, and drawing only resident
+//! clusters.
 
 use glam::Vec3;
 
-use super::{BVH_FLAG_LEAF, BuiltMesh, Cluster};
+use super::{BVH_FLAG_LEAF, BuiltMesh, Cluster, NO_GROUP};
 
 /// Projected size in pixels of object-space `error` at the point of the sphere nearest to the
 /// camera: `error * proj_scale / (distance(center, camera) - radius)`.
@@ -56,17 +64,74 @@ pub fn cluster_in_cut(c: &Cluster, camera_pos: Vec3, proj_scale: f32, tau: f32) 
         && sphere_px(&c.parent_sphere, c.parent_error, camera_pos, proj_scale) > tau
 }
 
-/// The cut by testing every cluster (the oracle).
-pub fn cut_brute(m: &BuiltMesh, camera_pos: Vec3, proj_scale: f32, tau: f32) -> Vec<u32> {
+/// Whether every page of group `g` is resident (`res`: per page of `m`; `None`: all are).
+#[inline]
+pub fn group_resident(m: &BuiltMesh, res: Option<&[bool]>, g: u32) -> bool {
+    let Some(res) = res else { return true };
+    let Some(g) = m.groups.get(g as usize) else {
+        return false;
+    };
+    (g.page_first..g.page_first.saturating_add(g.page_count))
+        .all(|p| res.get(p as usize).copied().unwrap_or(false))
+}
+
+/// `c`'s (self, parent) errors under residency `res` (see the module's documentation): each the
+/// group's error, or 0 when the group is not wholly resident.
+#[inline]
+pub fn resident_errors(m: &BuiltMesh, c: &Cluster, res: Option<&[bool]>) -> (f32, f32) {
+    let own = |g: u32, e: f32| if group_resident(m, res, g) { e } else { 0.0 };
+    let self_error = if c.creator == NO_GROUP {
+        c.self_error
+    } else {
+        own(c.creator, c.self_error)
+    };
+    (self_error, own(c.group, c.parent_error))
+}
+
+/// Whether `c` is in the cut for threshold `tau` under residency `res`.
+#[inline]
+pub fn cluster_in_resident_cut(
+    m: &BuiltMesh,
+    c: &Cluster,
+    res: Option<&[bool]>,
+    camera_pos: Vec3,
+    proj_scale: f32,
+    tau: f32,
+) -> bool {
+    if res.is_none() {
+        return cluster_in_cut(c, camera_pos, proj_scale, tau);
+    }
+    let (se, pe) = resident_errors(m, c, res);
+    sphere_px(&c.self_sphere, se, camera_pos, proj_scale) <= tau
+        && sphere_px(&c.parent_sphere, pe, camera_pos, proj_scale) > tau
+}
+
+/// The cut by testing every cluster (the oracle), under residency `res` (`None`: every page).
+pub fn cut_brute(
+    m: &BuiltMesh,
+    camera_pos: Vec3,
+    proj_scale: f32,
+    tau: f32,
+    res: Option<&[bool]>,
+) -> Vec<u32> {
     (0..m.clusters.len() as u32)
-        .filter(|&i| cluster_in_cut(&m.clusters[i as usize], camera_pos, proj_scale, tau))
+        .filter(|&i| {
+            cluster_in_resident_cut(m, &m.clusters[i as usize], res, camera_pos, proj_scale, tau)
+        })
         .collect()
 }
 
 /// The cut through the BVH (what the GPU does, minus frustum and occlusion culling): a subtree is
-/// skipped when its largest parent error is already fine. Sorted cluster indices; `None` if the
-/// BVH references something out of range or has a cycle (more visits than nodes).
-pub fn cut_bvh(m: &BuiltMesh, camera_pos: Vec3, proj_scale: f32, tau: f32) -> Option<Vec<u32>> {
+/// skipped when its largest parent error is already fine (errors under residency are never
+/// larger). Sorted cluster indices; `None` if the BVH references something out of range or has a
+/// cycle (more visits than nodes).
+pub fn cut_bvh(
+    m: &BuiltMesh,
+    camera_pos: Vec3,
+    proj_scale: f32,
+    tau: f32,
+    res: Option<&[bool]>,
+) -> Option<Vec<u32>> {
     let mut out = Vec::new();
     if m.bvh.is_empty() {
         return Some(out);
@@ -93,7 +158,7 @@ pub fn cut_bvh(m: &BuiltMesh, camera_pos: Vec3, proj_scale: f32, tau: f32) -> Op
                 let g = m.groups.get(g as usize)?;
                 for ci in g.first_cluster..g.first_cluster.checked_add(g.cluster_count)? {
                     let c = m.clusters.get(ci as usize)?;
-                    if cluster_in_cut(c, camera_pos, proj_scale, tau) {
+                    if cluster_in_resident_cut(m, c, res, camera_pos, proj_scale, tau) {
                         out.push(ci);
                     }
                 }

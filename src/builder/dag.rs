@@ -1297,9 +1297,13 @@ fn build_inner(
         fallback_groups,
         ..Default::default()
     };
-    Ok(assemble(
+    let mut built = assemble(
         mesh, quant, vertices, vmat, &positions, clusters, groups, stats,
-    ))
+    );
+    progress("paging");
+    let resident_level = built.fallback_level(opts.fallback_triangles);
+    super::page::paginate(&mut built, super::page::PAGE_BYTES as usize, resident_level);
+    Ok(built)
 }
 
 fn stuck(mesh: &Mesh, iteration: u32, working: &[u32], clusters: &[WCluster]) -> BuildError {
@@ -1661,7 +1665,8 @@ fn assemble(
                 first_cluster: 0,
                 cluster_count: g.members.len() as u32,
                 iteration: g.iteration,
-                _pad: [0; 2],
+                page_first: 0,
+                page_count: 0,
             }
         })
         .collect();
@@ -1736,7 +1741,7 @@ fn assemble(
                     new_gid[w.creator as usize]
                 },
                 level: w.level,
-                _pad: 0,
+                page: 0,
             };
             (cluster, refs, tri_bytes)
         })
@@ -1777,6 +1782,8 @@ fn assemble(
         groups,
         bvh,
         root,
+        pages: Vec::new(),
+        resident_pages: 0,
         stats,
     }
 }

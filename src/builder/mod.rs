@@ -21,6 +21,7 @@ pub mod cut;
 pub mod dag;
 pub mod fastpart;
 pub mod group;
+pub mod page;
 pub mod quantize;
 pub mod simplify;
 pub mod verify;
@@ -171,7 +172,7 @@ pub enum BuildError {
 pub type Sphere = [f32; 4];
 
 /// Sentinel for "no group" (level-0 clusters have no creator group).
-pub const NO_GROUP: u32 = u32::MAX;
+pub const NO_GROUP: u32 = crate::shared::NO_GROUP_ID;
 
 pub use crate::shared::CLUSTER_FLAG_REFS_U32;
 
@@ -206,7 +207,8 @@ pub struct Cluster {
     pub creator: u32,
     /// DAG level: 0 for input clusters, else the creator group's iteration + 1.
     pub level: u32,
-    pub _pad: u32,
+    /// The page holding the cluster's vertices, references and triangles ([`BuiltMesh::pages`]).
+    pub page: u32,
 }
 const _: () = assert!(size_of::<Cluster>() == 96);
 
@@ -296,7 +298,10 @@ pub struct Group {
     pub cluster_count: u32,
     /// Build iteration at which the group was simplified (`u32::MAX` for the root pseudo-group).
     pub iteration: u32,
-    pub _pad: [u32; 2],
+    /// The pages holding the members' data: `page_first .. page_first + page_count` (one page
+    /// unless the group is larger than a page).
+    pub page_first: u32,
+    pub page_count: u32,
 }
 const _: () = assert!(size_of::<Group>() == 64);
 
@@ -397,6 +402,9 @@ pub struct BuildStats {
     pub widened_iterations: Vec<u32>,
     /// Groups that needed pruning, sloppy simplification or merging to make progress.
     pub fallback_groups: usize,
+    /// Pages the clusters' data is stored in ([`page`]).
+    #[serde(default)]
+    pub pages: usize,
 }
 
 /// A built mesh: the cluster DAG, its BVH and vertex data. What `.vgeo` stores.
@@ -429,6 +437,11 @@ pub struct BuiltMesh {
     pub bvh: Vec<BvhNode>,
     /// Index of the root cluster.
     pub root: u32,
+    /// The pages the clusters' data is stored in, from the root down ([`page`]).
+    pub pages: Vec<page::Page>,
+    /// The first `resident_pages` pages hold every group simplified at or after the fallback
+    /// level: the always-resident part.
+    pub resident_pages: u32,
     /// What the build did (levels, counts, dropped input).
     pub stats: BuildStats,
 }
@@ -509,9 +522,12 @@ impl BuiltMesh {
         self.level_mesh(self.fallback_level(target))
     }
 
-    /// Complete level `k` as a plain mesh (vertices compacted, attributes decoded).
+    /// Complete level `k` as a plain mesh (vertices compacted, attributes decoded). Vertices equal
+    /// in every attribute are one (pages store a vertex shared by two pages in both).
     pub fn level_mesh(&self, k: u32) -> Mesh {
         let mut remap = vec![u32::MAX; self.vertices.len()];
+        let mut by_value: std::collections::HashMap<(PackedVertex, u16), u32> =
+            std::collections::HashMap::new();
         let mut mesh = Mesh {
             name: format!("{} (level {k})", self.name),
             materials: if self.materials.is_empty() {
@@ -527,8 +543,18 @@ impl BuiltMesh {
             for tri in self.cluster_triangles(ci as usize) {
                 for &v in &tri {
                     if remap[v as usize] == u32::MAX {
-                        remap[v as usize] = mesh.positions.len() as u32;
                         let pv = &self.vertices[v as usize];
+                        let key = (
+                            *pv,
+                            self.vertex_materials.get(v as usize).copied().unwrap_or(0),
+                        );
+                        let next = mesh.positions.len() as u32;
+                        let id = *by_value.entry(key).or_insert(next);
+                        remap[v as usize] = id;
+                        if id != next {
+                            mesh.indices.push(id);
+                            continue;
+                        }
                         mesh.positions
                             .push(quantize::decode_position(&self.quantization, pv.position));
                         mesh.normals.push(quantize::decode_normal(pv.normal));

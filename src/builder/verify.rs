@@ -52,6 +52,9 @@ pub struct VerifyReport {
     /// Simple open-border loops of the input, on which the cut's border chains are checked
     /// (each must go around its loop exactly once, forward).
     pub border_loops: usize,
+    /// Views tested under a random closed partial residency of the pages (every fourth view,
+    /// [`view_residency`]).
+    pub residency_views: usize,
 }
 
 impl VerifyReport {
@@ -65,10 +68,11 @@ impl fmt::Display for VerifyReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "{} ({} violations; {} views, cut {}..{} triangles, {} simplified border edges, {} border loops checked)",
+            "{} ({} violations; {} views ({} under partial residency), cut {}..{} triangles, {} simplified border edges, {} border loops checked)",
             if self.ok() { "OK" } else { "FAILED" },
             self.violation_count,
             self.views_tested,
+            self.residency_views,
             self.cut_triangles_min,
             self.cut_triangles_max,
             self.border_edges_accepted,
@@ -158,7 +162,26 @@ pub fn structure_errors(m: &BuiltMesh) -> Vec<String> {
     report.violations
 }
 
+/// [`structure_errors`] of a mesh's head: everything but the pages' content (the vertex,
+/// reference and triangle streams may be empty: a `.vgeo` file opened page by page checks each
+/// page's content as it reads it).
+pub fn head_errors(m: &BuiltMesh) -> Vec<String> {
+    let mut report = VerifyReport::default();
+    let mut s = Sink {
+        r: &mut report,
+        max: 8,
+    };
+    check_structure_of(m, &mut s, false);
+    report.violations
+}
+
 fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
+    check_structure_of(m, s, true)
+}
+
+/// The structure checks; with `streams`, also the pages' content (vertex references, local
+/// indices, vertex materials).
+fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
     let before = s.r.violation_count;
     let nv = m.vertices.len() as u64;
     if m.clusters.is_empty() {
@@ -172,12 +195,20 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
             m.clusters.len()
         ));
     }
-    if !m.vertex_materials.is_empty() && m.vertex_materials.len() != m.vertices.len() {
+    let want = if m.has_material_stream() {
+        m.vertices.len()
+    } else {
+        0
+    };
+    if streams && m.vertex_materials.len() != want {
         s.add(format!(
             "{} vertex materials for {} vertices",
             m.vertex_materials.len(),
             m.vertices.len()
         ));
+    }
+    if !check_pages(m, s, streams) {
+        return false;
     }
     for (ci, c) in m.clusters.iter().enumerate() {
         let (vc, tc) = (c.vertex_count(), c.triangle_count());
@@ -196,19 +227,39 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
                 c.creator
             ));
         }
+        let Some(p) = m.pages.get(c.page as usize) else {
+            s.add(format!("cluster {ci}: page {} out of range", c.page));
+            continue;
+        };
         let ro = c.vertex_ref_offset as u64;
-        if ro + c.vertex_ref_words() as u64 > m.vertex_refs.len() as u64 {
-            s.add(format!("cluster {ci}: vertex references out of range"));
+        if ro < p.ref_first as u64
+            || ro + c.vertex_ref_words() as u64 > p.ref_first as u64 + p.ref_words as u64
+        {
+            s.add(format!(
+                "cluster {ci}: vertex references outside its page {}",
+                c.page
+            ));
             continue;
         }
         let to = c.triangle_offset as u64;
         let tbytes = super::packed_triangle_bytes(vc, tc) as u64;
-        if !to.is_multiple_of(4) || to + tbytes > m.triangles.len() as u64 {
+        if !to.is_multiple_of(4)
+            || to < p.triangle_first as u64
+            || to + tbytes > p.triangle_first as u64 + p.triangle_bytes as u64
+        {
             s.add(format!(
-                "cluster {ci}: triangles out of range or misaligned"
+                "cluster {ci}: triangles misaligned or outside its page {}",
+                c.page
             ));
             continue;
         }
+        if !streams {
+            continue;
+        }
+        let (pv0, pv1) = (
+            p.vertex_first as u64,
+            p.vertex_first as u64 + p.vertex_count as u64,
+        );
         for i in 0..vc {
             let v = if c.flags() & super::CLUSTER_FLAG_REFS_U32 != 0 {
                 m.vertex_refs[(ro + i as u64) as usize] as u64
@@ -216,9 +267,11 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
                 let w = m.vertex_refs[(ro + i as u64 / 2) as usize];
                 c.vertex_base as u64 + ((w >> (16 * (i & 1))) & 0xffff) as u64
             };
-            if v >= nv {
+            if v >= nv || v < pv0 || v >= pv1 {
                 s.add(format!(
-                    "cluster {ci}: vertex reference {i} = {v} out of range ({nv} vertices)"
+                    "cluster {ci}: vertex reference {i} = {v} outside its page {} \
+                     ({pv0}..{pv1} of {nv} vertices)",
+                    c.page
                 ));
                 break;
             }
@@ -243,7 +296,20 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
             ));
             continue;
         }
+        let pages = g.page_first as u64..g.page_first as u64 + g.page_count as u64;
+        if g.page_count == 0 || pages.end > m.pages.len() as u64 {
+            s.add(format!(
+                "group {gi}: page range {}+{} invalid",
+                g.page_first, g.page_count
+            ));
+        }
         for ci in g.first_cluster..end as u32 {
+            if !pages.contains(&(m.clusters[ci as usize].page as u64)) {
+                s.add(format!(
+                    "group {gi}: member {ci} lies in page {}, outside the group's pages",
+                    m.clusters[ci as usize].page
+                ));
+            }
             if m.clusters[ci as usize].group != gi as u32 {
                 s.add(format!(
                     "group {gi}: member {ci} names group {}",
@@ -264,6 +330,57 @@ fn check_structure(m: &BuiltMesh, s: &mut Sink) -> bool {
                 n.first, n.count
             ));
         }
+    }
+    s.r.violation_count == before
+}
+
+/// The pages cover the vertex, reference and triangle streams in order without gaps, each within
+/// [`super::page::PAGE_BYTES`], and the always-resident prefix is a non-empty part of them.
+fn check_pages(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
+    let before = s.r.violation_count;
+    if m.pages.is_empty() || m.resident_pages == 0 || m.resident_pages as usize > m.pages.len() {
+        s.add(format!(
+            "{} pages, {} always resident",
+            m.pages.len(),
+            m.resident_pages
+        ));
+        return false;
+    }
+    let (mut v, mut r, mut t) = (0u64, 0u64, 0u64);
+    for (pi, p) in m.pages.iter().enumerate() {
+        if p.vertex_first as u64 != v || p.ref_first as u64 != r || p.triangle_first as u64 != t {
+            s.add(format!(
+                "page {pi}: streams start at {}/{}/{}, not where page {} ends ({v}/{r}/{t})",
+                p.vertex_first,
+                p.ref_first,
+                p.triangle_first,
+                pi as i64 - 1
+            ));
+            return false;
+        }
+        v += p.vertex_count as u64;
+        r += p.ref_words as u64;
+        t += p.triangle_bytes as u64;
+        let len = m.page_layout(p).len;
+        if len > super::page::PAGE_BYTES as usize || p.vertex_count > 1 << 16 {
+            s.add(format!(
+                "page {pi}: {len} bytes, {} vertices (at most {} and 65536)",
+                p.vertex_count,
+                super::page::PAGE_BYTES
+            ));
+        }
+    }
+    if streams
+        && (v != m.vertices.len() as u64
+            || r != m.vertex_refs.len() as u64
+            || t != m.triangles.len() as u64)
+    {
+        s.add(format!(
+            "pages cover {v} vertices, {r} reference words, {t} triangle bytes of {}, {}, {}",
+            m.vertices.len(),
+            m.vertex_refs.len(),
+            m.triangles.len()
+        ));
     }
     s.r.violation_count == before
 }
@@ -518,6 +635,25 @@ pub(super) fn simple_border_loops(
         }
     }
     (loop_of, loop_idx, loop_len)
+}
+
+/// The page residency of view `view` of the cut test: every fourth view (`view % 4 == 3`) a
+/// random closed set (each page resident with a probability drawn per view, then closed by
+/// [`super::page::close_residency`]), the others `None` (every page).
+pub(super) fn view_residency(
+    m: &BuiltMesh,
+    needs: &[Vec<u32>],
+    seed: u64,
+    view: usize,
+) -> Option<Vec<bool>> {
+    if view % 4 != 3 {
+        return None;
+    }
+    let mut rng = Rng(seed ^ 0x7e51_de9c ^ (view as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    let share = rng.unit();
+    let mut res: Vec<bool> = (0..m.pages.len()).map(|_| rng.unit() < share).collect();
+    super::page::close_residency(m, needs, &mut res);
+    Some(res)
 }
 
 /// The views of the cut test, (camera, tau): directions uniform on the sphere, distances from
@@ -922,6 +1058,8 @@ impl Scratch {
 /// border edges.
 struct ViewResult {
     violations: Vec<String>,
+    /// Tested under partial residency.
+    partial: bool,
     cut_triangles: usize,
     border_edges_accepted: usize,
 }
@@ -934,6 +1072,7 @@ fn check_cuts(m: &BuiltMesh, opts: &VerifyOptions, s: &mut Sink) {
     drop(positions);
     let scale = proj_scale(1080.0, 60f32.to_radians());
     let views = draw_views(center, radius, opts);
+    let needs = super::page::group_needs(m);
     // Views in parallel; each thread takes a scratch from the pool (as many as run at once).
     let pool: Mutex<Vec<Scratch>> = Mutex::new(Vec::new());
     let results: Vec<ViewResult> = views
@@ -943,7 +1082,8 @@ fn check_cuts(m: &BuiltMesh, opts: &VerifyOptions, s: &mut Sink) {
         .map(|(view, &(cam, tau))| {
             let taken = pool.lock().map(|mut p| p.pop()).unwrap_or(None);
             let mut sc = taken.unwrap_or_else(|| Scratch::new(m, &prep));
-            let r = check_view(m, &prep, view, cam, tau, scale, &mut sc);
+            let res = view_residency(m, &needs, opts.seed, view);
+            let r = check_view(m, &prep, view, (cam, tau), scale, res.as_deref(), &mut sc);
             if let Ok(mut p) = pool.lock() {
                 p.push(sc);
             }
@@ -959,9 +1099,23 @@ fn check_cuts(m: &BuiltMesh, opts: &VerifyOptions, s: &mut Sink) {
         s.r.cut_triangles_max = s.r.cut_triangles_max.max(r.cut_triangles);
         s.r.border_edges_accepted += r.border_edges_accepted;
         s.r.views_tested += 1;
+        s.r.residency_views += r.partial as usize;
     }
     if s.r.views_tested == 0 {
         s.r.cut_triangles_min = 0;
+    }
+}
+
+/// How a view is named in violations.
+pub(super) fn view_name(view: usize, cam: Vec3, tau: f32, res: Option<&[bool]>) -> String {
+    match res {
+        None => format!("view {view} (camera {:?}, tau {tau})", cam.to_array()),
+        Some(r) => format!(
+            "view {view} (camera {:?}, tau {tau}, {} of {} pages resident)",
+            cam.to_array(),
+            r.iter().filter(|&&x| x).count(),
+            r.len()
+        ),
     }
 }
 
@@ -972,15 +1126,15 @@ fn check_view(
     m: &BuiltMesh,
     p: &Prep,
     view: usize,
-    cam: Vec3,
-    tau: f32,
+    (cam, tau): (Vec3, f32),
     scale: f32,
+    res: Option<&[bool]>,
     sc: &mut Scratch,
 ) -> ViewResult {
     let mut out = Vec::new();
-    let cut = cut_brute(m, cam, scale, tau);
-    let what = format!("view {view} (camera {:?}, tau {tau})", cam.to_array());
-    match cut_bvh(m, cam, scale, tau) {
+    let cut = cut_brute(m, cam, scale, tau, res);
+    let what = view_name(view, cam, tau, res);
+    match cut_bvh(m, cam, scale, tau, res) {
         Some(b) if b == cut => {}
         Some(b) => out.push(format!(
             "{what}: BVH cut has {} clusters, brute cut {}",
@@ -1120,7 +1274,7 @@ fn check_view(
             p.id_pos[a as usize], p.id_pos[b as usize]
         ));
     }
-    if tau == 0.0 {
+    if tau == 0.0 && res.is_none() {
         // The cut of exactly the level-0 clusters has the input's triangles by definition.
         let same = cut == p.level0 || {
             let orig = p.orig_tris.get_or_init(|| p.sorted_tris(&p.level0));
@@ -1135,6 +1289,7 @@ fn check_view(
     }
     ViewResult {
         violations: out,
+        partial: res.is_some(),
         cut_triangles,
         border_edges_accepted: accepted,
     }

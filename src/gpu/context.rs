@@ -70,6 +70,9 @@ pub struct Caps {
     pub max_compute_workgroups: [u32; 3],
     /// `maxImageDimension2D`: the largest side of a 2D image (at least 4096).
     pub max_image_dimension_2d: u32,
+    /// `maxStorageBufferRange`: the largest storage buffer a shader may bind (the geometry pool
+    /// is one).
+    pub max_storage_buffer_range: u32,
     /// Whether vgeo's validation messenger collects errors.
     pub validation: bool,
     /// Tools hooked into Vulkan (`VK_EXT_tooling_info`: RenderDoc, the validation layer), by name
@@ -747,6 +750,7 @@ impl Context {
             subgroup_size: subgroup.subgroup_size,
             max_compute_workgroups: props.limits.max_compute_work_group_count,
             max_image_dimension_2d: props.limits.max_image_dimension2_d,
+            max_storage_buffer_range: props.limits.max_storage_buffer_range,
             validation: validation.is_some(),
             tools,
             fallbacks,

@@ -44,7 +44,7 @@ pub fn layout() -> Vec<vk::DescriptorType> {
     let mut v = vec![D::UNIFORM_BUFFER];
     v.extend([D::STORAGE_BUFFER; 10]);
     v.push(D::UNIFORM_BUFFER);
-    v.extend([D::STORAGE_BUFFER; 5]);
+    v.extend([D::STORAGE_BUFFER; 8]);
     v
 }
 
@@ -54,7 +54,7 @@ pub fn descriptors<'a>(
     fb: &'a FrameBuffers,
     hzb: &'a Buffer,
     phase: Phase,
-) -> [Desc<'a>; 17] {
+) -> [Desc<'a>; 20] {
     let (counters, sw, hw, occ) = match phase {
         Phase::Main => (&fb.counters, &fb.sw_list, &fb.hw_list, &fb.occ_main),
         Phase::Post => (
@@ -82,6 +82,9 @@ pub fn descriptors<'a>(
         Desc::Storage(&fb.post_instances),
         Desc::Storage(&fb.post_nodes),
         Desc::Storage(&fb.post_clusters),
+        Desc::Storage(&scene.pages),
+        Desc::Storage(&scene.page_requests),
+        Desc::Storage(&scene.page_usage),
     ]
 }
 

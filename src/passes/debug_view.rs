@@ -196,7 +196,7 @@ impl DebugView {
         };
         let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
-        bindings.extend([D::STORAGE_BUFFER; 8]);
+        bindings.extend([D::STORAGE_BUFFER; 7]);
         bindings.push(D::STORAGE_IMAGE);
         bindings.push(vis);
         bindings.push(D::STORAGE_BUFFER);

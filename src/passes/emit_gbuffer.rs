@@ -63,9 +63,9 @@ impl EmitGbuffer {
         };
         let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER, D::STORAGE_BUFFER, D::UNIFORM_BUFFER];
-        bindings.extend([D::STORAGE_BUFFER; 9]);
+        bindings.extend([D::STORAGE_BUFFER; 8]);
         bindings.push(vis);
-        bindings.extend([D::STORAGE_BUFFER, D::STORAGE_BUFFER]);
+        bindings.push(D::STORAGE_BUFFER);
         let pipeline = GraphicsPipeline::with_textures(
             ctx,
             &GraphicsPipelineDesc {
@@ -210,7 +210,7 @@ impl EmitGbuffer {
     }
 }
 
-/// The descriptors both forms bind (bindings 0-14; the compute form appends 15-18).
+/// The descriptors both forms bind (bindings 0-12; the compute form appends 13-16).
 fn descriptors<'a>(
     scene: &'a GpuScene,
     materials: &'a GpuMaterials,
@@ -231,7 +231,6 @@ fn descriptors<'a>(
             Desc::Storage(&materials.meshes),
             vis,
             Desc::Storage(&t.fragment_counts),
-            Desc::Storage(&scene.uvs),
         ],
     )
 }

@@ -41,7 +41,7 @@ impl RasterHw {
         };
         let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
-        bindings.extend([D::STORAGE_BUFFER; 8]);
+        bindings.extend([D::STORAGE_BUFFER; 7]);
         bindings.push(vis);
         bindings.push(D::STORAGE_BUFFER);
         let pipeline = GraphicsPipeline::new(

@@ -42,7 +42,7 @@ impl RasterSw {
         };
         let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
-        bindings.extend([D::STORAGE_BUFFER; 9]);
+        bindings.extend([D::STORAGE_BUFFER; 8]);
         bindings.push(vis);
         bindings.push(D::STORAGE_BUFFER);
         let pipeline = ComputePipeline::new(ctx, ShaderStage { name: NAME, spirv }, &bindings, 0)?;

@@ -53,6 +53,24 @@ pub fn reference_cut(
     view: &ViewGpu,
     rel_margin: f32,
 ) -> (Vec<CutEntry>, Vec<CutEntry>) {
+    reference_cut_resident(
+        built,
+        &vec![None; built.len()],
+        placements,
+        view,
+        rel_margin,
+    )
+}
+
+/// [`reference_cut`] under page residency: `residency[mesh]` is the mesh's resident pages
+/// (`None`: all), the cut rule of `builder::cut` (a group not wholly resident counts error 0).
+pub fn reference_cut_resident(
+    built: &[BuiltMesh],
+    residency: &[Option<&[bool]>],
+    placements: &[Placement],
+    view: &ViewGpu,
+    rel_margin: f32,
+) -> (Vec<CutEntry>, Vec<CutEntry>) {
     let mut offsets = Vec::with_capacity(built.len());
     let mut total = 0u32;
     for m in built {
@@ -69,8 +87,10 @@ pub fn reference_cut(
         let inst = instance_gpu(p);
         let m = &built[p.mesh as usize];
         for (ci, c) in m.clusters.iter().enumerate() {
-            let s = projected(&inst, view, c.self_sphere, c.self_error);
-            let q = projected(&inst, view, c.parent_sphere, c.parent_error);
+            let res = residency.get(p.mesh as usize).copied().flatten();
+            let (se, pe) = crate::builder::cut::resident_errors(m, c, res);
+            let s = projected(&inst, view, c.self_sphere, se);
+            let q = projected(&inst, view, c.parent_sphere, pe);
             let e = CutEntry {
                 instance: i as u32,
                 cluster: offsets[p.mesh as usize] + ci as u32,

@@ -9,7 +9,7 @@ use glam::Vec3;
 
 use super::super::cut::{cut_brute, cut_bvh, proj_scale};
 use super::super::{BuiltMesh, NO_GROUP};
-use super::{Rng, Sink, canonical, simple_border_loops, view_bounds};
+use super::{Rng, Sink, canonical, simple_border_loops, view_bounds, view_name, view_residency};
 
 fn edge_key(a: u32, b: u32) -> u64 {
     (a as u64) << 32 | b as u64
@@ -109,6 +109,7 @@ pub(super) fn check_cuts(
     let (center, radius) = view_bounds(&positions);
     let scale = proj_scale(1080.0, 60f32.to_radians());
     let mut rng = Rng(opts.seed ^ 0x5eed);
+    let needs = super::super::page::group_needs(m);
     s.r.cut_triangles_min = usize::MAX;
     for view in 0..opts.views {
         // Directions uniform on the sphere; distances from inside the mesh to far away.
@@ -123,9 +124,12 @@ pub(super) fn check_cuts(
         } else {
             2f32.powf((rng.unit() * 9.0 - 3.0) as f32)
         };
-        let cut = cut_brute(m, cam, scale, tau);
-        let what = format!("view {view} (camera {:?}, tau {tau})", cam.to_array());
-        match cut_bvh(m, cam, scale, tau) {
+        let res = view_residency(m, &needs, opts.seed, view);
+        let res = res.as_deref();
+        s.r.residency_views += res.is_some() as usize;
+        let cut = cut_brute(m, cam, scale, tau, res);
+        let what = view_name(view, cam, tau, res);
+        match cut_bvh(m, cam, scale, tau, res) {
             Some(b) if b == cut => {}
             Some(b) => s.add(format!(
                 "{what}: BVH cut has {} clusters, brute cut {}",
@@ -236,7 +240,7 @@ pub(super) fn check_cuts(
                 positions[pid.iter().position(|&x| x == b).unwrap_or(0)]
             ));
         }
-        if tau == 0.0 {
+        if tau == 0.0 && res.is_none() {
             cut_tris.sort_unstable();
             if cut_tris != orig_tris {
                 s.add(format!(

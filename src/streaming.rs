@@ -1,0 +1,432 @@
+//! Streaming: geometry as virtual memory. A [`Streamer`] keeps the meshes it was given partly
+//! resident in the scene's geometry pool under a byte budget: each mesh's always-resident pages
+//! (the DAG's top, [`BuiltMesh::resident_pages`]) for good, the other pages in fixed-size slots,
+//! loaded when the cull asks for them and evicted least-recently-used.
+//!
+//! Per frame ([`Streamer::update`], between frames): the cull's feedback is read (per page, the
+//! largest wish to refine into it, and whether a drawn cluster used it; `shaders_glsl/common/cull.glsl`),
+//! requests are taken by decreasing wish, each with the pages that keep the residency closed
+//! ([`crate::builder::page::close_residency`]: a resident group's products' groups stay
+//! resident, so the cut is crack-free), pages are read on worker threads, slots are freed by
+//! evicting least-recently-used pages that no resident group needs, and the loads are uploaded,
+//! at most [`StreamOptions::upload_bytes_per_frame`] per frame. A page that cannot be read (I/O
+//! error, checksum) is reported once and never asked for again: its mesh stays coarser there.
+
+use rayon::prelude::*;
+
+use crate::builder::BuiltMesh;
+use crate::builder::page::group_needs;
+use crate::scene_gpu::{GpuScene, MeshHandle, PageChange, SceneError, SceneResult};
+
+/// Where a streamed mesh's pages come from.
+pub trait PageSource: Send + Sync {
+    /// Page `page`'s bytes (`builder::page::page_bytes`), checked; an error says why not.
+    fn read_page(&self, page: u32) -> Result<Vec<u8>, String>;
+}
+
+/// A mesh in memory serves its own pages.
+impl PageSource for BuiltMesh {
+    fn read_page(&self, page: u32) -> Result<Vec<u8>, String> {
+        let p = self
+            .pages
+            .get(page as usize)
+            .ok_or_else(|| format!("page {page} out of range"))?;
+        Ok(crate::builder::page::page_bytes(self, p))
+    }
+}
+
+/// A `.vgeo` file serves its pages one at a time, each checked as it is read.
+impl PageSource for crate::format::VgeoFile {
+    fn read_page(&self, page: u32) -> Result<Vec<u8>, String> {
+        crate::format::VgeoFile::read_page(self, page).map_err(|e| e.to_string())
+    }
+}
+
+/// Budgets of a [`Streamer`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StreamOptions {
+    /// GPU bytes the streamed meshes' pages may take: the always-resident pages plus the slots.
+    pub budget_bytes: u64,
+    /// Most page bytes read and uploaded per [`Streamer::update`].
+    pub upload_bytes_per_frame: u64,
+}
+
+/// What one [`Streamer::update`] did, and the residency after it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StreamStats {
+    /// Pages resident (always-resident ones included) and the bytes they take (slots counted
+    /// whole).
+    pub resident_pages: u64,
+    pub resident_bytes: u64,
+    /// Pages the cull asked for.
+    pub requests: u64,
+    /// Pages loaded and their bytes; pages evicted.
+    pub uploads: u64,
+    pub upload_bytes: u64,
+    pub evictions: u64,
+    /// Pages that could not be read (reported once each, in [`Streamer::take_errors`]).
+    pub failed: u64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PageState {
+    /// One of the always-resident pages.
+    Fixed,
+    Absent,
+    /// In slot `n`.
+    Slot(u32),
+    /// Could not be read: never asked for again.
+    Failed,
+}
+
+struct StreamedMesh {
+    handle: MeshHandle,
+    head: BuiltMesh,
+    source: Box<dyn PageSource>,
+    state: Vec<PageState>,
+    last_used: Vec<u64>,
+    /// Per group, the pages that must be resident while it is ([`group_needs`]).
+    needs: Vec<Vec<u32>>,
+    /// Per page, the groups with a member on it.
+    groups_on: Vec<Vec<u32>>,
+    /// Per page, the groups (with no member on it) that need it.
+    needed_by: Vec<Vec<u32>>,
+}
+
+impl StreamedMesh {
+    fn resident(&self, p: u32) -> bool {
+        matches!(
+            self.state[p as usize],
+            PageState::Fixed | PageState::Slot(_)
+        )
+    }
+
+    fn group_resident(&self, g: u32, extra: &[u32]) -> bool {
+        let g = &self.head.groups[g as usize];
+        (g.page_first..g.page_first + g.page_count).all(|p| self.resident(p) || extra.contains(&p))
+    }
+
+    /// `page`, the absent pages of the groups on it (a group larger than a page is refined only
+    /// whole) and the absent pages that must come with them to keep the residency closed; `None`
+    /// when one of them failed.
+    fn load_set(&self, page: u32) -> Option<Vec<u32>> {
+        let mut set = vec![page];
+        let mut k = 0;
+        while k < set.len() {
+            let p = set[k];
+            k += 1;
+            for &g in &self.groups_on[p as usize] {
+                let grp = &self.head.groups[g as usize];
+                for q in grp.page_first..grp.page_first + grp.page_count {
+                    if !self.resident(q) && !set.contains(&q) {
+                        set.push(q);
+                    }
+                }
+            }
+            for &g in &self.groups_on[p as usize] {
+                if !self.group_resident(g, &set) {
+                    continue;
+                }
+                for &q in &self.needs[g as usize] {
+                    if !self.resident(q) && !set.contains(&q) {
+                        set.push(q);
+                    }
+                }
+            }
+        }
+        if set
+            .iter()
+            .any(|&p| self.state[p as usize] == PageState::Failed)
+        {
+            return None;
+        }
+        Some(set)
+    }
+
+    /// Whether page `p` (in a slot) may be evicted: no wholly resident group (without a member
+    /// on it) needs it.
+    fn evictable(&self, p: u32) -> bool {
+        matches!(self.state[p as usize], PageState::Slot(_))
+            && self.needed_by[p as usize]
+                .iter()
+                .all(|&g| !self.group_resident(g, &[]))
+    }
+}
+
+/// Keeps meshes partly resident under a budget (see the module's documentation).
+pub struct Streamer {
+    opts: StreamOptions,
+    meshes: Vec<StreamedMesh>,
+    /// Pool word of slot 0; slot bytes; free slots.
+    slot_word: u32,
+    slot_bytes: u64,
+    slot_count: u32,
+    free: Vec<u32>,
+    fixed_bytes: u64,
+    frame: u64,
+    errors: Vec<String>,
+}
+
+impl Streamer {
+    /// Adds `meshes` (heads without vertex data are enough, e.g. a `.vgeo` file's, with the
+    /// sources of their pages) to `scene` with only their always-resident pages, and reserves
+    /// page slots for the rest of the budget. A budget smaller than the always-resident pages
+    /// (plus one slot) is an error.
+    pub fn new(
+        scene: &mut GpuScene,
+        meshes: Vec<(BuiltMesh, Box<dyn PageSource>)>,
+        opts: StreamOptions,
+    ) -> SceneResult<(Self, Vec<MeshHandle>)> {
+        let mut fixed_bytes = 0u64;
+        let mut slot_bytes = 4u64;
+        let mut prefixes = Vec::with_capacity(meshes.len());
+        for (head, source) in &meshes {
+            let mut prefix = Vec::with_capacity(head.resident_pages as usize);
+            for p in 0..head.resident_pages {
+                let bytes = source.read_page(p).map_err(|e| {
+                    SceneError::Residency(format!(
+                        "{}: always-resident page {p} cannot be read: {e}",
+                        head.name
+                    ))
+                })?;
+                fixed_bytes += bytes.len() as u64;
+                prefix.push(bytes);
+            }
+            for p in &head.pages {
+                slot_bytes = slot_bytes.max(head.page_layout(p).len as u64);
+            }
+            prefixes.push(prefix);
+        }
+        slot_bytes = slot_bytes.next_multiple_of(4);
+        if opts.budget_bytes < fixed_bytes + slot_bytes {
+            return Err(SceneError::Residency(format!(
+                "a geometry budget of {} is smaller than the always-resident pages ({}) plus one page slot ({})",
+                mib(opts.budget_bytes),
+                mib(fixed_bytes),
+                mib(slot_bytes)
+            )));
+        }
+        let slot_count = u32::try_from((opts.budget_bytes - fixed_bytes) / slot_bytes)
+            .unwrap_or(u32::MAX)
+            .min(1 << 20);
+        let mut handles = Vec::with_capacity(meshes.len());
+        let mut streamed = Vec::with_capacity(meshes.len());
+        for ((head, source), prefix) in meshes.into_iter().zip(prefixes) {
+            let handle = scene.add_partial_mesh(&head, &prefix)?;
+            let needs = group_needs(&head);
+            let n = head.pages.len();
+            let mut groups_on = vec![Vec::new(); n];
+            for (g, grp) in head.groups.iter().enumerate() {
+                for p in grp.page_first..grp.page_first + grp.page_count {
+                    groups_on[p as usize].push(g as u32);
+                }
+            }
+            let mut needed_by = vec![Vec::new(); n];
+            for (g, need) in needs.iter().enumerate() {
+                let grp = &head.groups[g];
+                for &p in need {
+                    if !(grp.page_first..grp.page_first + grp.page_count).contains(&p) {
+                        needed_by[p as usize].push(g as u32);
+                    }
+                }
+            }
+            let state = (0..n)
+                .map(|p| {
+                    if p < head.resident_pages as usize {
+                        PageState::Fixed
+                    } else {
+                        PageState::Absent
+                    }
+                })
+                .collect();
+            handles.push(handle);
+            streamed.push(StreamedMesh {
+                handle,
+                head,
+                source,
+                state,
+                last_used: vec![0; n],
+                needs,
+                groups_on,
+                needed_by,
+            });
+        }
+        // Words per slot: a multiple of the slot bytes' words.
+        let words_per_slot = (slot_bytes / 4) as u32;
+        let pool_slots_words = slot_count as u64 * words_per_slot as u64;
+        let slots_of_page_bytes =
+            pool_slots_words.div_ceil((crate::shared::PAGE_BYTES / 4) as u64) as u32;
+        let slot_word = scene.reserve_page_slots(slots_of_page_bytes)?;
+        Ok((
+            Self {
+                opts,
+                meshes: streamed,
+                slot_word,
+                slot_bytes,
+                slot_count,
+                free: (0..slot_count).rev().collect(),
+                fixed_bytes,
+                frame: 0,
+                errors: Vec::new(),
+            },
+            handles,
+        ))
+    }
+
+    /// Bytes of one page slot (the largest page of the streamed meshes).
+    pub fn slot_bytes(&self) -> u64 {
+        self.slot_bytes
+    }
+
+    /// Page slots under the budget.
+    pub fn slot_count(&self) -> u32 {
+        self.slot_count
+    }
+
+    /// Per streamed mesh (in the order given), which pages are resident.
+    pub fn residency(&self) -> Vec<Vec<bool>> {
+        self.meshes
+            .iter()
+            .map(|m| (0..m.state.len() as u32).map(|p| m.resident(p)).collect())
+            .collect()
+    }
+
+    /// The problems found since the last call (each failed page once).
+    pub fn take_errors(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.errors)
+    }
+
+    /// Resident pages and bytes now.
+    fn residency_stats(&self) -> (u64, u64) {
+        let fixed: u64 = self
+            .meshes
+            .iter()
+            .map(|m| m.head.resident_pages as u64)
+            .sum();
+        let slots = (self.slot_count as usize - self.free.len()) as u64;
+        (fixed + slots, self.fixed_bytes + slots * self.slot_bytes)
+    }
+
+    /// One streaming step between frames (see the module's documentation): reads and clears the
+    /// cull's feedback of the frame just rendered, then loads and evicts pages for the next.
+    pub fn update(&mut self, scene: &mut GpuScene) -> SceneResult<StreamStats> {
+        self.frame += 1;
+        let frame = self.frame;
+        let (wish, used) = scene.page_feedback_words()?;
+        scene.clear_page_feedback()?;
+        let mut stats = StreamStats::default();
+        // (wish, mesh, page) of absent pages asked for, largest wish first.
+        let mut asks: Vec<(f32, usize, u32)> = Vec::new();
+        for (mi, m) in self.meshes.iter_mut().enumerate() {
+            let first = scene.page_range(m.handle)?.0 as usize;
+            for p in 0..m.state.len() {
+                if used.get(first + p).is_some_and(|&u| u != 0) {
+                    m.last_used[p] = frame;
+                }
+                let w = wish.get(first + p).map_or(0.0, |&w| f32::from_bits(w));
+                if w > 0.0 && m.state[p] == PageState::Absent {
+                    asks.push((w, mi, p as u32));
+                }
+            }
+        }
+        stats.requests = asks.len() as u64;
+        asks.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let mut changes: Vec<PageChange> = Vec::new();
+        let mut budget = self.opts.upload_bytes_per_frame;
+        let mut loads: Vec<(usize, u32, u32)> = Vec::new(); // (mesh, page, slot)
+        for (_, mi, page) in asks {
+            if self.meshes[mi].state[page as usize] != PageState::Absent {
+                continue; // came with an earlier set
+            }
+            let Some(set) = self.meshes[mi].load_set(page) else {
+                continue;
+            };
+            let bytes = set.len() as u64 * self.slot_bytes;
+            if bytes > budget {
+                break;
+            }
+            // Free slots: evict least-recently-used pages nobody needs (not used this frame).
+            while self.free.len() < set.len() {
+                let victim = self
+                    .meshes
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(vi, v)| {
+                        (0..v.state.len() as u32)
+                            .filter(move |&p| v.last_used[p as usize] < frame && v.evictable(p))
+                            .map(move |p| (v.last_used[p as usize], vi, p))
+                    })
+                    .filter(|&(_, vi, p)| !(vi == mi && set.contains(&p)))
+                    .min();
+                let Some((_, vi, p)) = victim else { break };
+                let v = &mut self.meshes[vi];
+                if let PageState::Slot(s) = v.state[p as usize] {
+                    self.free.push(s);
+                }
+                v.state[p as usize] = PageState::Absent;
+                changes.push(PageChange {
+                    mesh: v.handle,
+                    page: p,
+                    load: None,
+                });
+                stats.evictions += 1;
+            }
+            if self.free.len() < set.len() {
+                break;
+            }
+            budget -= bytes;
+            let m = &mut self.meshes[mi];
+            for &p in &set {
+                let s = self.free.pop().expect("counted");
+                m.state[p as usize] = PageState::Slot(s);
+                m.last_used[p as usize] = frame;
+                loads.push((mi, p, s));
+            }
+        }
+        // Read the loads on worker threads; a page that fails is reported and its set's other
+        // pages stay (they are closed without it only if nothing needs it: drop them too).
+        let read: Vec<Result<Vec<u8>, String>> = loads
+            .par_iter()
+            .map(|&(mi, p, _)| self.meshes[mi].source.read_page(p))
+            .collect();
+        let mut failed_meshes: Vec<usize> = Vec::new();
+        for (&(mi, p, _), r) in loads.iter().zip(&read) {
+            if let Err(e) = r {
+                let m = &mut self.meshes[mi];
+                self.errors.push(format!(
+                    "{}: page {p} cannot be read ({e}); the mesh stays coarser there",
+                    m.head.name
+                ));
+                m.state[p as usize] = PageState::Failed;
+                stats.failed += 1;
+                failed_meshes.push(mi);
+            }
+        }
+        for ((mi, p, s), r) in loads.into_iter().zip(read) {
+            let Ok(bytes) = r else { continue };
+            if failed_meshes.contains(&mi) {
+                // Keep the residency closed: a mesh with a failed page this frame loads nothing.
+                self.meshes[mi].state[p as usize] = PageState::Absent;
+                self.free.push(s);
+                continue;
+            }
+            stats.uploads += 1;
+            stats.upload_bytes += bytes.len() as u64;
+            let word = self.slot_word + s * (self.slot_bytes / 4) as u32;
+            changes.push(PageChange {
+                mesh: self.meshes[mi].handle,
+                page: p,
+                load: Some((word, bytes)),
+            });
+        }
+        scene.update_pages(&changes)?;
+        let (pages, bytes) = self.residency_stats();
+        stats.resident_pages = pages;
+        stats.resident_bytes = bytes;
+        Ok(stats)
+    }
+}
+
+fn mib(bytes: u64) -> String {
+    format!("{:.2} MiB", bytes as f64 / (1u64 << 20) as f64)
+}

@@ -1,0 +1,491 @@
+//! Streaming (issue 13) on lavapipe: a mesh kept resident under a budget of 1/8 of its pages'
+//! bytes, its pages loaded on the cull's requests. Along a camera path every frame's cut equals
+//! the CPU cut under the residency it was drawn with, is crack-free (every leaf-to-root path of the
+//! DAG crosses it once), draws only resident pages, and resident bytes never exceed the budget;
+//! once the camera stops, the visibility buffer equals the all-resident one bit for bit within a
+//! bounded number of frames. Pages that cannot be read are reported once and the mesh stays
+//! coarser, without a panic or a validation error.
+
+mod common;
+
+use std::collections::BTreeSet;
+
+use common::{assert_no_validation_errors, gpu, shared_assets};
+use glam::{DMat4, DVec3, Vec3};
+use vgeo::builder::page::{close_residency, group_needs, paginate};
+use vgeo::builder::{BuildOptions, BuiltMesh, build};
+use vgeo::camera::Camera;
+use vgeo::frame::{VgeoFrame, VgeoRenderer};
+use vgeo::passes::debug_view::ViewMode;
+use vgeo::passes::view::FrameSettings;
+use vgeo::reference::cut::{reference_cut_resident, view_for};
+use vgeo::render::{Light, Placement};
+use vgeo::scene_gpu::InstanceDesc;
+use vgeo::shared::VIEW_FLAG_NO_FRUSTUM;
+use vgeo::streaming::{PageSource, StreamOptions, Streamer};
+
+const W: u32 = 160;
+const H: u32 = 120;
+
+/// Bunny in pages of 16 KiB, so that it has many.
+fn bunny() -> BuiltMesh {
+    let (mesh, _) = vgeo::mesh::load_mesh(&shared_assets().join("scanned/bunny.ply")).unwrap();
+    let mut b = build(&mesh, &BuildOptions::default()).unwrap();
+    let level = b.fallback_level(2000);
+    paginate(&mut b, 16384, level);
+    b
+}
+
+fn settings() -> FrameSettings {
+    // The whole LOD cut: no frustum or occlusion culling.
+    FrameSettings {
+        error_px: 1.0,
+        flags: VIEW_FLAG_NO_FRUSTUM,
+        occlusion: false,
+        ..Default::default()
+    }
+}
+
+fn camera_at(t: f64) -> Camera {
+    let center = DVec3::new(-0.017, 0.11, 0.0);
+    // Around the mesh close by (more detail than the budget holds, changing with the side
+    // seen), then away from it (a cut that fits).
+    let a = t.min(0.75) * 8.0;
+    let dir = DVec3::new(a.sin(), 0.3, a.cos()).normalize();
+    let dist = if t < 0.75 {
+        0.3
+    } else {
+        0.3 + 4.0 * (t - 0.75)
+    };
+    Camera::look_at(
+        center + dir * dist,
+        center,
+        Vec3::Y,
+        45f32.to_radians(),
+        0.01,
+    )
+}
+
+fn render(r: &mut VgeoRenderer, camera: &Camera) -> VgeoFrame {
+    let f = r
+        .render(
+            camera,
+            W,
+            H,
+            &settings(),
+            ViewMode::Lambert,
+            &Light::default(),
+        )
+        .expect("frame renders");
+    f.check().expect("no overflow, no watchdog");
+    f
+}
+
+/// Every level-0 cluster's leaf-to-root paths cross `cut` exactly once.
+fn crosses_once(m: &BuiltMesh, cut: &BTreeSet<u32>) -> bool {
+    let mut parents: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
+    for (ci, c) in m.clusters.iter().enumerate() {
+        if c.creator != vgeo::builder::NO_GROUP {
+            parents[c.creator as usize].push(ci as u32);
+        }
+    }
+    let mut order: Vec<u32> = (0..m.clusters.len() as u32).collect();
+    order.sort_by_key(|&c| std::cmp::Reverse(m.clusters[c as usize].level));
+    let mut up = vec![(0u32, 0u32); m.clusters.len()];
+    for c in order {
+        let d = cut.contains(&c) as u32;
+        let ps = &parents[m.clusters[c as usize].group as usize];
+        up[c as usize] = if ps.is_empty() {
+            (d, d)
+        } else {
+            let mn = ps.iter().map(|&p| up[p as usize].0).min().unwrap_or(0);
+            let mx = ps.iter().map(|&p| up[p as usize].1).max().unwrap_or(0);
+            (d + mn, d + mx)
+        };
+    }
+    m.clusters
+        .iter()
+        .enumerate()
+        .all(|(ci, c)| c.level != 0 || up[ci] == (1, 1))
+}
+
+fn place() -> Placement {
+    Placement {
+        mesh: 0,
+        transform: DMat4::IDENTITY,
+        color: [1.0; 3],
+    }
+}
+
+fn streamed(
+    ctx: &vgeo::gpu::Context,
+    mesh: &BuiltMesh,
+    source: Box<dyn PageSource>,
+    opts: StreamOptions,
+) -> (VgeoRenderer, Streamer) {
+    let mut r = VgeoRenderer::new(ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
+    let (s, handles) =
+        Streamer::new(&mut r.scene, vec![(mesh.clone(), source)], opts).expect("streamer");
+    r.scene
+        .add_instance(&InstanceDesc {
+            mesh: handles[0],
+            transform: DMat4::IDENTITY,
+            color: [1.0; 3],
+        })
+        .expect("instance");
+    (r, s)
+}
+
+/// Copies of the mesh in a row along x (each its own mesh: unique geometry to the streamer).
+const ROW: usize = 8;
+const SPACING: f64 = 0.3;
+
+/// Along the row close by (more detail than the budget holds, changing with the mesh seen),
+/// then away from it (a cut that fits the budget).
+fn row_camera(t: f64) -> Camera {
+    let y = 0.11;
+    if t < 0.75 {
+        let x = (t / 0.75) * SPACING * (ROW - 1) as f64;
+        let eye = DVec3::new(x - 0.05, y + 0.05, 0.32);
+        Camera::look_at(
+            eye,
+            DVec3::new(x, y, 0.0),
+            Vec3::Y,
+            45f32.to_radians(),
+            0.01,
+        )
+    } else {
+        let c = DVec3::new(SPACING * (ROW - 1) as f64 / 2.0, y, 0.0);
+        let eye = c + DVec3::new(0.0, 0.2, 0.5 + 8.0 * (t - 0.75));
+        Camera::look_at(eye, c, Vec3::Y, 45f32.to_radians(), 0.01)
+    }
+}
+
+#[test]
+fn streamed_frames_are_crack_free_within_budget_and_settle_to_the_all_resident_image() {
+    let ctx = gpu();
+    let mut one = bunny();
+    // Only the root's page always resident, so that the budget is mostly slots.
+    paginate(&mut one, 16384, u32::MAX);
+    let meshes: Vec<BuiltMesh> = (0..ROW)
+        .map(|i| BuiltMesh {
+            name: format!("bunny {i}"),
+            ..one.clone()
+        })
+        .collect();
+    let placements: Vec<Placement> = (0..ROW)
+        .map(|i| Placement {
+            mesh: i as u32,
+            transform: DMat4::from_translation(DVec3::new(SPACING * i as f64, 0.0, 0.0)),
+            color: [1.0; 3],
+        })
+        .collect();
+    let total: u64 = meshes
+        .iter()
+        .flat_map(|m| m.pages.iter().map(|p| m.page_layout(p).len as u64))
+        .sum();
+    let budget = total / 8;
+    let opts = StreamOptions {
+        budget_bytes: budget,
+        upload_bytes_per_frame: 96 << 10,
+    };
+    let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
+    let sources: Vec<(BuiltMesh, Box<dyn PageSource>)> = meshes
+        .iter()
+        .map(|m| (m.clone(), Box::new(m.clone()) as Box<dyn PageSource>))
+        .collect();
+    let (mut streamer, handles) = Streamer::new(&mut r.scene, sources, opts).expect("streamer");
+    for p in &placements {
+        r.scene
+            .add_instance(&InstanceDesc {
+                mesh: handles[p.mesh as usize],
+                transform: p.transform,
+                color: p.color,
+            })
+            .expect("instance");
+    }
+    assert!(
+        streamer.slot_count() >= 8,
+        "{} slots",
+        streamer.slot_count()
+    );
+    let needs = group_needs(&one);
+    let offsets: Vec<u32> = (0..ROW as u32)
+        .map(|i| i * one.clusters.len() as u32)
+        .collect();
+    let (mut uploads, mut evictions) = (0, 0);
+    let mut residency = streamer.residency();
+    let frames = 64;
+    let mut settled_at = None;
+    for k in 0..frames + 40 {
+        let camera = row_camera(k.min(frames) as f64 / frames as f64);
+        let f = render(&mut r, &camera);
+        // The cut of this frame against the CPU's under the residency it was drawn with.
+        let gpu_cut: BTreeSet<(u32, u32)> = f.visible().iter().map(|v| (v[0], v[1])).collect();
+        let view = view_for(&camera, W, H, &settings());
+        let res: Vec<Option<&[bool]>> = residency.iter().map(|r| Some(r.as_slice())).collect();
+        let (cut, borderline) = reference_cut_resident(&meshes, &res, &placements, &view, 1e-4);
+        let cpu: BTreeSet<(u32, u32)> = cut.iter().map(|e| (e.instance, e.cluster)).collect();
+        let border: BTreeSet<(u32, u32)> =
+            borderline.iter().map(|e| (e.instance, e.cluster)).collect();
+        let hard: Vec<_> = gpu_cut
+            .symmetric_difference(&cpu)
+            .filter(|c| !border.contains(c))
+            .collect();
+        assert!(
+            hard.is_empty(),
+            "frame {k}: GPU and CPU cuts differ on {hard:?}"
+        );
+        for (i, &off) in offsets.iter().enumerate() {
+            let mine: BTreeSet<u32> = cpu
+                .iter()
+                .filter(|e| e.0 == i as u32)
+                .map(|e| e.1 - off)
+                .collect();
+            assert!(
+                crosses_once(&one, &mine),
+                "frame {k}: mesh {i}'s cut cracks"
+            );
+            for &c in &mine {
+                let page = one.clusters[c as usize].page as usize;
+                assert!(residency[i][page], "frame {k}: mesh {i} cluster {c} absent");
+            }
+        }
+        let stats = streamer.update(&mut r.scene).expect("streaming step");
+        assert!(
+            stats.resident_bytes <= budget,
+            "frame {k}: {stats:?} over {budget}"
+        );
+        assert!(
+            stats.upload_bytes <= opts.upload_bytes_per_frame,
+            "frame {k}: {stats:?}"
+        );
+        uploads += stats.uploads;
+        evictions += stats.evictions;
+        residency = streamer.residency();
+        for (i, res) in residency.iter().enumerate() {
+            let mut closed = res.clone();
+            close_residency(&one, &needs, &mut closed);
+            assert_eq!(
+                &closed, res,
+                "frame {k}: mesh {i}'s residency is not closed"
+            );
+        }
+        if k >= frames && stats.requests == 0 {
+            settled_at = Some(k - frames);
+            break;
+        }
+    }
+    assert!(
+        uploads > 50 && evictions > 20,
+        "{uploads} uploads, {evictions} evictions"
+    );
+    let settled_at = settled_at.expect("settles within 40 frames of the camera stopping");
+    eprintln!(
+        "{uploads} uploads, {evictions} evictions, settled {settled_at} frames after the stop"
+    );
+    // Settled: the same image as every page resident.
+    let mut full = VgeoRenderer::new(&ctx, &meshes, &placements).expect("all resident");
+    let last = row_camera(1.0);
+    let settled = render(&mut r, &last);
+    let reference = render(&mut full, &last);
+    assert!(
+        settled.visbuffer == reference.visbuffer,
+        "the settled streamed frame differs from the all-resident one"
+    );
+    assert_eq!(settled.frame.color, reference.frame.color);
+    // A camera cut to another view: it settles again, within a bounded number of frames.
+    let cut_to = Camera::look_at(
+        DVec3::new(1.0, 0.33, -0.58),
+        DVec3::new(0.75, 0.1, 0.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.01,
+    );
+    {
+        let view = view_for(&cut_to, W, H, &settings());
+        let (cut, _) = reference_cut_resident(&meshes, &[None; ROW], &placements, &view, 1e-4);
+        let mut need: Vec<Vec<bool>> = vec![vec![false; one.pages.len()]; ROW];
+        for e in &cut {
+            let i = e.instance as usize;
+            need[i][one.clusters[(e.cluster - offsets[i]) as usize].page as usize] = true;
+        }
+        let mut bytes = 0u64;
+        for n in &mut need {
+            close_residency(&one, &needs, n);
+            bytes += n.iter().filter(|&&x| x).count() as u64 * streamer.slot_bytes();
+        }
+        assert!(
+            bytes <= budget,
+            "the view after the cut needs {bytes} B, over {budget}"
+        );
+    }
+    let mut frames_to_settle = None;
+    let mut cut_uploads = 0;
+    for k in 0..40 {
+        let _ = render(&mut r, &cut_to);
+        let stats = streamer.update(&mut r.scene).expect("streaming step");
+        assert!(stats.resident_bytes <= budget, "{stats:?} over {budget}");
+        cut_uploads += stats.uploads;
+        if stats.requests == 0 {
+            frames_to_settle = Some(k + 1);
+            break;
+        }
+    }
+    let frames_to_settle = frames_to_settle.expect("settles within 40 frames of a camera cut");
+    eprintln!("settled {frames_to_settle} frames after a camera cut");
+    assert!(cut_uploads > 0, "the view after the cut needed pages");
+    let settled = render(&mut r, &cut_to);
+    let reference = render(&mut full, &cut_to);
+    assert!(
+        settled.visbuffer == reference.visbuffer,
+        "after the camera cut"
+    );
+    assert!(streamer.take_errors().is_empty());
+    assert_no_validation_errors(&ctx);
+}
+
+/// A source whose pages from `bad` on fail to read (a corrupt or missing page).
+struct Failing {
+    mesh: BuiltMesh,
+    bad: u32,
+}
+
+impl PageSource for Failing {
+    fn read_page(&self, page: u32) -> Result<Vec<u8>, String> {
+        if page >= self.bad {
+            return Err(format!("page {page}: checksum mismatch"));
+        }
+        self.mesh.read_page(page)
+    }
+}
+
+#[test]
+fn unreadable_pages_are_reported_once_and_the_mesh_stays_coarser() {
+    let ctx = gpu();
+    let m = bunny();
+    let bad = m.resident_pages + 2;
+    let opts = StreamOptions {
+        budget_bytes: 8 << 20,
+        upload_bytes_per_frame: 8 << 20,
+    };
+    let source = Box::new(Failing {
+        mesh: m.clone(),
+        bad,
+    });
+    let (mut r, mut streamer) = streamed(&ctx, &m, source, opts);
+    let camera = camera_at(0.5);
+    let mut errors = Vec::new();
+    for _ in 0..30 {
+        let _ = render(&mut r, &camera);
+        streamer
+            .update(&mut r.scene)
+            .expect("a failed page is no error of the frame");
+        errors.extend(streamer.take_errors());
+    }
+    assert!(!errors.is_empty(), "the failed pages are reported");
+    let mut pages: Vec<&str> = errors
+        .iter()
+        .map(|e| e.split(" cannot").next().unwrap())
+        .collect();
+    let n = pages.len();
+    pages.sort();
+    pages.dedup();
+    assert_eq!(pages.len(), n, "each page reported once: {errors:?}");
+    // Coarser than all resident, but drawn.
+    let f = render(&mut r, &camera);
+    let mut full = VgeoRenderer::new(&ctx, std::slice::from_ref(&m), &[place()]).unwrap();
+    let reference = render(&mut full, &camera);
+    let covered = |f: &VgeoFrame| f.visbuffer.iter().filter(|&&v| v != 0).count();
+    assert!(
+        covered(&f) > covered(&reference) / 2,
+        "the mesh is still drawn"
+    );
+    assert!(
+        f.main.counters.triangles + f.post.counters.triangles
+            < reference.main.counters.triangles + reference.post.counters.triangles
+    );
+    let residency = streamer.residency().remove(0);
+    assert!(residency[bad as usize..].iter().all(|&r| !r));
+    // A budget below the always-resident pages is an error at load, not a panic.
+    let mut r2 = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[]).unwrap();
+    let tiny = StreamOptions {
+        budget_bytes: 1024,
+        upload_bytes_per_frame: 1 << 20,
+    };
+    let err = Streamer::new(&mut r2.scene, vec![(m.clone(), Box::new(m.clone()))], tiny)
+        .err()
+        .expect("too small a budget");
+    assert!(
+        err.to_string().contains("smaller than the always-resident"),
+        "{err}"
+    );
+    assert_no_validation_errors(&ctx);
+}
+
+/// Streaming from a `.vgeo` file read page by page (`VgeoFile`): the head alone is loaded, pages
+/// come from the file as the cull asks; the settled frame equals the all-resident one. With one
+/// page of the file corrupted, that page is reported once (by its checksum) and the frame is
+/// drawn coarser there, without a panic or a validation error.
+#[test]
+fn meshes_stream_from_vgeo_files_and_corrupt_pages_are_reported() {
+    use vgeo::format::{VgeoFile, save};
+    let ctx = gpu();
+    let m = bunny();
+    let dir = std::env::temp_dir().join(format!("vgeo-stream-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bunny.vgeo");
+    let bytes = save(&m);
+    std::fs::write(&path, &bytes).unwrap();
+    let camera = camera_at(0.5);
+    let opts = StreamOptions {
+        budget_bytes: 8 << 20,
+        upload_bytes_per_frame: 8 << 20,
+    };
+    let mut full = VgeoRenderer::new(&ctx, std::slice::from_ref(&m), &[place()]).unwrap();
+    let reference = render(&mut full, &camera);
+    let mut wanted = 0u32;
+    for corrupt in [false, true] {
+        if corrupt {
+            let f = VgeoFile::open(&path).unwrap();
+            // A page the view loaded from the intact file.
+            let e = *f.page_entry(wanted).unwrap();
+            let mut v = bytes.clone();
+            v[(e.offset + 3) as usize] ^= 0xff;
+            std::fs::write(&path, &v).unwrap();
+        }
+        let file = VgeoFile::open(&path).expect("the head opens");
+        let head = file.head().clone();
+        let (mut r, mut streamer) = streamed(&ctx, &head, Box::new(file), opts);
+        let mut errors = Vec::new();
+        let mut settled = false;
+        for _ in 0..30 {
+            let _ = render(&mut r, &camera);
+            let st = streamer.update(&mut r.scene).expect("streaming step");
+            errors.extend(streamer.take_errors());
+            if st.requests == 0 {
+                settled = true;
+                break;
+            }
+        }
+        let f = render(&mut r, &camera);
+        if corrupt {
+            assert_eq!(errors.len(), 1, "{errors:?}");
+            assert!(errors[0].contains("checksum"), "{errors:?}");
+            assert!(
+                f.visbuffer != reference.visbuffer,
+                "drawn coarser where the page is missing"
+            );
+        } else {
+            assert!(settled && errors.is_empty(), "{errors:?}");
+            assert!(f.visbuffer == reference.visbuffer, "settled from the file");
+            let res = streamer.residency().remove(0);
+            wanted = (head.resident_pages..res.len() as u32)
+                .rev()
+                .find(|&p| res[p as usize])
+                .expect("the view loaded pages");
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+    assert_no_validation_errors(&ctx);
+}
