@@ -259,14 +259,11 @@ impl LiveMesh {
             return PageGpu::absent();
         }
         let r = &self.page_records[p];
-        let l = crate::builder::page::layout(
-            r.vertex_count as usize,
-            r.ref_words as usize,
-            r.triangle_bytes as usize,
-            self.has_uvs,
-            self.has_materials,
-        );
-        PageGpu::at(r, &l, self.loaded[p])
+        PageGpu::at(
+            r,
+            &r.layout(self.has_uvs, self.has_materials),
+            self.loaded[p],
+        )
     }
 }
 
@@ -911,15 +908,9 @@ impl GpuScene {
             }
             let word = match &c.load {
                 Some((word, bytes)) => {
-                    let r = &live.page_records[p];
-                    let len = crate::builder::page::layout(
-                        r.vertex_count as usize,
-                        r.ref_words as usize,
-                        r.triangle_bytes as usize,
-                        live.has_uvs,
-                        live.has_materials,
-                    )
-                    .len;
+                    let len = live.page_records[p]
+                        .layout(live.has_uvs, live.has_materials)
+                        .len;
                     if bytes.len() != len || *word as u64 + (len / 4) as u64 > pool_words {
                         return Err(SceneError::Residency(format!(
                             "page {p}: {} bytes at word {word} (its layout has {len}, the pool {pool_words} words)",

@@ -83,26 +83,8 @@ fn render(r: &mut VgeoRenderer, camera: &Camera) -> VgeoFrame {
 
 /// Every level-0 cluster's leaf-to-root paths cross `cut` exactly once.
 fn crosses_once(m: &BuiltMesh, cut: &BTreeSet<u32>) -> bool {
-    let mut parents: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
-    for (ci, c) in m.clusters.iter().enumerate() {
-        if c.creator != vgeo::builder::NO_GROUP {
-            parents[c.creator as usize].push(ci as u32);
-        }
-    }
-    let mut order: Vec<u32> = (0..m.clusters.len() as u32).collect();
-    order.sort_by_key(|&c| std::cmp::Reverse(m.clusters[c as usize].level));
-    let mut up = vec![(0u32, 0u32); m.clusters.len()];
-    for c in order {
-        let d = cut.contains(&c) as u32;
-        let ps = &parents[m.clusters[c as usize].group as usize];
-        up[c as usize] = if ps.is_empty() {
-            (d, d)
-        } else {
-            let mn = ps.iter().map(|&p| up[p as usize].0).min().unwrap_or(0);
-            let mx = ps.iter().map(|&p| up[p as usize].1).max().unwrap_or(0);
-            (d + mn, d + mx)
-        };
-    }
+    let cut: Vec<u32> = cut.iter().copied().collect();
+    let up = common::path_crossings(m, &cut);
     m.clusters
         .iter()
         .enumerate()

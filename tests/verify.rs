@@ -7,6 +7,7 @@
 
 mod common;
 
+use common::path_crossings;
 use common::shapes::{append, grid, mesh_from, sphere};
 
 use vgeo::builder::{self, BuildOptions, BuiltMesh, VerifyOptions, VerifyReport};
@@ -329,37 +330,6 @@ fn verify_fails_non_monotonic_error() {
     assert!(!r.ok(), "{r}");
     assert!(has(&r, "> parent error"), "{r}");
     assert!(has(&r, "not covered exactly once"), "{r}");
-}
-
-/// For each cluster, (fewest, most) drawn clusters on its paths up to the root (a cluster's
-/// parents are the clusters its group produced): a cut is sound when every level-0 cluster has
-/// (1, 1).
-fn path_crossings(m: &BuiltMesh, cut: &[u32]) -> Vec<(u32, u32)> {
-    let mut drawn = vec![0u32; m.clusters.len()];
-    for &c in cut {
-        drawn[c as usize] = 1;
-    }
-    let mut parents: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
-    for (ci, c) in m.clusters.iter().enumerate() {
-        if c.creator != builder::NO_GROUP {
-            parents[c.creator as usize].push(ci as u32);
-        }
-    }
-    let mut order: Vec<u32> = (0..m.clusters.len() as u32).collect();
-    order.sort_by_key(|&c| std::cmp::Reverse(m.clusters[c as usize].level));
-    let mut up = vec![(0u32, 0u32); m.clusters.len()];
-    for c in order {
-        let d = drawn[c as usize];
-        let ps = &parents[m.clusters[c as usize].group as usize];
-        up[c as usize] = if ps.is_empty() {
-            (d, d)
-        } else {
-            let mn = ps.iter().map(|&p| up[p as usize].0).min().unwrap_or(0);
-            let mx = ps.iter().map(|&p| up[p as usize].1).max().unwrap_or(0);
-            (d + mn, d + mx)
-        };
-    }
-    up
 }
 
 /// Under a closed page residency (`page::close_residency`) the cut draws only resident clusters

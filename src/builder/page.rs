@@ -89,6 +89,19 @@ pub fn layout(
     }
 }
 
+impl Page {
+    /// The layout of the page's bytes for a mesh with or without UVs and per-vertex materials.
+    pub fn layout(&self, has_uvs: bool, has_materials: bool) -> PageLayout {
+        layout(
+            self.vertex_count as usize,
+            self.ref_words as usize,
+            self.triangle_bytes as usize,
+            has_uvs,
+            has_materials,
+        )
+    }
+}
+
 impl BuiltMesh {
     /// Whether the pages hold a material per vertex: the mesh has more than one material
     /// (`vertex_materials` then has one entry per vertex, else none).
@@ -98,13 +111,7 @@ impl BuiltMesh {
 
     /// The layout of page `p`'s bytes.
     pub fn page_layout(&self, p: &Page) -> PageLayout {
-        layout(
-            p.vertex_count as usize,
-            p.ref_words as usize,
-            p.triangle_bytes as usize,
-            self.has_uvs,
-            self.has_material_stream(),
-        )
+        p.layout(self.has_uvs, self.has_material_stream())
     }
 }
 
@@ -158,13 +165,7 @@ pub fn decode_page(
     has_materials: bool,
 ) -> Option<PageStreams> {
     let n = p.vertex_count as usize;
-    let l = layout(
-        n,
-        p.ref_words as usize,
-        p.triangle_bytes as usize,
-        has_uvs,
-        has_materials,
-    );
+    let l = p.layout(has_uvs, has_materials);
     if bytes.len() != l.len {
         return None;
     }
