@@ -116,14 +116,14 @@ vec3 lit_color(uvec2 entry, uint tri, ivec2 px) {
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
     Cluster c = clusters[entry.y];
-    PageGpu page = cluster_page(mesh, c);
-    uvec3 t = cluster_triangle(page, c, tri);
+    ClusterData d = cluster_data(mesh, c);
+    uvec3 t = cluster_triangle(d, c, tri);
     vec3 p[3];
     vec3 n[3];
     for (uint k = 0u; k < 3u; k++) {
-        PackedVertex pv = page_vertex(page, cluster_vertex(page, c, t[k]));
+        PackedVertex pv = cluster_vertex(d, t[k]);
         p[k] = relative_position(inst, decode_position(mesh, pv));
-        n[k] = decode_normal(pv.normal);
+        n[k] = decode_normal(pv.normal, mesh.normal_scale);
     }
     vec2 ndc = (vec2(px) + 0.5) * view.viewport.zw * 2.0 - 1.0;
     vec4 a = inverse(view.view_proj) * vec4(ndc, 1.0, 1.0);

@@ -26,6 +26,7 @@ layout(set = 0, binding = 16, rgba8) uniform writeonly image2D params_image;
 
 layout(push_constant, scalar) uniform Push { uint material; };
 
+#define RASTER_DECODE_32
 #include "raster.glsl"
 #include "shading.glsl"
 #include "gbuffer.glsl"

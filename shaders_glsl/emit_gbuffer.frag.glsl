@@ -27,6 +27,7 @@ layout(location = 0) out vec4 out_albedo;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_params;
 
+#define RASTER_DECODE_32
 #include "raster.glsl"
 #include "shading.glsl"
 #include "gbuffer.glsl"

@@ -61,9 +61,9 @@ void main() {
                     Cluster c = clusters[entry.y];
                     id = mm.material_offset;
                     if ((mesh.streams & MESH_STREAM_MATERIALS) != 0u) {
-                        PageGpu page = cluster_page(mesh, c);
-                        uvec3 t = cluster_triangle(page, c, tri);
-                        uint local = page_material(page, cluster_vertex(page, c, t.x));
+                        ClusterData d = cluster_data(mesh, c);
+                        uvec3 t = cluster_triangle(d, c, tri);
+                        uint local = cluster_material(d, t.x);
                         id += min(local, max(mm.material_count, 1u) - 1u);
                     }
                     lo = min(lo, id);

@@ -41,14 +41,14 @@ void main() {
         gl_Position = vec4(2.0, 2.0, 0.5, 1.0);
         return;
     }
-    PageGpu page = cluster_page(mesh, c);
-    uvec3 t = cluster_triangle(page, c, tri);
+    ClusterData d = cluster_data(mesh, c);
+    uvec3 t = cluster_triangle(d, c, tri);
     vec4 clip[3];
     ivec2 xy[3];
     vec3 z;
     bool ok = true;
     for (uint k = 0u; k < 3u; k++) {
-        PackedVertex pv = page_vertex(page, cluster_vertex(page, c, t[k]));
+        PackedVertex pv = cluster_vertex(d, t[k]);
         clip[k] = clip_position(relative_position(inst, decode_position(mesh, pv)));
         float zk;
         ok = project_fixed(clip[k], xy[k], zk) && ok;

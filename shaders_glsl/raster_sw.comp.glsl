@@ -146,11 +146,11 @@ void main() {
         InstanceVgeo inst = instances[entry.x];
         MeshGpu mesh = meshes[inst.mesh];
         Cluster c = clusters[entry.y];
-        PageGpu page = cluster_page(mesh, c);
+        ClusterData d = cluster_data(mesh, c);
         uint vcount = cluster_vertex_count(c);
         uint tcount = cluster_triangle_count(c);
         for (uint k = tid; k < vcount; k += RASTER_SW_WORKGROUP_SIZE) {
-            PackedVertex pv = page_vertex(page, cluster_vertex(page, c, k));
+            PackedVertex pv = cluster_vertex(d, k);
             vec4 clip = clip_position(relative_position(inst, decode_position(mesh, pv)));
             ivec2 xy;
             float z;
@@ -160,7 +160,7 @@ void main() {
         }
         barrier();
         if (tid < tcount) {
-            uvec3 t = cluster_triangle(page, c, tid);
+            uvec3 t = cluster_triangle(d, c, tid);
             vec3 z = vec3(s_z[t.x], s_z[t.y], s_z[t.z]);
             // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
             if (min(z.x, min(z.y, z.z)) >= 0.0) {

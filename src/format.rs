@@ -6,12 +6,13 @@
 //! (JSON), clusters ([`Cluster`], 96 B), groups ([`Group`], 64 B), BVH nodes ([`BvhNode`], 64 B),
 //! the page table (one [`PageEntry`] of 64 B per page: the builder's [`Page`], where its bytes lie
 //! in the file, their length and FNV-1a 64 checksum) and the page data (every page's bytes,
-//! `builder::page::page_bytes`, each 16-byte aligned, in page order).
+//! `builder::page::encode_page`, each 16-byte aligned, in page order).
 //!
 //! `checksum` is FNV-1a 64 over the file up to the page data, with the checksum field taken as
 //! zero: opening a file ([`VgeoFile::open`]) reads and checks only that head; each page is checked
-//! by its own checksum when it is read ([`VgeoFile::read_page`]). Version 2 files (vertex streams
-//! in whole-mesh sections) predate pages and are refused with a hint to rebuild.
+//! by its own checksum when it is read ([`VgeoFile::read_page`]). Older files are refused with a
+//! hint to rebuild: version 2 (vertex streams in whole-mesh sections) predates pages, version 3
+//! stored pages as plain streams (shared vertices with references) rather than encoded clusters.
 //!
 //! [`load`] and [`VgeoFile`] check everything before use: magic, version, lengths, checksums,
 //! section bounds, element sizes, and every index inside the data (so a loaded mesh can be indexed
@@ -24,14 +25,14 @@ use std::path::{Path, PathBuf};
 use bytemuck::{Pod, Zeroable};
 use serde::{Deserialize, Serialize};
 
-use crate::builder::page::{Page, decode_page};
+use crate::builder::page::{Page, clusters_by_page, decode_page, encode_page};
 use crate::builder::{BuildStats, BuiltMesh, BvhNode, Cluster, Group, Quantization};
 use crate::mesh::Material;
 
 /// File magic.
 pub const MAGIC: [u8; 8] = *b"VGEO\0\r\n\x1a";
 /// Current format version.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 const HEADER_LEN: usize = 32;
 const ENTRY_LEN: usize = 24;
 const MAX_SECTIONS: u32 = 64;
@@ -67,8 +68,8 @@ pub enum FormatError {
     /// Not a .vgeo file.
     BadMagic,
     #[error(
-        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 2 and \
-         older predate geometry pages: rebuild them with `vgeo build`)"
+        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 3 and \
+         older predate encoded geometry pages: rebuild them with `vgeo build`)"
     )]
     /// A format version this build does not read.
     Version(u32),
@@ -136,6 +137,8 @@ struct Meta {
     step_bits: u64,
     uv_min: [f32; 2],
     uv_max: [f32; 2],
+    position_bits: u32,
+    normal_bits: u32,
     has_normals: bool,
     has_uvs: bool,
     root: u32,
@@ -153,6 +156,8 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
         step_bits: q.step.to_bits(),
         uv_min: q.uv_min,
         uv_max: q.uv_max,
+        position_bits: q.position_bits,
+        normal_bits: q.normal_bits,
         has_normals: m.has_normals,
         has_uvs: m.has_uvs,
         root: m.root,
@@ -186,9 +191,10 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
     // The page data, each page 16-aligned (offsets relative to the section for now).
     let mut data = Vec::new();
     let mut entries: Vec<PageEntry> = Vec::with_capacity(m.pages.len());
-    for p in &m.pages {
+    let by_page = clusters_by_page(m);
+    for (p, clusters) in m.pages.iter().zip(&by_page) {
         data.resize(align(data.len()), 0);
-        let bytes = crate::builder::page::page_bytes(m, p);
+        let bytes = encode_page(m, clusters);
         entries.push(PageEntry {
             page: *p,
             offset: data.len() as u64,
@@ -390,6 +396,15 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
             "section meta: quantization grid is not finite and positive".into(),
         ));
     }
+    use crate::builder::quantize::{NORMAL_BITS, POSITION_BITS};
+    if !(1..=POSITION_BITS).contains(&meta.position_bits)
+        || !(2..=NORMAL_BITS).contains(&meta.normal_bits)
+    {
+        return Err(FormatError::Invalid(format!(
+            "section meta: {} position bits / {} normal bits (at most {POSITION_BITS} / {NORMAL_BITS})",
+            meta.position_bits, meta.normal_bits
+        )));
+    }
     let entries = pod_vec::<PageEntry>(get(section::PAGE_TABLE, "page table")?, "page table")?;
     let m = BuiltMesh {
         name: meta.name,
@@ -398,6 +413,8 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
             step,
             uv_min: meta.uv_min,
             uv_max: meta.uv_max,
+            position_bits: meta.position_bits,
+            normal_bits: meta.normal_bits,
         },
         has_normals: meta.has_normals,
         has_uvs: meta.has_uvs,
@@ -428,7 +445,7 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
     };
     let (doff, dlen) = h.data;
     for (i, e) in entries.iter().enumerate() {
-        let want = m.page_layout(&e.page).len as u64;
+        let want = e.page.bytes as u64;
         if e.length != want
             || e.offset < doff
             || e.offset
@@ -436,7 +453,7 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
                 .is_none_or(|end| end > doff + dlen)
         {
             return Err(FormatError::Invalid(format!(
-                "page {i}: {}+{} bytes, its layout has {want} inside the page data ({doff}+{dlen})",
+                "page {i}: {}+{} bytes, its page record says {want} inside the page data ({doff}+{dlen})",
                 e.offset, e.length
             )));
         }
@@ -451,9 +468,9 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
     Ok((m, entries))
 }
 
-/// Checks page `i`'s bytes (its checksum, and every cluster stored in it against them: vertex
-/// references inside the page, local indices below the cluster's vertex count, materials in
-/// range) and decodes them.
+/// Checks page `i`'s bytes (its checksum, then every cluster stored in it decoded: see
+/// [`decode_page`]; its logical streams must match the page's and clusters' records) and decodes
+/// them.
 fn check_page(
     m: &BuiltMesh,
     e: &PageEntry,
@@ -471,35 +488,38 @@ fn check_page(
     }
     let p = &e.page;
     let bad = |what: String| FormatError::Invalid(format!("page {i}: {what}"));
-    let st = decode_page(bytes, p, m.has_uvs, m.has_material_stream())
-        .ok_or_else(|| bad(format!("{} bytes do not fit its layout", bytes.len())))?;
-    for &ci in clusters {
+    let cs: Vec<&Cluster> = clusters.iter().map(|&c| &m.clusters[c as usize]).collect();
+    let st = decode_page(bytes, &cs, m.has_uvs, m.has_material_stream()).map_err(bad)?;
+    for (&ci, &(r, t)) in clusters.iter().zip(&st.cluster_starts) {
         let c = &m.clusters[ci as usize];
-        let (vc, tc) = (c.vertex_count(), c.triangle_count());
-        let ro = (c.vertex_ref_offset - p.ref_first) as usize;
-        for k in 0..vc as usize {
-            let v = if c.flags() & crate::builder::CLUSTER_FLAG_REFS_U32 != 0 {
-                st.refs[ro + k] as u64
-            } else {
-                let w = st.refs[ro + k / 2];
-                c.vertex_base as u64 + ((w >> (16 * (k & 1))) & 0xffff) as u64
-            };
-            if v < p.vertex_first as u64 || v >= p.vertex_first as u64 + p.vertex_count as u64 {
-                return Err(bad(format!(
-                    "cluster {ci}: vertex reference {k} = {v} outside the page"
-                )));
-            }
-        }
-        let to = (c.triangle_offset - p.triangle_first) as usize;
-        let bits = crate::builder::index_bits(vc);
-        if let Some(l) = (0..3 * tc as usize)
-            .map(|k| crate::builder::unpack_index(&st.triangles[to..], bits, k).unwrap_or(u32::MAX))
-            .find(|&l| l >= vc)
+        if c.vertex_ref_offset as u64 != p.ref_first as u64 + r as u64
+            || c.triangle_offset as u64 != p.triangle_first as u64 + t as u64
         {
             return Err(bad(format!(
-                "cluster {ci}: local index {l} >= vertex count {vc}"
+                "cluster {ci}: references at {} and triangles at {}, its page decodes them at {} and {}",
+                c.vertex_ref_offset,
+                c.triangle_offset,
+                p.ref_first as u64 + r as u64,
+                p.triangle_first as u64 + t as u64
             )));
         }
+    }
+    if (st.vertices.len(), st.refs.len(), st.triangles.len())
+        != (
+            p.vertex_count as usize,
+            p.ref_words as usize,
+            p.triangle_bytes as usize,
+        )
+    {
+        return Err(bad(format!(
+            "decodes to {} vertices, {} reference words and {} triangle bytes, its record says {}, {} and {}",
+            st.vertices.len(),
+            st.refs.len(),
+            st.triangles.len(),
+            p.vertex_count,
+            p.ref_words,
+            p.triangle_bytes
+        )));
     }
     if let Some(v) = st
         .materials
@@ -512,15 +532,6 @@ fn check_page(
         )));
     }
     Ok(st)
-}
-
-/// Per page, the clusters stored in it.
-fn clusters_by_page(m: &BuiltMesh) -> Vec<Vec<u32>> {
-    let mut by = vec![Vec::new(); m.pages.len()];
-    for (ci, c) in m.clusters.iter().enumerate() {
-        by[c.page as usize].push(ci as u32);
-    }
-    by
 }
 
 /// Makes `bytes`'s stored length and checksums (the head's and every page's the page table can
@@ -655,8 +666,9 @@ impl VgeoFile {
         self.entries.get(i as usize)
     }
 
-    /// Page `i`'s bytes (`builder::page::page_bytes`), read alone and checked (checksum, and its
-    /// clusters' references, indices and materials against them).
+    /// Page `i`'s encoded bytes (`builder::page::encode_page`), read alone and checked (checksum,
+    /// and every cluster in it decoded: its data where its record says, coordinates on the grid,
+    /// local indices below its vertex count, materials in range).
     pub fn read_page(&self, i: u32) -> Result<Vec<u8>, FormatError> {
         let e = self
             .entries

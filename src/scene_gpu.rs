@@ -11,7 +11,7 @@ use std::borrow::Borrow;
 use glam::{DMat4, DVec3, Mat3};
 
 use crate::builder::BuiltMesh;
-use crate::builder::page::{Page, PageLayout};
+use crate::builder::page::Page;
 use crate::gpu::{Buffer, Cmd, Context, Desc, GpuError, GpuResult, MemoryKind, vk};
 use crate::material::{MeshMaterialSource, SceneMaterials};
 use crate::render::Placement;
@@ -239,10 +239,8 @@ const POOL: usize = 4;
 struct LiveMesh {
     /// (start, length) in elements, per arena.
     ranges: [(u64, u64); ARENAS],
-    /// The mesh's pages, and what their layout depends on.
+    /// The mesh's pages.
     page_records: Vec<Page>,
-    has_uvs: bool,
-    has_materials: bool,
     /// Per page, the pool word where its bytes are (whether or not the cull may use them), or
     /// [`PAGE_NOT_RESIDENT`].
     loaded: Vec<u32>,
@@ -258,12 +256,9 @@ impl LiveMesh {
         if self.loaded[p] == PAGE_NOT_RESIDENT {
             return PageGpu::absent();
         }
-        let r = &self.page_records[p];
-        PageGpu::at(
-            r,
-            &r.layout(self.has_uvs, self.has_materials),
-            self.loaded[p],
-        )
+        PageGpu {
+            word: self.loaded[p],
+        }
     }
 }
 
@@ -496,11 +491,7 @@ impl GpuScene {
             m.bvh.len() as u64,
             m.pages.len() as u64,
             match present {
-                None => m
-                    .pages
-                    .iter()
-                    .map(|p| (m.page_layout(p).len / 4) as u64)
-                    .sum(),
+                None => m.pages.iter().map(|p| (p.bytes / 4) as u64).sum(),
                 Some(b) => b.iter().map(|b| (b.len() / 4) as u64).sum(),
             },
         ]
@@ -541,11 +532,11 @@ impl GpuScene {
             )));
         }
         for (i, (b, p)) in present.iter().zip(&head.pages).enumerate() {
-            if b.len() != head.page_layout(p).len {
+            if b.len() != p.bytes as usize {
                 return Err(SceneError::Residency(format!(
-                    "page {i}: {} bytes, its layout has {}",
+                    "page {i}: {} bytes, its page table says {}",
                     b.len(),
-                    head.page_layout(p).len
+                    p.bytes
                 )));
             }
         }
@@ -640,7 +631,8 @@ impl GpuScene {
                 walk_error,
                 walk_error_wide,
                 walk_radius,
-                _pad: [0; 2],
+                normal_scale: crate::builder::quantize::normal_scale(q.normal_bits),
+                _pad: 0,
             };
             let (pages, pool) = page_upload(m, ranges[POOL].0 as u32, present);
             let partial = pages.iter().any(|e| e.word == PAGE_NOT_RESIDENT);
@@ -679,8 +671,6 @@ impl GpuScene {
             ms.live = Some(LiveMesh {
                 ranges,
                 page_records: m.pages.clone(),
-                has_uvs: m.has_uvs,
-                has_materials: m.has_material_stream(),
                 loaded: pages.iter().map(|e| e.word).collect(),
                 resident_pages: m.resident_pages,
                 instances: 0,
@@ -908,12 +898,10 @@ impl GpuScene {
             }
             let word = match &c.load {
                 Some((word, bytes)) => {
-                    let len = live.page_records[p]
-                        .layout(live.has_uvs, live.has_materials)
-                        .len;
+                    let len = live.page_records[p].bytes as usize;
                     if bytes.len() != len || *word as u64 + (len / 4) as u64 > pool_words {
                         return Err(SceneError::Residency(format!(
-                            "page {p}: {} bytes at word {word} (its layout has {len}, the pool {pool_words} words)",
+                            "page {p}: {} bytes at word {word} (its page table says {len}, the pool {pool_words} words)",
                             bytes.len()
                         )));
                     }
@@ -1450,13 +1438,17 @@ fn page_upload(
     present: Option<&[Vec<u8>]>,
 ) -> (Vec<PageGpu>, Vec<u8>) {
     let mut bytes = Vec::new();
+    let by_page = match present {
+        None => crate::builder::page::clusters_by_page(m),
+        Some(_) => Vec::new(),
+    };
     let pages = m
         .pages
         .iter()
         .enumerate()
-        .map(|(i, p)| {
+        .map(|(i, _)| {
             let data = match present {
-                None => crate::builder::page::page_bytes(m, p),
+                None => crate::builder::page::encode_page(m, &by_page[i]),
                 Some(b) => match b.get(i) {
                     Some(d) => d.clone(),
                     None => return PageGpu::absent(),
@@ -1464,33 +1456,17 @@ fn page_upload(
             };
             let word = pool_word.wrapping_add((bytes.len() / 4) as u32);
             bytes.extend_from_slice(&data);
-            PageGpu::at(p, &m.page_layout(p), word)
+            PageGpu { word }
         })
         .collect();
     (pages, bytes)
 }
 
 impl PageGpu {
-    /// The entry of page `p` (layout `l`) whose bytes start at pool word `word`.
-    pub fn at(p: &Page, l: &PageLayout, word: u32) -> Self {
-        let at = |byte: usize| word.wrapping_add((byte / 4) as u32);
-        PageGpu {
-            position_base: at(l.positions).wrapping_sub(2u32.wrapping_mul(p.vertex_first)),
-            normal_base: at(l.normals).wrapping_sub(p.vertex_first),
-            uv_base: at(l.uvs).wrapping_sub(p.vertex_first),
-            material_base: at(l.materials).wrapping_mul(2).wrapping_sub(p.vertex_first),
-            ref_base: at(l.refs).wrapping_sub(p.ref_first),
-            triangle_base: at(l.triangles).wrapping_sub(p.triangle_first / 4),
-            word,
-            _pad: 0,
-        }
-    }
-
     /// The entry of an absent page.
     pub fn absent() -> Self {
         PageGpu {
             word: PAGE_NOT_RESIDENT,
-            ..Default::default()
         }
     }
 }

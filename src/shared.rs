@@ -91,9 +91,10 @@ pub const MESH_STREAM_PARTIAL: u32 = 4;
 pub const PAGE_NOT_RESIDENT: u32 = 0xffffffff;
 /// `Cluster::creator` of a level-0 cluster (the builder's `NO_GROUP`).
 pub const NO_GROUP_ID: u32 = 0xffffffff;
-/// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from `vertex_base`).
+/// Cluster flag: vertex references are full u32 words (otherwise u16 offsets from the first
+/// vertex of the cluster's page); only before the builder's pagination.
 pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
-/// Most bytes of one geometry page (vertices, references and triangles of whole groups; see
+/// Most bytes of one geometry page (the encoded clusters of whole groups; see
 /// `src/builder/page.rs`): the unit a `.vgeo` file stores and checks, and the GPU holds per slot.
 pub const PAGE_BYTES: u32 = 131072;
 // END SHADER CONSTANTS
@@ -175,30 +176,19 @@ pub struct MeshGpu {
     /// Radius around `bounds_center` enclosing every cluster's parent sphere and every BVH
     /// node's LOD sphere.
     pub walk_radius: f32,
-    pub _pad: [u32; 2],
+    /// Largest magnitude of a normal component code (`builder::quantize::normal_scale`).
+    pub normal_scale: f32,
+    pub _pad: u32,
 }
 
-/// Where one page of a mesh lies in the scene's geometry pool (`u32` words), as bases to which
-/// the builder's stream indices are added directly (wrapping `u32` arithmetic: each base is the
-/// page's word in the pool minus the page's first element, see `src/builder/page.rs`): the
-/// position of the mesh's vertex `v` is at words `position_base + 2 v` and `+ 1`, its normal at
-/// `normal_base + v`, its UV at `uv_base + v`, its material at u16 `material_base + v`; a
-/// cluster's references start at `ref_base + vertex_ref_offset`, its triangles at word
-/// `triangle_base + triangle_offset / 4`.
+/// Where one page of a mesh lies in the scene's geometry pool: the pool word where its encoded
+/// bytes start (`src/builder/page.rs`), or [`PAGE_NOT_RESIDENT`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct PageGpu {
-    pub position_base: u32,
-    pub normal_base: u32,
-    pub uv_base: u32,
-    pub material_base: u32,
-    pub ref_base: u32,
-    pub triangle_base: u32,
-    /// The pool word where the page's bytes start.
     pub word: u32,
-    pub _pad: u32,
 }
-const _: () = assert!(size_of::<PageGpu>() == 32);
+const _: () = assert!(size_of::<PageGpu>() == 4);
 
 const _: () = assert!(size_of::<MeshGpu>() == 96);
 

@@ -20,18 +20,17 @@ use crate::scene_gpu::{GpuScene, MeshHandle, PageChange, SceneError, SceneResult
 
 /// Where a streamed mesh's pages come from.
 pub trait PageSource: Send + Sync {
-    /// Page `page`'s bytes (`builder::page::page_bytes`), checked; an error says why not.
+    /// Page `page`'s encoded bytes (`builder::page::page_bytes`), checked; an error says why not.
     fn read_page(&self, page: u32) -> Result<Vec<u8>, String>;
 }
 
 /// A mesh in memory serves its own pages.
 impl PageSource for BuiltMesh {
     fn read_page(&self, page: u32) -> Result<Vec<u8>, String> {
-        let p = self
-            .pages
-            .get(page as usize)
-            .ok_or_else(|| format!("page {page} out of range"))?;
-        Ok(crate::builder::page::page_bytes(self, p))
+        if page as usize >= self.pages.len() {
+            return Err(format!("page {page} out of range"));
+        }
+        Ok(crate::builder::page::page_bytes(self, page))
     }
 }
 
@@ -47,7 +46,9 @@ impl PageSource for crate::format::VgeoFile {
 pub struct StreamOptions {
     /// GPU bytes the streamed meshes' pages may take: the always-resident pages plus the slots.
     pub budget_bytes: u64,
-    /// Most page bytes read and uploaded per [`Streamer::update`].
+    /// Most page bytes read and uploaded per [`Streamer::update`]. A request is served with the
+    /// pages that keep the residency closed (its load set); a set larger than this on its own
+    /// is loaded alone, in an update of its own, so that no request waits forever.
     pub upload_bytes_per_frame: u64,
 }
 
@@ -60,6 +61,8 @@ pub struct StreamStats {
     pub resident_bytes: u64,
     /// Pages the cull asked for.
     pub requests: u64,
+    /// Requests served (each with its load set, see [`StreamOptions::upload_bytes_per_frame`]).
+    pub load_sets: u64,
     /// Pages loaded and their bytes; pages evicted.
     pub uploads: u64,
     pub upload_bytes: u64,
@@ -193,7 +196,7 @@ impl Streamer {
                 prefix.push(bytes);
             }
             for p in &head.pages {
-                slot_bytes = slot_bytes.max(head.page_layout(p).len as u64);
+                slot_bytes = slot_bytes.max(p.bytes as u64);
             }
             prefixes.push(prefix);
         }
@@ -341,9 +344,15 @@ impl Streamer {
             let Some(set) = self.meshes[mi].load_set(page) else {
                 continue;
             };
-            let bytes = set.len() as u64 * self.slot_bytes;
-            if bytes > budget {
-                break;
+            let bytes: u64 = set
+                .iter()
+                .map(|&p| self.meshes[mi].head.pages[p as usize].bytes as u64)
+                .sum();
+            // A set that does not fit what is left waits for a later update (a smaller one
+            // may still fit); one larger than a whole update's uploads goes alone, first.
+            let alone = loads.is_empty() && bytes > self.opts.upload_bytes_per_frame;
+            if bytes > budget && !alone {
+                continue;
             }
             // Free slots: evict least-recently-used pages nobody needs (not used this frame).
             while self.free.len() < set.len() {
@@ -374,7 +383,8 @@ impl Streamer {
             if self.free.len() < set.len() {
                 break;
             }
-            budget -= bytes;
+            budget = budget.saturating_sub(bytes);
+            stats.load_sets += 1;
             let m = &mut self.meshes[mi];
             for &p in &set {
                 let s = self.free.pop().expect("counted");

@@ -293,7 +293,7 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
     let mut bunny = built(&shared_assets().join("scanned/bunny.ply"));
     // Small pages, so that residency has many pages to choose from.
     let level = bunny.fallback_level(2000);
-    paginate(&mut bunny, 16384, level);
+    paginate(&mut bunny, 8192, level);
     assert!(bunny.pages.len() > 40, "{} pages", bunny.pages.len());
     let needs = group_needs(&bunny);
     let meshes = vec![bunny];

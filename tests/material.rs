@@ -461,7 +461,12 @@ fn cpu_shade(
         let o = built.position(v);
         (DVec3::new(o[0] as f64, o[1] as f64, o[2] as f64) - cam).as_vec3()
     });
-    let n = tri.map(|v| Vec3::from(decode_normal(built.vertices[v as usize].normal)));
+    let n = tri.map(|v| {
+        Vec3::from(decode_normal(
+            built.vertices[v as usize].normal,
+            built.quantization.normal_bits,
+        ))
+    });
     let uv = tri.map(|v| {
         Vec2::from(decode_uv(
             &built.quantization,

@@ -36,18 +36,17 @@ bool emit_pixel(ivec2 px, uint material, out vec4 out_albedo, out vec4 out_norma
     MeshGpu mesh = meshes[inst.mesh];
     MeshMaterialGpu mm = mesh_materials[inst.mesh];
     Cluster c = clusters[entry.y];
-    PageGpu page = cluster_page(mesh, c);
-    uvec3 t = cluster_triangle(page, c, tri);
+    ClusterData d = cluster_data(mesh, c);
+    uvec3 t = cluster_triangle(d, c, tri);
     vec3 p[3];
     vec3 n[3];
     vec2 uv[3];
     bool has_uvs = (mm.flags & MESH_HAS_UVS) != 0u && (mesh.streams & MESH_STREAM_UVS) != 0u;
     for (uint k = 0u; k < 3u; k++) {
-        uint gv = cluster_vertex(page, c, t[k]);
-        PackedVertex pv = page_vertex(page, gv);
+        PackedVertex pv = cluster_vertex(d, t[k]);
         p[k] = relative_position(inst, decode_position(mesh, pv));
-        n[k] = decode_normal(pv.normal);
-        uv[k] = has_uvs ? decode_uv(mm, page_uv(page, gv)) : vec2(0.0);
+        n[k] = decode_normal(pv.normal, mesh.normal_scale);
+        uv[k] = has_uvs ? decode_uv(mm, cluster_uv(d, t[k])) : vec2(0.0);
     }
     vec2 pc = vec2(px) + 0.5;
     vec3 dir = pixel_ray(mview.inv_view_proj, pc, mview.viewport);

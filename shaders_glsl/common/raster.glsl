@@ -23,77 +23,143 @@ uint cluster_vertex_count(Cluster c) { return c.counts & 0xffu; }
 uint cluster_triangle_count(Cluster c) { return (c.counts >> 8) & 0xffu; }
 uint cluster_flags(Cluster c) { return c.counts >> 16; }
 
-// The page holding the cluster's data.
-PageGpu cluster_page(MeshGpu mesh, Cluster c) {
-    return pages[mesh.page_offset + c.page];
+// A cluster's encoded data in the pool (src/builder/page.rs): where its vertices and triangles
+// start, the per-field bit widths and the minimums its vertices are coded from.
+struct ClusterData {
+    uint vertex_word;    // first word of the vertex bit stream
+    uint triangle_word;  // first word of the packed triangles
+    uint vertex_bits;
+    uint wx;             // bit widths: position x, y, z, normal (per component), uv (per
+    uint wy;             // component), material
+    uint wz;
+    uint wn;
+    uint wu;
+    uint wm;
+    uvec3 position_min;
+    uint normal_min;     // two i16
+    uint uv_min;         // two u16
+    uint material_min;
+};
+
+// Mask of the low `bits` (0..32) bits.
+uint low_mask(uint bits) {
+    return bits >= 32u ? 0xffffffffu : (1u << bits) - 1u;
 }
 
-// The mesh's vertex index (the builder's, see PageGpu) of the cluster's local vertex `i`.
-uint cluster_vertex(PageGpu page, Cluster c, uint i) {
-    uint base = page.ref_base + c.vertex_ref_offset;
-    if ((cluster_flags(c) & CLUSTER_FLAG_REFS_U32) != 0u) {
-        return pool[base + i];
+// The `bits` (0..32) bits at bit `bit` of the stream starting at pool word `word0`. Always reads
+// two words, without a branch (threads of a wave read fields at different alignments): every
+// page ends with a spare word, so the second read stays inside the page.
+uint pool_field(uint word0, uint bit, uint bits) {
+    uint w = word0 + (bit >> 5);
+    uint sh = bit & 31u;
+    uint v = (pool[w] >> sh) | ((pool[w + 1u] << 1u) << (31u - sh));
+    return v & low_mask(bits);
+}
+
+// 64 bits of the stream starting at pool word `word0`, from bit `bit` on (three words read; the
+// third may be the page's spare word).
+uint64_t pool_bits64(uint word0, uint bit) {
+    uint w = word0 + (bit >> 5);
+    uint sh = bit & 31u;
+    uint64_t lo = uint64_t(pool[w]) | (uint64_t(pool[w + 1u]) << 32);
+    uint64_t hi = uint64_t(pool[w + 2u]);
+    return (lo >> sh) | ((hi << 31) << (33u - sh));
+}
+
+// The cluster's data, from its page's slot (the page must be resident).
+ClusterData cluster_data(MeshGpu mesh, Cluster c) {
+    ClusterData d;
+    uint at = pages[mesh.page_offset + c.page].word + c.data_offset;
+    d.position_min = uvec3(pool[at], pool[at + 1u], pool[at + 2u]);
+    uint w = pool[at + 3u];
+    d.normal_min = pool[at + 4u];
+    uint h = at + 5u;
+    d.uv_min = 0u;
+    if ((mesh.streams & MESH_STREAM_UVS) != 0u) {
+        d.uv_min = pool[h];
+        h += 1u;
     }
-    uint w = pool[base + (i >> 1)];
-    return c.vertex_base + ((w >> (16u * (i & 1u))) & 0xffffu);
+    d.material_min = 0u;
+    if ((mesh.streams & MESH_STREAM_MATERIALS) != 0u) {
+        d.material_min = pool[h];
+        h += 1u;
+    }
+    d.wx = w & 31u;
+    d.wy = (w >> 5) & 31u;
+    d.wz = (w >> 10) & 31u;
+    d.wn = (w >> 15) & 31u;
+    d.wu = (w >> 20) & 31u;
+    d.wm = (w >> 25) & 31u;
+    d.vertex_bits = d.wx + d.wy + d.wz + 2u * d.wn + 2u * d.wu + d.wm;
+    d.vertex_word = h;
+    d.triangle_word = h + (cluster_vertex_count(c) * d.vertex_bits + 31u) / 32u;
+    return d;
 }
 
-// The mesh's vertex `v` as stored in its page.
-PackedVertex page_vertex(PageGpu page, uint v) {
+// The cluster's local vertex `i` (grid coordinates and normal code): the position's three fields
+// (at most 63 bits) from one 64-bit window, the normal's two from one 32-bit field. A shader that
+// defines RASTER_DECODE_32 first reads the position as three 32-bit fields instead (fewer
+// registers: emit_gbuffer, whose occupancy they limit).
+PackedVertex cluster_vertex(ClusterData d, uint i) {
+    uint bit = i * d.vertex_bits;
     PackedVertex pv;
-    uint at = page.position_base + 2u * v;
-    pv.position = uvec2(pool[at], pool[at + 1u]);
-    pv.normal = pool[page.normal_base + v];
+#ifdef RASTER_DECODE_32
+    pv.position.x = d.position_min.x + pool_field(d.vertex_word, bit, d.wx);
+    pv.position.y = d.position_min.y + pool_field(d.vertex_word, bit + d.wx, d.wy);
+    pv.position.z = d.position_min.z + pool_field(d.vertex_word, bit + d.wx + d.wy, d.wz);
+#else
+    uint64_t p = pool_bits64(d.vertex_word, bit);
+    pv.position.x = d.position_min.x + (uint(p) & low_mask(d.wx));
+    pv.position.y = d.position_min.y + (uint(p >> d.wx) & low_mask(d.wy));
+    pv.position.z = d.position_min.z + (uint(p >> (d.wx + d.wy)) & low_mask(d.wz));
+#endif
+    uint n = pool_field(d.vertex_word, bit + d.wx + d.wy + d.wz, 2u * d.wn);
+    uint nx = (d.normal_min + (n & low_mask(d.wn))) & 0xffffu;
+    uint ny = ((d.normal_min >> 16) + (n >> d.wn)) & 0xffffu;
+    pv.normal = nx | (ny << 16);
     return pv;
 }
 
-// The packed UV (2 x 16 bits) of the mesh's vertex `v` (meshes with MESH_STREAM_UVS).
-uint page_uv(PageGpu page, uint v) {
-    return pool[page.uv_base + v];
+// Bit offset of the UV fields of the cluster's local vertex `i`.
+uint cluster_uv_bit(ClusterData d, uint i) {
+    return i * d.vertex_bits + d.wx + d.wy + d.wz + 2u * d.wn;
 }
 
-// The mesh-local material of the mesh's vertex `v` (meshes with MESH_STREAM_MATERIALS).
-uint page_material(PageGpu page, uint v) {
-    uint h = page.material_base + v;
-    return (pool[h >> 1] >> (16u * (h & 1u))) & 0xffffu;
+// The packed UV (2 x 16 bits) of the cluster's local vertex `i` (meshes with MESH_STREAM_UVS).
+uint cluster_uv(ClusterData d, uint i) {
+    uint uv = pool_field(d.vertex_word, cluster_uv_bit(d, i), 2u * d.wu);
+    uint u = (d.uv_min & 0xffffu) + (uv & low_mask(d.wu));
+    uint v = (d.uv_min >> 16) + (uv >> d.wu);
+    return (u & 0xffffu) | (v << 16);
+}
+
+// The mesh-local material of the cluster's local vertex `i` (meshes with MESH_STREAM_MATERIALS).
+uint cluster_material(ClusterData d, uint i) {
+    uint bit = cluster_uv_bit(d, i) + 2u * d.wu;
+    return d.material_min + pool_field(d.vertex_word, bit, d.wm);
 }
 
 // The three local vertex indices of the cluster's triangle `t`. Indices are bit-packed per cluster
-// (src/builder/mod.rs `pack_indices`): `index_bits(vertex_count)` bits each, little-endian, from the
-// cluster's 4-byte-aligned `triangle_offset`.
-uvec3 cluster_triangle(PageGpu page, Cluster c, uint t) {
+// (src/builder/mod.rs `pack_indices`): `index_bits(vertex_count)` bits each, little-endian.
+uvec3 cluster_triangle(ClusterData d, Cluster c, uint t) {
     uint vc = max(cluster_vertex_count(c), 1u);
     uint bits = uint(max(findMSB(vc - 1u) + 1, 1));
     uint mask = (1u << bits) - 1u;
-    uint word0 = page.triangle_base + (c.triangle_offset >> 2);
-    uint base = 3u * t * bits;
-    uvec3 r;
-    for (uint k = 0u; k < 3u; k++) {
-        uint bit = base + k * bits;
-        uint w = word0 + (bit >> 5);
-        uint sh = bit & 31u;
-        uint v = pool[w] >> sh;
-        if (sh + bits > 32u) {
-            v |= pool[w + 1u] << (32u - sh);
-        }
-        r[k] = v & mask;
-    }
-    return r;
+    uint v = pool_field(d.triangle_word, 3u * t * bits, 3u * bits);
+    return uvec3(v & mask, (v >> bits) & mask, (v >> (2u * bits)) & mask);
 }
 
-// Object-space position of a packed vertex: origin + code * step (21 bits per axis).
+// Object-space position of a vertex: origin + code * step.
 vec3 decode_position(MeshGpu mesh, PackedVertex v) {
-    uint lo = v.position.x;
-    uint hi = v.position.y;
-    uvec3 code = uvec3(lo & 0x1fffffu, (lo >> 21) | ((hi & 0x3ffu) << 11), (hi >> 10) & 0x1fffffu);
-    precise vec3 p = mesh.quant_origin + vec3(code) * mesh.quant_step;
+    precise vec3 p = mesh.quant_origin + vec3(v.position) * mesh.quant_step;
     return p;
 }
 
-// Unit normal of an octahedral code (2 x 16-bit snorm), as src/builder/quantize.rs decodes it.
-vec3 decode_normal(uint code) {
-    float x = float(int(code << 16) >> 16) / 32767.0;
-    float y = float(int(code) >> 16) / 32767.0;
+// Unit normal of an octahedral code (two i16 of magnitude at most `scale`, the mesh's
+// normal_scale), as src/builder/quantize.rs decodes it.
+vec3 decode_normal(uint code, float scale) {
+    float x = float(int(code << 16) >> 16) / scale;
+    float y = float(int(code) >> 16) / scale;
     float z = 1.0 - abs(x) - abs(y);
     float t = max(-z, 0.0);
     x += x >= 0.0 ? -t : t;

@@ -36,20 +36,14 @@ struct MeshGpu {
     float walk_error;  // instance_cull walks the BVH itself below this (see src/shared.rs)
     float walk_error_wide;  // the same for WALK_CLUSTERS_WIDE, with WALK_WIDE_INSTANCES instances
     float walk_radius;
-    uint _pad0[2];
+    float normal_scale;  // largest normal component code (src/builder/quantize.rs normal_scale)
+    uint _pad0;
 };
 
-// Where a page lies in the geometry pool (src/shared.rs PageGpu): bases to which the builder's
-// stream indices are added (wrapping uint arithmetic).
+// Where a page lies in the geometry pool (src/shared.rs PageGpu): the pool word of its encoded
+// bytes (src/builder/page.rs), or PAGE_NOT_RESIDENT.
 struct PageGpu {
-    uint position_base;
-    uint normal_base;
-    uint uv_base;
-    uint material_base;  // in u16 units
-    uint ref_base;
-    uint triangle_base;
     uint word;
-    uint _pad;
 };
 
 struct InstanceVgeo {
@@ -126,7 +120,7 @@ struct Cluster {
     vec3 bounds_max;
     float parent_error;
     uint vertex_ref_offset;
-    uint vertex_base;
+    uint data_offset;  // word of the cluster's encoded data in its page
     uint triangle_offset;
     uint counts;  // vertex_count | triangle_count << 8 | flags << 16
     uint group;
@@ -160,8 +154,9 @@ struct BvhNode {
 };
 
 // A decoded vertex of a page (positions and normals are separate streams in the pool).
+// A cluster vertex as decoded from its page (src/builder/page.rs).
 struct PackedVertex {
-    uvec2 position;  // x | y << 21 | z << 42 on the mesh grid
+    uvec3 position;  // grid coordinates on the mesh grid (21 bits each)
     uint normal;     // octahedral, 2 x 16 bits
 };
 

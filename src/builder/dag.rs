@@ -101,6 +101,21 @@ fn check_options(o: &BuildOptions) -> Result<(), BuildError> {
             return bad(format!("{name} {w} must be finite and >= 0"));
         }
     }
+    if let Some(b) = o.position_bits
+        && !(1..=super::quantize::POSITION_BITS).contains(&b)
+    {
+        return bad(format!(
+            "position_bits {b} not in 1..={}",
+            super::quantize::POSITION_BITS
+        ));
+    }
+    if !(2..=super::quantize::NORMAL_BITS).contains(&o.normal_bits) {
+        return bad(format!(
+            "normal_bits {} not in 2..={}",
+            o.normal_bits,
+            super::quantize::NORMAL_BITS
+        ));
+    }
     if !(o.trim_error >= 0.0 && o.trim_error.is_finite()) {
         return bad(format!(
             "trim_error {} must be finite and >= 0",
@@ -194,7 +209,30 @@ struct Prepared {
     quant: super::Quantization,
 }
 
-fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
+/// The median edge length of (up to 2^16 evenly spaced) input triangles; 0 for none.
+fn median_edge(mesh: &Mesh) -> f64 {
+    let tris = mesh.indices.len() / 3;
+    let stride = (tris >> 16).max(1);
+    let p = |i: u32| mesh.positions[i as usize].map(|x| x as f64);
+    let mut lens: Vec<f64> = (0..tris)
+        .step_by(stride)
+        .flat_map(|t| {
+            let idx = &mesh.indices[3 * t..3 * t + 3];
+            (0..3).map(move |k| {
+                let (a, b) = (p(idx[k]), p(idx[(k + 1) % 3]));
+                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+            })
+        })
+        .filter(|l| l.is_finite())
+        .collect();
+    if lens.is_empty() {
+        return 0.0;
+    }
+    let mid = lens.len() / 2;
+    *lens.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
+fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
     mesh.validate().map_err(|msg| BuildError::InvalidMesh {
         name: mesh.name.clone(),
         msg,
@@ -232,7 +270,13 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
             uv_hi[k] = 0.0;
         }
     }
-    let quant = make_quantization(lo, hi, uv_lo, uv_hi);
+    let extent = (0..3)
+        .map(|k| hi[k] as f64 - lo[k] as f64)
+        .fold(0.0f64, f64::max);
+    let position_bits = opts
+        .position_bits
+        .unwrap_or_else(|| super::quantize::auto_position_bits(extent, median_edge(mesh)));
+    let quant = make_quantization(lo, hi, uv_lo, uv_hi, position_bits, opts.normal_bits);
     let nv = mesh.positions.len();
     let mut key_to_vertex: HashMap<(PackedVertex, u16), u32, FxBuild> =
         HashMap::with_capacity_and_hasher(nv, FxBuild::default());
@@ -251,7 +295,7 @@ fn prepare(mesh: &Mesh) -> Result<Prepared, BuildError> {
         .enumerate()
         .map(|(v, &p)| PackedVertex {
             position: encode_position(&quant, p),
-            normal: encode_normal(mesh.normals[v]),
+            normal: encode_normal(mesh.normals[v], quant.normal_bits),
             uv: if mesh.has_uvs {
                 encode_uv(&quant, mesh.uvs[v])
             } else {
@@ -909,7 +953,7 @@ fn build_inner(
     opts: &BuildOptions,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<BuiltMesh, BuildError> {
-    let prep = prepare(mesh)?;
+    let prep = prepare(mesh, opts)?;
     let Prepared {
         vertices,
         materials: vmat,
@@ -928,7 +972,7 @@ fn build_inner(
             dropped,
         });
     }
-    let extent = (quant.step * ((1u64 << super::quantize::POSITION_BITS) - 1) as f64) as f32;
+    let extent = (quant.step * ((1u64 << quant.position_bits) - 1) as f64) as f32;
     let min_error = (extent * 1e-6).max(1e-30);
     let max_tris = opts.max_cluster_triangles as usize;
     let max_verts = MAX_CLUSTER_VERTICES as usize;
@@ -937,7 +981,7 @@ fn build_inner(
     let decode_uv_of = |v: usize| decode_uv(&quant, vertices[v].uv);
     let (attr_values, attr_weights) = super::simplify::attribute_values(
         vertices.len(),
-        &|v| decode_normal(vertices[v].normal),
+        &|v| decode_normal(vertices[v].normal, quant.normal_bits),
         mesh.has_uvs
             .then_some(&decode_uv_of as &(dyn Fn(usize) -> [f32; 2] + Sync)),
         opts.normal_weight,
@@ -1708,20 +1752,9 @@ fn assemble(
             let local_idx: Vec<u8> = local_idx.iter().map(|&l| l as u8).collect();
             let mut tri_bytes = Vec::new();
             super::pack_indices(&local_idx, local.len() as u32, &mut tri_bytes);
-            let base = local.iter().copied().min().unwrap_or(0);
-            let span = local.iter().copied().max().unwrap_or(0) - base;
-            let mut refs = Vec::with_capacity(local.len());
-            let flags = if span < 65536 {
-                for pair in local.chunks(2) {
-                    let a = pair[0] - base;
-                    let b = pair.get(1).map_or(0, |&b| b - base);
-                    refs.push(a | b << 16);
-                }
-                0
-            } else {
-                refs.extend_from_slice(&local);
-                CLUSTER_FLAG_REFS_U32
-            };
+            // Full u32 references until `page::paginate` gives each page its own u16 ones.
+            let refs = local.clone();
+            let flags = CLUSTER_FLAG_REFS_U32;
             let g = &wgroups[w.group as usize];
             let cluster = Cluster {
                 self_sphere: w.self_sphere,
@@ -1731,7 +1764,7 @@ fn assemble(
                 bounds_max: hi,
                 parent_error: g.error,
                 vertex_ref_offset: 0,
-                vertex_base: if flags == 0 { base } else { 0 },
+                data_offset: 0,
                 triangle_offset: 0,
                 counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16,
                 group: new_gid[w.group as usize],

@@ -86,6 +86,12 @@ pub struct BuildOptions {
     pub threads: Option<usize>,
     /// Graph partitioner for clusters and groups.
     pub partitioner: Partitioner,
+    /// Bits per position axis of the mesh's grid (its stated precision: the step is the largest
+    /// extent over `2^bits - 1`), 1..=21; `None`: [`quantize::auto_position_bits`] (at least
+    /// 16, finer when the median edge needs it).
+    pub position_bits: Option<u32>,
+    /// Bits per octahedral normal component, 2..=16.
+    pub normal_bits: u32,
 }
 
 /// Which partitioner makes clusters and groups.
@@ -123,6 +129,8 @@ impl Default for BuildOptions {
             uv_weight: DEFAULT_UV_WEIGHT,
             threads: None,
             partitioner: Partitioner::default(),
+            position_bits: None,
+            normal_bits: quantize::DEFAULT_NORMAL_BITS,
         }
     }
 }
@@ -193,8 +201,9 @@ pub struct Cluster {
     pub parent_error: f32,
     /// Offset (in u32 words) of the cluster's vertex references in [`BuiltMesh::vertex_refs`].
     pub vertex_ref_offset: u32,
-    /// Added to the u16 vertex references (unused with [`CLUSTER_FLAG_REFS_U32`]).
-    pub vertex_base: u32,
+    /// Word offset of the cluster's encoded data in its page's bytes (see [`page`]); 0 before
+    /// [`page::paginate`].
+    pub data_offset: u32,
     /// Offset (in bytes, a multiple of 4) of the cluster's packed local triangle indices in
     /// [`BuiltMesh::triangles`]: `3 * triangle_count` indices of [`index_bits`]`(vertex_count)`
     /// bits each, as a little-endian bit stream (index `k` starts at bit `k * bits`).
@@ -351,6 +360,10 @@ pub struct Quantization {
     /// UV range: code 0 is `uv_min`, code 65535 is `uv_max`.
     pub uv_min: [f32; 2],
     pub uv_max: [f32; 2],
+    /// Bits per position axis: `step` is the largest extent over `2^position_bits - 1`.
+    pub position_bits: u32,
+    /// Bits per octahedral normal component ([`quantize::normal_scale`]).
+    pub normal_bits: u32,
 }
 
 /// Statistics of one complete level of the DAG (the working set after an iteration).
@@ -467,7 +480,7 @@ impl BuiltMesh {
             self.vertex_refs[(c.vertex_ref_offset + i) as usize]
         } else {
             let w = self.vertex_refs[(c.vertex_ref_offset + i / 2) as usize];
-            c.vertex_base + ((w >> (16 * (i & 1))) & 0xffff)
+            self.pages[c.page as usize].vertex_first + ((w >> (16 * (i & 1))) & 0xffff)
         }
     }
 
@@ -557,7 +570,10 @@ impl BuiltMesh {
                         }
                         mesh.positions
                             .push(quantize::decode_position(&self.quantization, pv.position));
-                        mesh.normals.push(quantize::decode_normal(pv.normal));
+                        mesh.normals.push(quantize::decode_normal(
+                            pv.normal,
+                            self.quantization.normal_bits,
+                        ));
                         mesh.uvs
                             .push(quantize::decode_uv(&self.quantization, pv.uv));
                     }

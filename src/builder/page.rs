@@ -1,31 +1,50 @@
-//! Pages: the unit of geometry that is stored, read and (later) streamed.
+//! Pages: the unit of geometry that is stored, read and streamed.
 //!
 //! After the DAG is assembled, [`paginate`] puts its clusters into pages of at most
-//! [`PAGE_BYTES`] bytes of vertex data, vertex references and packed triangles. A page holds whole
-//! groups (the members of a group share a page; a group too large for one page spans consecutive
-//! pages) and is self-contained: its clusters reference only the page's own vertices (a vertex used
-//! by two pages is stored in both), through u16 references from the page's first vertex. The
-//! mesh's vertex, reference and triangle streams are the pages' ranges concatenated in page order,
-//! so the whole-mesh view ([`BuiltMesh::vertex_ref`], the verifier, the CPU oracles) is unchanged.
+//! [`PAGE_BYTES`] encoded bytes. A page holds whole groups (the members of a group share a page;
+//! a group too large for one page spans consecutive pages) and is self-contained.
+//!
+//! **Two views of a page.** In memory ([`BuiltMesh`]) a page is a range of the mesh's logical
+//! streams: its vertices (each distinct vertex once per page, in order of first use by the page's
+//! clusters), u16 vertex references from the page's first vertex, and packed triangles, so the
+//! whole-mesh view ([`BuiltMesh::vertex_ref`], the verifier, the CPU oracles) reads it directly.
+//! Stored (a `.vgeo` file's page) and on the GPU (a slot of the geometry pool) a page is its
+//! *encoded* bytes ([`encode_page`]): for each of its clusters, in index order, starting at word
+//! [`super::Cluster::data_offset`]:
+//!
+//! - a header of [`header_words`] u32 words: the smallest grid coordinates of its positions (3
+//!   words), the bit widths `x | y << 5 | z << 10 | normal << 15 | uv << 20 | material << 25`,
+//!   the smallest octahedral normal components (two i16), the smallest UV components (two u16,
+//!   meshes with UVs) and the smallest material (meshes with a material stream);
+//! - its vertices, each `vertex_bits` bits (the widths summed, normal and UV components twice)
+//!   of offsets from those minimums, as one little-endian bit stream (vertex `i` at bit
+//!   `i * vertex_bits`; fields x, y, z, normal x, normal y, u, v, material);
+//! - its packed triangles ([`super::pack_indices`]), word-aligned.
+//!
+//! After the last cluster a page has one spare zero word, so that a reader may always fetch the
+//! word after a field's first (the GPU reads every field as two words, without a branch).
+//!
+//! A vertex is stored once per cluster that uses it, with no reference indirection, in as few
+//! bits as the cluster's range needs; the codes are those of the mesh's grid, so the decoded
+//! values equal the logical ones bit for bit (the GPU's decoding is `shaders_glsl/common/raster.glsl`).
+//! [`decode_page`] turns the encoded bytes back into the logical streams.
 //!
 //! Pages are ordered from the DAG's root down (groups by decreasing build iteration): the first
 //! [`BuiltMesh::resident_pages`] pages hold every group simplified at or after the fallback level,
 //! the always-resident part from which the mesh can always be drawn.
-//!
-//! A page's bytes ([`page_bytes`], what a `.vgeo` file stores per page and the GPU's geometry pool
-//! holds per page slot) are its streams one after another, each 4-byte aligned: positions
-//! (2 x u32 per vertex), normals (u32), UVs (u32, meshes with UVs), materials (u16, meshes with
-//! per-vertex materials, padded to 4 bytes), vertex references (u32 words), packed triangles.
+
+use std::collections::HashMap;
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{BuiltMesh, CLUSTER_FLAG_REFS_U32, PackedVertex};
+use super::quantize::{POSITION_BITS, pack_coords, position_coords};
+use super::{BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, PackedVertex};
 
 pub use crate::shared::PAGE_BYTES;
 
-/// A page: its ranges in the mesh's streams ([`BuiltMesh::vertices`] and `vertex_materials`,
-/// [`BuiltMesh::vertex_refs`], [`BuiltMesh::triangles`]). Pages cover each stream in order,
-/// without gaps.
+/// A page: its ranges in the mesh's logical streams ([`BuiltMesh::vertices`] and
+/// `vertex_materials`, [`BuiltMesh::vertex_refs`], [`BuiltMesh::triangles`]), its clusters and
+/// the length of its encoded bytes. Pages cover each stream in order, without gaps.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct Page {
@@ -39,68 +58,412 @@ pub struct Page {
     pub triangle_bytes: u32,
     /// Clusters whose data the page holds ([`super::Cluster::page`]).
     pub cluster_count: u32,
-    pub _pad: u32,
+    /// Length of the page's encoded bytes ([`encode_page`], a multiple of 4).
+    pub bytes: u32,
 }
 const _: () = assert!(size_of::<Page>() == 32);
 
-/// Byte offsets of a page's streams in its bytes ([`page_bytes`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PageLayout {
-    pub positions: usize,
-    pub normals: usize,
-    /// Equal to `materials` when the mesh has no UVs.
-    pub uvs: usize,
-    /// Equal to `refs` when the mesh has no per-vertex materials.
-    pub materials: usize,
-    pub refs: usize,
-    pub triangles: usize,
-    /// Total bytes.
-    pub len: usize,
+/// Words of a cluster's header in an encoded page.
+pub fn header_words(has_uvs: bool, has_materials: bool) -> u32 {
+    5 + has_uvs as u32 + has_materials as u32
 }
 
-/// The layout of a page of `vertex_count` vertices, `ref_words` reference words and
-/// `triangle_bytes` triangle bytes.
-pub fn layout(
-    vertex_count: usize,
-    ref_words: usize,
-    triangle_bytes: usize,
-    has_uvs: bool,
-    has_materials: bool,
-) -> PageLayout {
-    let positions = 0;
-    let normals = positions + 8 * vertex_count;
-    let uvs = normals + 4 * vertex_count;
-    let materials = uvs + if has_uvs { 4 * vertex_count } else { 0 };
-    let refs = materials
-        + if has_materials {
-            (2 * vertex_count).next_multiple_of(4)
+/// Bits needed for values `0 ..= range`.
+fn width(range: u32) -> u32 {
+    32 - range.leading_zeros()
+}
+
+/// A cluster's encoding parameters: per field the minimum and the bit width.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ClusterCode {
+    pub position_min: [u32; 3],
+    pub widths: u32,
+    pub normal_min: u32,
+    pub uv_min: u32,
+    pub material_min: u32,
+}
+
+impl ClusterCode {
+    /// Bit widths: x, y, z, normal (per component), uv (per component), material.
+    pub fn field_widths(&self) -> [u32; 6] {
+        std::array::from_fn(|k| (self.widths >> (5 * k)) & 31)
+    }
+
+    /// Bits per vertex.
+    pub fn vertex_bits(&self) -> u32 {
+        let [x, y, z, n, uv, m] = self.field_widths();
+        x + y + z + 2 * n + 2 * uv + m
+    }
+
+    /// The code of a cluster's vertices (with their materials; `has_uvs`, `has_materials` say
+    /// which fields the mesh stores).
+    pub fn of(vertices: &[(PackedVertex, u16)], has_uvs: bool, has_materials: bool) -> Self {
+        let mut lo = [u32::MAX; 3];
+        let mut hi = [0u32; 3];
+        let mut nlo = [i32::MAX; 2];
+        let mut nhi = [i32::MIN; 2];
+        let mut ulo = [u32::MAX; 2];
+        let mut uhi = [0u32; 2];
+        let (mut mlo, mut mhi) = (u32::MAX, 0u32);
+        for (v, m) in vertices {
+            let c = position_coords(v.position);
+            for k in 0..3 {
+                lo[k] = lo[k].min(c[k]);
+                hi[k] = hi[k].max(c[k]);
+            }
+            let n = normal_parts(v.normal);
+            let u = [v.uv & 0xffff, v.uv >> 16];
+            for k in 0..2 {
+                nlo[k] = nlo[k].min(n[k]);
+                nhi[k] = nhi[k].max(n[k]);
+                ulo[k] = ulo[k].min(u[k]);
+                uhi[k] = uhi[k].max(u[k]);
+            }
+            mlo = mlo.min(*m as u32);
+            mhi = mhi.max(*m as u32);
+        }
+        if vertices.is_empty() {
+            return Self::default();
+        }
+        let nw = width((nhi[0] - nlo[0]).max(nhi[1] - nlo[1]) as u32);
+        let uw = if has_uvs {
+            width((uhi[0] - ulo[0]).max(uhi[1] - ulo[1]))
         } else {
             0
         };
-    let triangles = refs + 4 * ref_words;
-    PageLayout {
-        positions,
-        normals,
-        uvs,
-        materials,
-        refs,
-        triangles,
-        len: triangles + triangle_bytes,
+        let mw = if has_materials { width(mhi - mlo) } else { 0 };
+        let widths = [
+            width(hi[0] - lo[0]),
+            width(hi[1] - lo[1]),
+            width(hi[2] - lo[2]),
+            nw,
+            uw,
+            mw,
+        ]
+        .iter()
+        .enumerate()
+        .fold(0u32, |acc, (k, &w)| acc | w << (5 * k));
+        ClusterCode {
+            position_min: lo,
+            widths,
+            normal_min: (nlo[0] as u16 as u32) | (nlo[1] as u16 as u32) << 16,
+            uv_min: if has_uvs { ulo[0] | ulo[1] << 16 } else { 0 },
+            material_min: if has_materials { mlo } else { 0 },
+        }
     }
 }
 
-impl Page {
-    /// The layout of the page's bytes for a mesh with or without UVs and per-vertex materials.
-    pub fn layout(&self, has_uvs: bool, has_materials: bool) -> PageLayout {
-        layout(
-            self.vertex_count as usize,
-            self.ref_words as usize,
-            self.triangle_bytes as usize,
-            has_uvs,
-            has_materials,
-        )
+/// The two octahedral components of a normal code as signed values.
+fn normal_parts(code: u32) -> [i32; 2] {
+    [code as u16 as i16 as i32, (code >> 16) as u16 as i16 as i32]
+}
+
+/// Encoded words of a cluster of `vertex_count` vertices and `triangle_count` triangles under
+/// `code`.
+pub fn cluster_words(
+    code: &ClusterCode,
+    vertex_count: u32,
+    triangle_count: u32,
+    has_uvs: bool,
+    has_materials: bool,
+) -> usize {
+    header_words(has_uvs, has_materials) as usize
+        + (vertex_count as usize * code.vertex_bits() as usize).div_ceil(32)
+        + super::packed_triangle_bytes(vertex_count, triangle_count) / 4
+}
+
+/// Appends bits to a u32 stream.
+struct BitWriter<'a> {
+    out: &'a mut Vec<u32>,
+    start: usize,
+    bit: usize,
+}
+
+impl BitWriter<'_> {
+    fn put(&mut self, value: u32, bits: u32) {
+        if bits == 0 {
+            return;
+        }
+        let w = self.start + self.bit / 32;
+        let sh = (self.bit % 32) as u32;
+        while self.out.len() <= w + 1 {
+            self.out.push(0);
+        }
+        let v = value as u64 & ((1u64 << bits) - 1);
+        self.out[w] |= (v << sh) as u32;
+        self.out[w + 1] |= ((v << sh) >> 32) as u32;
+        self.bit += bits as usize;
     }
 }
+
+/// Reads bits from a u32 stream (`None` past its end).
+fn get_bits(words: &[u32], bit: usize, bits: u32) -> Option<u32> {
+    if bits == 0 {
+        return Some(0);
+    }
+    let w = bit / 32;
+    let sh = (bit % 32) as u32;
+    let lo = *words.get(w)? as u64;
+    let hi = if sh + bits > 32 {
+        *words.get(w + 1)? as u64
+    } else {
+        0
+    };
+    Some((((lo | hi << 32) >> sh) & ((1u64 << bits) - 1)) as u32)
+}
+
+/// The vertices (with materials) and packed triangles of cluster `c` of `m`, from the logical
+/// streams.
+fn cluster_vertices(m: &BuiltMesh, c: &Cluster) -> Vec<(PackedVertex, u16)> {
+    let mats = m.has_material_stream();
+    (0..c.vertex_count())
+        .map(|i| {
+            let v = m.vertex_ref(c, i) as usize;
+            (m.vertices[v], if mats { m.vertex_materials[v] } else { 0 })
+        })
+        .collect()
+}
+
+/// Appends cluster `c`'s encoded words (see the module's documentation) to `out`.
+fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
+    let (has_uvs, has_mats) = (m.has_uvs, m.has_material_stream());
+    let verts = cluster_vertices(m, c);
+    let code = ClusterCode::of(&verts, has_uvs, has_mats);
+    out.extend_from_slice(&code.position_min);
+    out.push(code.widths);
+    out.push(code.normal_min);
+    if has_uvs {
+        out.push(code.uv_min);
+    }
+    if has_mats {
+        out.push(code.material_min);
+    }
+    let [wx, wy, wz, wn, wu, wm] = code.field_widths();
+    let start = out.len();
+    let vertex_words = (verts.len() * code.vertex_bits() as usize).div_ceil(32);
+    let mut w = BitWriter { out, start, bit: 0 };
+    let nmin = normal_parts(code.normal_min);
+    for (v, mat) in &verts {
+        let p = position_coords(v.position);
+        w.put(p[0] - code.position_min[0], wx);
+        w.put(p[1] - code.position_min[1], wy);
+        w.put(p[2] - code.position_min[2], wz);
+        let n = normal_parts(v.normal);
+        w.put((n[0] - nmin[0]) as u32, wn);
+        w.put((n[1] - nmin[1]) as u32, wn);
+        w.put((v.uv & 0xffff) - (code.uv_min & 0xffff), wu);
+        w.put((v.uv >> 16) - (code.uv_min >> 16), wu);
+        w.put(*mat as u32 - code.material_min, wm);
+    }
+    out.resize(start + vertex_words, 0);
+    let t = c.triangle_offset as usize;
+    let len = super::packed_triangle_bytes(c.vertex_count(), c.triangle_count());
+    out.extend(
+        m.triangles[t..t + len]
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+    );
+}
+
+/// The encoded bytes of the page holding `clusters` (its clusters in index order, as
+/// [`clusters_by_page`] lists them); the clusters' `data_offset`s must be those [`paginate`]
+/// gave them.
+pub fn encode_page(m: &BuiltMesh, clusters: &[u32]) -> Vec<u8> {
+    let mut words: Vec<u32> = Vec::new();
+    for &ci in clusters {
+        let c = &m.clusters[ci as usize];
+        debug_assert_eq!(c.data_offset as usize, words.len());
+        encode_cluster(m, c, &mut words);
+    }
+    words.push(0);
+    bytemuck::cast_slice(&words).to_vec()
+}
+
+/// Page `page`'s encoded bytes (finds its clusters by a pass over all clusters: for one page at a
+/// time; [`encode_page`] with [`clusters_by_page`] for many).
+pub fn page_bytes(m: &BuiltMesh, page: u32) -> Vec<u8> {
+    let clusters: Vec<u32> = (0..m.clusters.len() as u32)
+        .filter(|&c| m.clusters[c as usize].page == page)
+        .collect();
+    encode_page(m, &clusters)
+}
+
+/// Per page, the clusters stored in it (in index order).
+pub fn clusters_by_page(m: &BuiltMesh) -> Vec<Vec<u32>> {
+    let mut by = vec![Vec::new(); m.pages.len()];
+    for (ci, c) in m.clusters.iter().enumerate() {
+        if let Some(b) = by.get_mut(c.page as usize) {
+            b.push(ci as u32);
+        }
+    }
+    by
+}
+
+/// One page's logical streams, decoded from its encoded bytes.
+pub struct PageStreams {
+    pub vertices: Vec<PackedVertex>,
+    /// Empty when the mesh has no per-vertex materials.
+    pub materials: Vec<u16>,
+    pub refs: Vec<u32>,
+    pub triangles: Vec<u8>,
+    /// Per cluster of the page (in the order given): its first reference word and its first
+    /// triangle byte, relative to the page's.
+    pub cluster_starts: Vec<(u32, u32)>,
+}
+
+/// Decodes a page's encoded bytes (the inverse of [`encode_page`]) into its logical streams:
+/// `clusters` are the page's clusters in index order. An error says what does not fit: a cluster
+/// whose data does not start where the previous ended, data past the end or bytes left over, a
+/// coordinate off the mesh's grid, a local index not below the cluster's vertex count.
+pub fn decode_page(
+    bytes: &[u8],
+    clusters: &[&Cluster],
+    has_uvs: bool,
+    has_materials: bool,
+) -> Result<PageStreams, String> {
+    if !bytes.len().is_multiple_of(4) {
+        return Err(format!("{} bytes, not whole words", bytes.len()));
+    }
+    let words: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let hw = header_words(has_uvs, has_materials) as usize;
+    let mut st = PageStreams {
+        vertices: Vec::new(),
+        materials: Vec::new(),
+        refs: Vec::new(),
+        triangles: Vec::new(),
+        cluster_starts: Vec::with_capacity(clusters.len()),
+    };
+    let mut slot: HashMap<(PackedVertex, u16), u32> = HashMap::new();
+    let mut at = 0usize;
+    let coord_max = (1u64 << POSITION_BITS) - 1;
+    for (k, c) in clusters.iter().enumerate() {
+        let bad = |what: String| format!("cluster {k} of the page: {what}");
+        if c.data_offset as usize != at {
+            return Err(bad(format!(
+                "its data starts at word {}, the previous cluster's ended at {at}",
+                c.data_offset
+            )));
+        }
+        let head = words
+            .get(at..at + hw)
+            .ok_or_else(|| bad("header past the page's end".into()))?;
+        let mut code = ClusterCode {
+            position_min: [head[0], head[1], head[2]],
+            widths: head[3],
+            normal_min: head[4],
+            uv_min: 0,
+            material_min: 0,
+        };
+        let mut h = 5;
+        if has_uvs {
+            code.uv_min = head[h];
+            h += 1;
+        }
+        if has_materials {
+            code.material_min = head[h];
+        }
+        let [wx, wy, wz, wn, wu, wm] = code.field_widths();
+        if code.widths >> 30 != 0
+            || wn > 16
+            || wu > 16
+            || wm > 16
+            || (!has_uvs && (wu != 0 || code.uv_min != 0))
+            || (!has_materials && (wm != 0 || code.material_min != 0))
+        {
+            return Err(bad(format!("bad field widths {:#x}", code.widths)));
+        }
+        let (vc, tc) = (c.vertex_count(), c.triangle_count());
+        let vbits = code.vertex_bits() as usize;
+        let vstart = at + hw;
+        let vwords = (vc as usize * vbits).div_ceil(32);
+        let twords = super::packed_triangle_bytes(vc, tc) / 4;
+        let end = vstart + vwords + twords;
+        if end > words.len() {
+            return Err(bad(format!(
+                "{} words past the page's end",
+                end - words.len()
+            )));
+        }
+        let vw = &words[vstart..vstart + vwords];
+        let nmin = normal_parts(code.normal_min);
+        let mut local = Vec::with_capacity(vc as usize);
+        for i in 0..vc as usize {
+            let mut bit = i * vbits;
+            let mut get = |w: u32| {
+                let v = get_bits(vw, bit, w).unwrap_or(0);
+                bit += w as usize;
+                v
+            };
+            let off = [get(wx), get(wy), get(wz)];
+            let mut p = [0u32; 3];
+            for a in 0..3 {
+                let v = code.position_min[a] as u64 + off[a] as u64;
+                if v > coord_max {
+                    return Err(bad(format!("vertex {i}: coordinate {v} off the grid")));
+                }
+                p[a] = v as u32;
+            }
+            let n = [
+                (nmin[0] + get(wn) as i32) as u16 as u32,
+                (nmin[1] + get(wn) as i32) as u16 as u32,
+            ];
+            let u = (code.uv_min & 0xffff) + get(wu);
+            let v = (code.uv_min >> 16) + get(wu);
+            let mat = code.material_min + get(wm);
+            if u > 0xffff || v > 0xffff || mat > 0xffff {
+                return Err(bad(format!("vertex {i}: UV or material out of range")));
+            }
+            let pv = PackedVertex {
+                position: pack_coords(p),
+                normal: n[0] | n[1] << 16,
+                uv: u | v << 16,
+            };
+            let key = (pv, mat as u16);
+            let next = st.vertices.len() as u32;
+            let s = *slot.entry(key).or_insert(next);
+            if s == next {
+                st.vertices.push(pv);
+                if has_materials {
+                    st.materials.push(mat as u16);
+                }
+            }
+            local.push(s);
+        }
+        if st.vertices.len() > MAX_PAGE_VERTICES {
+            return Err(format!("more than {MAX_PAGE_VERTICES} vertices"));
+        }
+        let tri: Vec<u8> = bytemuck::cast_slice(&words[vstart + vwords..end]).to_vec();
+        let ib = super::index_bits(vc);
+        if let Some(l) = (0..3 * tc as usize)
+            .map(|j| super::unpack_index(&tri, ib, j).unwrap_or(u32::MAX))
+            .find(|&l| l >= vc)
+        {
+            return Err(bad(format!("local index {l} >= vertex count {vc}")));
+        }
+        st.cluster_starts
+            .push((st.refs.len() as u32, st.triangles.len() as u32));
+        for pair in local.chunks(2) {
+            st.refs
+                .push(pair[0] | pair.get(1).copied().unwrap_or(0) << 16);
+        }
+        st.triangles.extend_from_slice(&tri);
+        at = end;
+    }
+    if words.len() != at + 1 || words[at] != 0 {
+        return Err(format!(
+            "{} words after its last cluster (one spare zero word expected)",
+            words.len() - at
+        ));
+    }
+    Ok(st)
+}
+
+/// Most vertices one page may hold (its logical references are u16 offsets from its first
+/// vertex).
+const MAX_PAGE_VERTICES: usize = 1 << 16;
 
 impl BuiltMesh {
     /// Whether the pages hold a material per vertex: the mesh has more than one material
@@ -108,198 +471,83 @@ impl BuiltMesh {
     pub fn has_material_stream(&self) -> bool {
         self.materials.len() > 1
     }
-
-    /// The layout of page `p`'s bytes.
-    pub fn page_layout(&self, p: &Page) -> PageLayout {
-        p.layout(self.has_uvs, self.has_material_stream())
-    }
 }
 
-/// Page `p`'s bytes (see the module's documentation). Panics when the page's ranges lie outside
-/// the mesh's streams (a loaded or built mesh's never do: the structure check covers them).
-pub fn page_bytes(m: &BuiltMesh, p: &Page) -> Vec<u8> {
-    let l = m.page_layout(p);
-    let mut out = Vec::with_capacity(l.len);
-    let vs = &m.vertices[p.vertex_first as usize..(p.vertex_first + p.vertex_count) as usize];
-    for v in vs {
-        out.extend_from_slice(bytemuck::bytes_of(&v.position));
-    }
-    for v in vs {
-        out.extend_from_slice(&v.normal.to_le_bytes());
-    }
-    if m.has_uvs {
-        for v in vs {
-            out.extend_from_slice(&v.uv.to_le_bytes());
-        }
-    }
-    if m.has_material_stream() {
-        let mats = &m.vertex_materials
-            [p.vertex_first as usize..(p.vertex_first + p.vertex_count) as usize];
-        out.extend_from_slice(bytemuck::cast_slice(mats));
-        out.resize(l.refs, 0);
-    }
-    let refs = &m.vertex_refs[p.ref_first as usize..(p.ref_first + p.ref_words) as usize];
-    out.extend_from_slice(bytemuck::cast_slice(refs));
-    out.extend_from_slice(
-        &m.triangles[p.triangle_first as usize..(p.triangle_first + p.triangle_bytes) as usize],
-    );
-    debug_assert_eq!(out.len(), l.len);
-    out
+/// The key that merges equal vertices within a page.
+type VertexKey = ([u32; 2], u32, u32, u16);
+
+fn vertex_key(v: &PackedVertex, material: u16) -> VertexKey {
+    (v.position, v.normal, v.uv, material)
 }
 
-/// One page's streams, decoded from its bytes.
-pub struct PageStreams {
-    pub vertices: Vec<PackedVertex>,
-    /// Empty when the mesh has no per-vertex materials.
-    pub materials: Vec<u16>,
-    pub refs: Vec<u32>,
-    pub triangles: Vec<u8>,
-}
-
-/// Decodes page `p`'s bytes (the inverse of [`page_bytes`]); `None` when `bytes` does not have
-/// the page's length.
-pub fn decode_page(
-    bytes: &[u8],
-    p: &Page,
-    has_uvs: bool,
-    has_materials: bool,
-) -> Option<PageStreams> {
-    let n = p.vertex_count as usize;
-    let l = p.layout(has_uvs, has_materials);
-    if bytes.len() != l.len {
-        return None;
-    }
-    let word =
-        |at: usize| u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
-    let vertices = (0..n)
-        .map(|i| PackedVertex {
-            position: [word(l.positions + 8 * i), word(l.positions + 8 * i + 4)],
-            normal: word(l.normals + 4 * i),
-            uv: if has_uvs { word(l.uvs + 4 * i) } else { 0 },
-        })
-        .collect();
-    let materials = if has_materials {
-        (0..n)
-            .map(|i| {
-                u16::from_le_bytes([bytes[l.materials + 2 * i], bytes[l.materials + 2 * i + 1]])
+/// Lays `m`'s clusters out in pages of at most `page_bytes` encoded bytes (see the module's
+/// documentation), rewriting the logical vertex, reference and triangle streams page by page and
+/// setting each cluster's `page` and `data_offset`; the clusters, groups and BVH keep their order
+/// and meaning. Groups simplified at or after iteration `resident_level` come first, in the
+/// always-resident pages. Deterministic.
+pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
+    use rayon::prelude::*;
+    let (has_uvs, has_mats) = (m.has_uvs, m.has_material_stream());
+    // Each cluster's encoded bytes (they do not depend on the page it lands in).
+    let sizes: Vec<usize> = {
+        let mm = &*m;
+        mm.clusters
+            .par_iter()
+            .map(|c| {
+                let code = ClusterCode::of(&cluster_vertices(mm, c), has_uvs, has_mats);
+                4 * cluster_words(
+                    &code,
+                    c.vertex_count(),
+                    c.triangle_count(),
+                    has_uvs,
+                    has_mats,
+                )
             })
             .collect()
-    } else {
-        Vec::new()
-    };
-    let refs = (0..p.ref_words as usize)
-        .map(|i| word(l.refs + 4 * i))
-        .collect();
-    Some(PageStreams {
-        vertices,
-        materials,
-        refs,
-        triangles: bytes[l.triangles..].to_vec(),
-    })
-}
-
-/// Bytes a page needs per vertex (positions, normals, UVs, materials before padding).
-fn vertex_bytes(has_uvs: bool, has_materials: bool) -> usize {
-    12 + if has_uvs { 4 } else { 0 } + if has_materials { 2 } else { 0 }
-}
-
-/// Most vertices one page may hold (its references are u16 offsets from its first vertex).
-const MAX_PAGE_VERTICES: usize = 1 << 16;
-
-/// Lays `m`'s clusters out in pages of at most `page_bytes` bytes (see the module's
-/// documentation), rewriting the vertex, reference and triangle streams; the clusters, groups and
-/// BVH keep their order and meaning (only where a cluster's data lies changes). Groups simplified
-/// at or after iteration `resident_level` come first, in the always-resident pages. Deterministic.
-pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
-    let has_materials = m.has_material_stream();
-    let vbytes = vertex_bytes(m.has_uvs, has_materials);
-    // Each cluster's global vertices, in local order.
-    let locals: Vec<Vec<u32>> = m
-        .clusters
-        .iter()
-        .map(|c| (0..c.vertex_count()).map(|i| m.vertex_ref(c, i)).collect())
-        .collect();
-    let tri_bytes = |ci: usize| {
-        let c = &m.clusters[ci];
-        super::packed_triangle_bytes(c.vertex_count(), c.triangle_count())
     };
     // Groups from the root down; ties in stored (BVH) order.
     let mut order: Vec<u32> = (0..m.groups.len() as u32).collect();
     order.sort_by_key(|&g| (std::cmp::Reverse(m.groups[g as usize].iteration), g));
 
-    // Page assignment: `mark[v]` is the page (+1) that already holds vertex v.
-    let nv = m.vertices.len();
-    let mut mark = vec![0u32; nv];
-    let mut trial = vec![0u32; nv];
-    let mut trial_id = 0u32;
     let mut page_of = vec![0u32; m.clusters.len()];
     let mut pages: Vec<Vec<u32>> = vec![Vec::new()];
-    let mut used = 0usize; // bytes of the current page (vertex bytes unpadded)
-    let mut used_vertices = 0usize;
+    // Bytes and (at most) logical vertices of the current page.
+    let mut used = (0usize, 0usize);
     let mut resident_pages = 0usize;
-    // Bytes and new vertices `members` would add to the current page.
-    let cost = |members: &[u32], mark: &[u32], trial: &mut [u32], trial_id: u32, page: u32| {
-        let mut new_v = 0usize;
-        let mut bytes = 0usize;
-        for &ci in members {
-            let c = &m.clusters[ci as usize];
-            bytes += 4 * c.vertex_count().div_ceil(2) as usize + tri_bytes(ci as usize);
-            for &v in &locals[ci as usize] {
-                if mark[v as usize] != page + 1 && trial[v as usize] != trial_id {
-                    trial[v as usize] = trial_id;
-                    new_v += 1;
-                }
-            }
-        }
-        (bytes + new_v * vbytes, new_v)
+    let cost = |members: &[u32]| {
+        members.iter().fold((0usize, 0usize), |(b, v), &c| {
+            (
+                b + sizes[c as usize],
+                v + m.clusters[c as usize].vertex_count() as usize,
+            )
+        })
+    };
+    // (The page's spare word counts too.)
+    let fits = |used: (usize, usize), add: (usize, usize)| {
+        used.0 + add.0 + 4 <= page_bytes && used.1 + add.1 <= MAX_PAGE_VERTICES
     };
     for (k, &g) in order.iter().enumerate() {
         let grp = &m.groups[g as usize];
         let members: Vec<u32> =
             (grp.first_cluster..grp.first_cluster + grp.cluster_count).collect();
-        let mut page = pages.len() as u32 - 1;
-        trial_id += 1;
-        let (add, new_v) = cost(&members, &mark, &mut trial, trial_id, page);
-        let fits = |used: usize, uv: usize, add: usize, nv: usize| {
-            used + add + 2 * (uv + nv) % 4 <= page_bytes && uv + nv <= MAX_PAGE_VERTICES
-        };
-        let chunks: Vec<Vec<u32>> = if fits(used, used_vertices, add, new_v) {
+        let add = cost(&members);
+        let chunks: Vec<Vec<u32>> = if fits(used, add) || fits((0, 0), add) {
             vec![members]
         } else {
-            if !pages[page as usize].is_empty() {
-                pages.push(Vec::new());
-                page += 1;
-                used = 0;
-                used_vertices = 0;
-            }
-            trial_id += 1;
-            let (add, new_v) = cost(&members, &mark, &mut trial, trial_id, page);
-            if fits(0, 0, add, new_v) {
-                vec![members]
-            } else {
-                members.iter().map(|&c| vec![c]).collect()
-            }
+            members.iter().map(|&c| vec![c]).collect()
         };
         for chunk in chunks {
-            trial_id += 1;
-            let (add, new_v) = cost(&chunk, &mark, &mut trial, trial_id, page);
-            if !fits(used, used_vertices, add, new_v) && !pages[page as usize].is_empty() {
+            let add = cost(&chunk);
+            if !fits(used, add) && !pages.last().is_some_and(|p| p.is_empty()) {
                 pages.push(Vec::new());
-                page += 1;
-                used = 0;
-                used_vertices = 0;
+                used = (0, 0);
             }
-            trial_id += 1;
-            let (add, new_v) = cost(&chunk, &mark, &mut trial, trial_id, page);
-            used += add;
-            used_vertices += new_v;
+            used = (used.0 + add.0, used.1 + add.1);
+            let page = pages.len() as u32 - 1;
             for &ci in &chunk {
                 page_of[ci as usize] = page;
-                pages[page as usize].push(ci);
-                for &v in &locals[ci as usize] {
-                    mark[v as usize] = page + 1;
-                }
             }
+            pages.last_mut().expect("a page").extend_from_slice(&chunk);
         }
         // The always-resident prefix ends with the last page holding a group at or above
         // `resident_level` (groups come in decreasing iteration).
@@ -307,63 +555,62 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
             resident_pages = pages.len();
         }
     }
-    drop(mark);
-    drop(trial);
 
-    // The new streams, page by page; clusters in index order within a page.
+    // The logical streams, page by page; clusters in index order within a page, each distinct
+    // vertex once per page in order of first use.
+    let nv = m.vertices.len();
     let mut vertices = Vec::with_capacity(nv);
     let mut vmat = Vec::new();
     let mut refs = Vec::with_capacity(m.vertex_refs.len());
     let mut triangles = Vec::with_capacity(m.triangles.len());
     let mut out_pages = Vec::with_capacity(pages.len());
-    let mut slot = vec![u32::MAX; nv];
+    let mut slot: HashMap<VertexKey, u32> = HashMap::new();
     for (pi, members) in pages.iter_mut().enumerate() {
         members.sort_unstable();
-        let page = Page {
+        let mut page = Page {
             vertex_first: vertices.len() as u32,
             ref_first: refs.len() as u32,
             triangle_first: triangles.len() as u32,
             cluster_count: members.len() as u32,
             ..Default::default()
         };
-        let mut local_vertices: Vec<u32> = Vec::new();
+        slot.clear();
+        let mut words = 0u32;
         for &ci in members.iter() {
-            let c = &mut m.clusters[ci as usize];
-            let src = c.triangle_offset as usize;
-            let len = super::packed_triangle_bytes(c.vertex_count(), c.triangle_count());
-            c.triangle_offset = triangles.len() as u32;
-            triangles.extend_from_slice(&m.triangles[src..src + len]);
-            c.vertex_ref_offset = refs.len() as u32;
-            c.vertex_base = page.vertex_first;
-            c.counts &= !(CLUSTER_FLAG_REFS_U32 << 16);
-            c.page = pi as u32;
-            let local: Vec<u32> = locals[ci as usize]
+            let c = m.clusters[ci as usize];
+            let local: Vec<u32> = cluster_vertices(m, &c)
                 .iter()
-                .map(|&v| {
-                    if slot[v as usize] == u32::MAX {
-                        slot[v as usize] = local_vertices.len() as u32;
-                        local_vertices.push(v);
+                .map(|(v, mat)| {
+                    let next = vertices.len() as u32 - page.vertex_first;
+                    let s = *slot.entry(vertex_key(v, *mat)).or_insert(next);
+                    if s == next {
+                        vertices.push(*v);
+                        if has_mats {
+                            vmat.push(*mat);
+                        }
                     }
-                    slot[v as usize]
+                    s
                 })
                 .collect();
+            let src = c.triangle_offset as usize;
+            let len = super::packed_triangle_bytes(c.vertex_count(), c.triangle_count());
+            let cm = &mut m.clusters[ci as usize];
+            cm.triangle_offset = triangles.len() as u32;
+            triangles.extend_from_slice(&m.triangles[src..src + len]);
+            cm.vertex_ref_offset = refs.len() as u32;
+            cm.data_offset = words;
+            cm.counts &= !(CLUSTER_FLAG_REFS_U32 << 16);
+            cm.page = pi as u32;
+            words += (sizes[ci as usize] / 4) as u32;
             for pair in local.chunks(2) {
                 refs.push(pair[0] | pair.get(1).copied().unwrap_or(0) << 16);
             }
         }
-        for &v in &local_vertices {
-            slot[v as usize] = u32::MAX;
-            vertices.push(m.vertices[v as usize]);
-            if has_materials {
-                vmat.push(m.vertex_materials[v as usize]);
-            }
-        }
-        out_pages.push(Page {
-            vertex_count: local_vertices.len() as u32,
-            ref_words: refs.len() as u32 - page.ref_first,
-            triangle_bytes: triangles.len() as u32 - page.triangle_first,
-            ..page
-        });
+        page.vertex_count = vertices.len() as u32 - page.vertex_first;
+        page.ref_words = refs.len() as u32 - page.ref_first;
+        page.triangle_bytes = triangles.len() as u32 - page.triangle_first;
+        page.bytes = 4 * (words + 1);
+        out_pages.push(page);
     }
     // Groups: the pages of their members (consecutive by construction).
     for g in m.groups.iter_mut() {
@@ -382,7 +629,6 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
     m.pages = out_pages;
     m.resident_pages = resident_pages.max(1) as u32;
 }
-
 /// Per group, the pages that must be resident whenever all of the group's pages are (sorted):
 /// those of the groups of the clusters it produced (their parents' siblings), so that a resident
 /// group's products can be drawn and refined into it.
@@ -432,15 +678,60 @@ pub fn close_residency(m: &BuiltMesh, needs: &[Vec<u32>], resident: &mut [bool])
 }
 
 #[cfg(test)]
+#[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn layout_aligns_every_stream() {
-        let l = layout(3, 2, 8, true, true);
-        assert_eq!((l.normals, l.uvs, l.materials, l.refs), (24, 36, 48, 56));
-        assert_eq!((l.triangles, l.len), (64, 72));
-        let l = layout(3, 2, 8, false, false);
-        assert_eq!((l.uvs, l.materials, l.refs, l.triangles), (36, 36, 36, 44));
+    fn bits_round_trip_across_words() {
+        let mut out = vec![7u32];
+        let mut w = BitWriter {
+            out: &mut out,
+            start: 1,
+            bit: 0,
+        };
+        let fields = [
+            (5u32, 3u32),
+            (0x1fffff, 21),
+            (0, 0),
+            (0xabcd, 16),
+            (1, 1),
+            (0x7fff, 15),
+        ];
+        for &(v, b) in &fields {
+            w.put(v, b);
+        }
+        assert_eq!(out[0], 7, "the writer touched a word before its start");
+        let mut bit = 0;
+        for &(v, b) in &fields {
+            assert_eq!(get_bits(&out[1..], bit, b), Some(v));
+            bit += b as usize;
+        }
+        let end = 32 * (out.len() - 1);
+        assert_eq!(get_bits(&out[1..], end, 8), None);
+        assert_eq!(get_bits(&out[1..], end - 4, 8), None);
+    }
+
+    #[test]
+    fn cluster_code_spans_signed_normals_and_materials() {
+        let v = |x: u32, n: [i16; 2], uv: u32| PackedVertex {
+            position: pack_coords([x, 5, (1 << POSITION_BITS) - 1]),
+            normal: n[0] as u16 as u32 | (n[1] as u16 as u32) << 16,
+            uv,
+        };
+        let verts = [
+            (v(10, [-32767, 3], 0x0001_0002), 4u16),
+            (v(13, [32767, 3], 0x0009_0002), 6u16),
+        ];
+        let c = ClusterCode::of(&verts, true, true);
+        assert_eq!(c.position_min, [10, 5, (1 << POSITION_BITS) - 1]);
+        // x spans 3 (2 bits), y and z nothing, normals 65534 (16 bits), UVs 8 (4 bits),
+        // materials 2 (2 bits).
+        assert_eq!(c.field_widths(), [2, 0, 0, 16, 4, 2]);
+        assert_eq!(c.vertex_bits(), 2 + 32 + 8 + 2);
+        assert_eq!(normal_parts(c.normal_min), [-32767, 3]);
+        assert_eq!((c.uv_min, c.material_min), (0x0001_0002, 4));
+        let plain = ClusterCode::of(&verts, false, false);
+        assert_eq!(plain.field_widths()[4..], [0, 0]);
     }
 }

@@ -1,25 +1,53 @@
-//! Vertex quantization: positions on a per-mesh grid (21 bits per axis), octahedral normals
-//! (2 x 16 bits), UVs (2 x 16 bits over the mesh's UV range). Decoding is deterministic (f64 math,
-//! one rounding to f32), so equal codes always decode to equal positions: the cut stays crack-free.
+//! Vertex quantization: positions on a per-mesh grid ([`Quantization::position_bits`] bits per
+//! axis over the mesh's largest extent, at most 21), octahedral normals
+//! ([`Quantization::normal_bits`] bits per component, at most 16, stored as two i16), UVs (2 x 16
+//! bits over the mesh's UV range). The precision is the mesh's stated one: every position is
+//! within half a grid step of its input, and the builder works on the quantized values. Decoding
+//! is deterministic (f64 math, one rounding to f32), so equal codes always decode to equal
+//! positions: the cut stays crack-free.
 
 use super::Quantization;
 
-/// Bits per position axis.
+/// Most bits per position axis (the packed code holds 3 x 21 bits).
 pub const POSITION_BITS: u32 = 21;
 const POSITION_MAX: u64 = (1 << POSITION_BITS) - 1;
+/// Fewest bits per position axis [`auto_position_bits`] chooses.
+pub const AUTO_POSITION_BITS_MIN: u32 = 16;
+/// [`auto_position_bits`]: grid steps per median input edge, at least.
+pub const AUTO_STEPS_PER_EDGE: f64 = 64.0;
+/// Most bits per normal component.
+pub const NORMAL_BITS: u32 = 16;
+/// Default normal bits per component (see docs/architecture.md, "Compact pages").
+pub const DEFAULT_NORMAL_BITS: u32 = 12;
 
-/// The grid for positions in `[lo, hi]` and UVs in `[uv_lo, uv_hi]`.
+/// The grid bits per axis a mesh of largest extent `extent` and median edge length `median_edge`
+/// needs: at least [`AUTO_POSITION_BITS_MIN`], and a step of at most 1/[`AUTO_STEPS_PER_EDGE`] of
+/// the median edge (so that its typical triangle keeps its shape), at most [`POSITION_BITS`].
+pub fn auto_position_bits(extent: f64, median_edge: f64) -> u32 {
+    if !(extent > 0.0 && median_edge > 0.0 && extent.is_finite() && median_edge.is_finite()) {
+        return POSITION_BITS;
+    }
+    let steps = extent / median_edge * AUTO_STEPS_PER_EDGE;
+    (steps.log2().ceil().max(0.0) as u32).clamp(AUTO_POSITION_BITS_MIN, POSITION_BITS)
+}
+
+/// The grid for positions in `[lo, hi]` with `position_bits` bits per axis (clamped to
+/// 1..=[`POSITION_BITS`]), normals with `normal_bits` bits per component (clamped to
+/// 2..=[`NORMAL_BITS`]) and UVs in `[uv_lo, uv_hi]`.
 pub fn make_quantization(
     lo: [f32; 3],
     hi: [f32; 3],
     uv_lo: [f32; 2],
     uv_hi: [f32; 2],
+    position_bits: u32,
+    normal_bits: u32,
 ) -> Quantization {
+    let position_bits = position_bits.clamp(1, POSITION_BITS);
     let extent = (0..3)
         .map(|k| hi[k] as f64 - lo[k] as f64)
         .fold(0.0f64, f64::max);
     let step = if extent > 0.0 {
-        extent / POSITION_MAX as f64
+        extent / ((1u64 << position_bits) - 1) as f64
     } else {
         1.0
     };
@@ -28,6 +56,8 @@ pub fn make_quantization(
         step,
         uv_min: uv_lo,
         uv_max: uv_hi,
+        position_bits,
+        normal_bits: normal_bits.clamp(2, NORMAL_BITS),
     }
 }
 
@@ -36,13 +66,22 @@ pub fn encode_position(q: &Quantization, p: [f32; 3]) -> [u32; 2] {
     let mut code = 0u64;
     for (k, &pk) in p.iter().enumerate() {
         let t = ((pk as f64 - q.origin[k]) / q.step).round();
+        let max = ((1u64 << q.position_bits.clamp(1, POSITION_BITS)) - 1) as f64;
         let t = if t.is_finite() {
-            t.clamp(0.0, POSITION_MAX as f64) as u64
+            t.clamp(0.0, max) as u64
         } else {
             0
         };
         code |= t << (POSITION_BITS * k as u32);
     }
+    [code as u32, (code >> 32) as u32]
+}
+
+/// The position code of grid coordinates (each below `2^POSITION_BITS`).
+pub fn pack_coords(c: [u32; 3]) -> [u32; 2] {
+    let code = c.iter().enumerate().fold(0u64, |acc, (k, &x)| {
+        acc | (x as u64 & POSITION_MAX) << (POSITION_BITS * k as u32)
+    });
     [code as u32, (code >> 32) as u32]
 }
 
@@ -66,19 +105,26 @@ pub fn decode_position(q: &Quantization, code: [u32; 2]) -> [f32; 3] {
     ]
 }
 
-fn snorm16(v: f32) -> u32 {
-    ((v.clamp(-1.0, 1.0) * 32767.0).round() as i32 as i16) as u16 as u32
+/// The largest magnitude of a normal component code with `bits` bits.
+pub fn normal_scale(bits: u32) -> f32 {
+    ((1u32 << (bits.clamp(2, NORMAL_BITS) - 1)) - 1) as f32
 }
 
-fn unsnorm16(c: u32) -> f32 {
-    (c as u16 as i16) as f32 / 32767.0
+fn snorm(v: f32, scale: f32) -> u32 {
+    ((v.clamp(-1.0, 1.0) * scale).round() as i32 as i16) as u16 as u32
 }
 
-/// Octahedral code of a normal (any length; zero or non-finite gives +Z).
-pub fn encode_normal(n: [f32; 3]) -> u32 {
+fn unsnorm(c: u32, scale: f32) -> f32 {
+    (c as u16 as i16) as f32 / scale
+}
+
+/// Octahedral code of a normal with `bits` bits per component (any length; zero or non-finite
+/// gives +Z): two i16 of magnitude at most [`normal_scale`]`(bits)`.
+pub fn encode_normal(n: [f32; 3], bits: u32) -> u32 {
+    let scale = normal_scale(bits);
     let l = n[0].abs() + n[1].abs() + n[2].abs();
     if !(l.is_finite() && l > 0.0) {
-        return snorm16(0.0) | snorm16(0.0) << 16;
+        return snorm(0.0, scale) | snorm(0.0, scale) << 16;
     }
     let (mut x, mut y, z) = (n[0] / l, n[1] / l, n[2] / l);
     if z < 0.0 {
@@ -86,13 +132,15 @@ pub fn encode_normal(n: [f32; 3]) -> u32 {
         x = (1.0 - oy.abs()) * if ox >= 0.0 { 1.0 } else { -1.0 };
         y = (1.0 - ox.abs()) * if oy >= 0.0 { 1.0 } else { -1.0 };
     }
-    snorm16(x) | snorm16(y) << 16
+    snorm(x, scale) | snorm(y, scale) << 16
 }
 
-/// Unit normal of an octahedral code.
-pub fn decode_normal(code: u32) -> [f32; 3] {
-    let x = unsnorm16(code & 0xffff);
-    let y = unsnorm16(code >> 16);
+/// Unit normal of an octahedral code of `bits` bits per component (as
+/// `shaders_glsl/common/raster.glsl` decodes it).
+pub fn decode_normal(code: u32, bits: u32) -> [f32; 3] {
+    let scale = normal_scale(bits);
+    let x = unsnorm(code & 0xffff, scale);
+    let y = unsnorm(code >> 16, scale);
     let z = 1.0 - x.abs() - y.abs();
     let t = (-z).max(0.0);
     let x = x + if x >= 0.0 { -t } else { t };

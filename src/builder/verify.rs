@@ -231,6 +231,11 @@ fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
             s.add(format!("cluster {ci}: page {} out of range", c.page));
             continue;
         };
+        if c.flags() != 0 {
+            // Full u32 references exist only inside the builder, before pagination.
+            s.add(format!("cluster {ci}: flags {:#x}", c.flags()));
+            continue;
+        }
         let ro = c.vertex_ref_offset as u64;
         if ro < p.ref_first as u64
             || ro + c.vertex_ref_words() as u64 > p.ref_first as u64 + p.ref_words as u64
@@ -261,12 +266,8 @@ fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
             p.vertex_first as u64 + p.vertex_count as u64,
         );
         for i in 0..vc {
-            let v = if c.flags() & super::CLUSTER_FLAG_REFS_U32 != 0 {
-                m.vertex_refs[(ro + i as u64) as usize] as u64
-            } else {
-                let w = m.vertex_refs[(ro + i as u64 / 2) as usize];
-                c.vertex_base as u64 + ((w >> (16 * (i & 1))) & 0xffff) as u64
-            };
+            let w = m.vertex_refs[(ro + i as u64 / 2) as usize];
+            let v = pv0 + ((w >> (16 * (i & 1))) & 0xffff) as u64;
             if v >= nv || v < pv0 || v >= pv1 {
                 s.add(format!(
                     "cluster {ci}: vertex reference {i} = {v} outside its page {} \
@@ -361,10 +362,13 @@ fn check_pages(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
         v += p.vertex_count as u64;
         r += p.ref_words as u64;
         t += p.triangle_bytes as u64;
-        let len = m.page_layout(p).len;
-        if len > super::page::PAGE_BYTES as usize || p.vertex_count > 1 << 16 {
+        let len = p.bytes as usize;
+        if len > super::page::PAGE_BYTES as usize
+            || !len.is_multiple_of(4)
+            || p.vertex_count > 1 << 16
+        {
             s.add(format!(
-                "page {pi}: {len} bytes, {} vertices (at most {} and 65536)",
+                "page {pi}: {len} bytes, {} vertices (at most {} in words and 65536)",
                 p.vertex_count,
                 super::page::PAGE_BYTES
             ));
@@ -381,6 +385,20 @@ fn check_pages(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
             m.vertex_refs.len(),
             m.triangles.len()
         ));
+    }
+    let mut counts = vec![0u64; m.pages.len()];
+    for c in &m.clusters {
+        if let Some(n) = counts.get_mut(c.page as usize) {
+            *n += 1;
+        }
+    }
+    for (pi, (p, &n)) in m.pages.iter().zip(&counts).enumerate() {
+        if p.cluster_count as u64 != n {
+            s.add(format!(
+                "page {pi}: says it holds {} clusters, {n} name it",
+                p.cluster_count
+            ));
+        }
     }
     s.r.violation_count == before
 }

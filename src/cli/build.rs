@@ -68,6 +68,14 @@ pub struct BuildArgs {
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long = "threads")]
     pub threads: Option<usize>,
+    /// The mesh's position precision: bits per axis of its grid (1-21; the step is its largest
+    /// extent over 2^BITS - 1). Default: at least 16, finer when a step would exceed 1/64 of the
+    /// median edge. Fewer bits make smaller pages; positions move by at most half a step.
+    #[arg(long = "position-bits")]
+    pub position_bits: Option<u32>,
+    /// Bits per octahedral normal component (2-16). Fewer bits make smaller pages.
+    #[arg(long = "normal-bits", default_value_t = BuildOptions::default().normal_bits)]
+    pub normal_bits: u32,
     /// Print the statistics as JSON.
     #[arg(long = "json")]
     pub json: bool,
@@ -108,6 +116,8 @@ pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
         normal_weight: a.normal_weight,
         uv_weight: a.uv_weight,
         threads: a.threads,
+        position_bits: a.position_bits,
+        normal_bits: a.normal_bits,
         partitioner: match a.partitioner.as_str() {
             "metis" => Partitioner::Metis,
             "meshopt-flex" => Partitioner::MeshoptFlex,
