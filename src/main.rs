@@ -328,7 +328,38 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.lod_strip {
         return lod_strip(a, flags);
     }
+    if a.geometry_budget.is_some() && a.mode != "vgeo" {
+        anyhow::bail!("--geometry-budget streams vgeo's pages: it needs --mode vgeo");
+    }
     let t0 = std::time::Instant::now();
+    if let Some(mib) = a.geometry_budget {
+        // Streamed: `.vgeo` files are opened head-only and read page by page.
+        let streamed = vgeo::StreamedScene::load(&a.input, &|line| eprintln!("{line}"))?;
+        for w in &streamed.warnings {
+            eprintln!("warning: {w}");
+        }
+        let camera = streamed.camera(a.width, a.height);
+        let info = SceneSummary {
+            meshes: streamed.scene.meshes.len(),
+            instances: streamed.placements.len(),
+            triangles: streamed.scene_triangles(),
+        };
+        let load_s = t0.elapsed().as_secs_f64();
+        let ctx = context()?;
+        let light = streamed.light;
+        let (r, streamer) = streamed_renderer(&ctx, streamed, mib, a)?;
+        return render_vgeo(
+            a,
+            &ctx,
+            r,
+            Some(streamer),
+            &camera,
+            &light,
+            &info,
+            load_s,
+            (view, flags, emit),
+        );
+    }
     let loaded = LoadedScene::load(&a.input)?;
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
@@ -336,102 +367,23 @@ fn render(a: &RenderArgs) -> Result<()> {
     let camera = loaded.camera(a.width, a.height);
     let load_s = t0.elapsed().as_secs_f64();
     let ctx = context()?;
-    let mut stats_lines = Vec::new();
-    if a.geometry_budget.is_some() && a.mode != "vgeo" {
-        anyhow::bail!("--geometry-budget streams vgeo's pages: it needs --mode vgeo");
-    }
     if a.mode == "vgeo" {
         let built = loaded.built_meshes(&|line| eprintln!("{line}"))?;
-        let (mut r, mut streamer) = match a.geometry_budget {
-            None => (VgeoRenderer::new(&ctx, &built, &loaded.placements)?, None),
-            Some(mib) => {
-                let (r, s) = streamed_renderer(&ctx, &built, &loaded.placements, mib, a)?;
-                (r, Some(s))
-            }
-        };
-        r.set_emit_path(emit);
-        let settings = FrameSettings {
-            error_px: a.error_px,
-            hw_threshold_px: a.hw_threshold,
-            flags,
-            occlusion: !a.no_occlusion,
-        };
-        let mut last = None;
-        for i in 0..a.frames {
-            let mut frame = || {
-                r.render(&camera, a.width, a.height, &settings, view, &loaded.light)
-                    .map_err(anyhow::Error::from)
-            };
-            last = Some(if i + 1 == a.frames {
-                captured(a, &ctx, "vgeo frame", frame)?
-            } else {
-                frame()?
-            });
-            if let Some(s) = streamer.as_mut() {
-                let st = s.update(&mut r.scene)?;
-                for e in s.take_errors() {
-                    eprintln!("warning: {e}");
-                }
-                if a.stats {
-                    stats_lines.push(format!(
-                        "  streaming after frame {}: {} pages resident ({:.2} MiB), {} requested, {} loaded ({:.2} MiB), {} evicted",
-                        i + 1,
-                        st.resident_pages,
-                        st.resident_bytes as f64 / (1 << 20) as f64,
-                        st.requests,
-                        st.uploads,
-                        st.upload_bytes as f64 / (1 << 20) as f64,
-                        st.evictions
-                    ));
-                }
-            }
-        }
-        let vf = last.context("no frame rendered")?;
-        vf.check()
-            .map_err(|e| anyhow::anyhow!("the frame is incomplete: {e}"))?;
-        let drawn_clusters: u32 = [&vf.main.counters, &vf.post.counters]
-            .iter()
-            .map(|c| c.sw_count + c.hw_count)
-            .sum();
-        let mut summary = vec![format!("clusters:   {drawn_clusters} drawn")];
-        if let Some(path) = &a.clusters_out {
-            let cl = r.render(
-                &camera,
-                a.width,
-                a.height,
-                &settings,
-                ViewMode::Clusters,
-                &loaded.light,
-            )?;
-            cl.frame.save_png(path)?;
-            summary.push(format!("wrote {} (clusters view)", path.display()));
-        }
-        for (name, c) in [("main", &vf.main.counters), ("post", &vf.post.counters)] {
-            stats_lines.push(format!(
-                "  {name}: instances {}/{} visible, {} BVH nodes, {} clusters tested, {} drawn ({} sw, {} hw), {} triangles; deferred {} inst / {} nodes / {} clusters; occluded {} inst / {} nodes / {} clusters",
-                c.instances_visible,
-                c.instances_tested,
-                c.nodes_visited,
-                c.clusters_tested,
-                c.sw_count + c.hw_count,
-                c.sw_count,
-                c.hw_count,
-                c.triangles,
-                c.post_instance_count,
-                c.post_node_count,
-                c.post_cluster_count,
-                c.occluded_instances,
-                c.occluded_nodes,
-                c.occluded_clusters,
-            ));
-        }
-        stats_lines.push(format!(
-            "  visibility buffer: {:?} path; geometry {:.1} MiB",
-            r.vis_path(),
-            r.scene.geometry_bytes() as f64 / (1 << 20) as f64
-        ));
-        return finish(a, &ctx, &loaded, vf.frame, load_s, &summary, &stats_lines);
+        let r = VgeoRenderer::new(&ctx, &built, &loaded.placements)?;
+        let info = SceneSummary::of(&loaded);
+        return render_vgeo(
+            a,
+            &ctx,
+            r,
+            None,
+            &camera,
+            &loaded.light,
+            &info,
+            load_s,
+            (view, flags, emit),
+        );
     }
+    let stats_lines = Vec::new();
     let shade = view.shade_mode().with_context(|| {
         format!(
             "--view {} needs --mode vgeo (brute and lod show: lit, albedo, normals, materials)",
@@ -462,15 +414,122 @@ fn render(a: &RenderArgs) -> Result<()> {
             })?
         }
     };
-    finish(a, &ctx, &loaded, frame, load_s, &[], &stats_lines)
+    finish(
+        a,
+        &ctx,
+        &SceneSummary::of(&loaded),
+        frame,
+        load_s,
+        &[],
+        &stats_lines,
+    )
 }
 
-/// A vgeo renderer whose meshes stream their pages under `--geometry-budget` (the scene's meshes
-/// are in memory; each serves its own pages).
+/// Renders `a.frames` vgeo frames (streaming between them when a streamer is given) and reports
+/// the last.
+#[allow(clippy::too_many_arguments)]
+fn render_vgeo(
+    a: &RenderArgs,
+    ctx: &Context,
+    mut r: VgeoRenderer,
+    mut streamer: Option<vgeo::Streamer>,
+    camera: &vgeo::Camera,
+    light: &vgeo::Light,
+    info: &SceneSummary,
+    load_s: f64,
+    (view, flags, emit): (ViewMode, u32, vgeo::EmitPath),
+) -> Result<()> {
+    let camera = *camera;
+    let mut stats_lines = Vec::new();
+    r.set_emit_path(emit);
+    let settings = FrameSettings {
+        error_px: a.error_px,
+        hw_threshold_px: a.hw_threshold,
+        flags,
+        occlusion: !a.no_occlusion,
+    };
+    let mut last = None;
+    for i in 0..a.frames {
+        let mut frame = || {
+            r.render(&camera, a.width, a.height, &settings, view, light)
+                .map_err(anyhow::Error::from)
+        };
+        last = Some(if i + 1 == a.frames {
+            captured(a, ctx, "vgeo frame", frame)?
+        } else {
+            frame()?
+        });
+        if let Some(s) = streamer.as_mut() {
+            let st = s.update(&mut r.scene)?;
+            for e in s.take_errors() {
+                eprintln!("warning: {e}");
+            }
+            if a.stats {
+                stats_lines.push(format!(
+                    "  streaming after frame {}: {} pages resident ({:.2} MiB), {} requested, {} loaded ({:.2} MiB), {} evicted",
+                    i + 1,
+                    st.resident_pages,
+                    st.resident_bytes as f64 / (1 << 20) as f64,
+                    st.requests,
+                    st.uploads,
+                    st.upload_bytes as f64 / (1 << 20) as f64,
+                    st.evictions
+                ));
+            }
+        }
+    }
+    let vf = last.context("no frame rendered")?;
+    vf.check()
+        .map_err(|e| anyhow::anyhow!("the frame is incomplete: {e}"))?;
+    let drawn_clusters: u32 = [&vf.main.counters, &vf.post.counters]
+        .iter()
+        .map(|c| c.sw_count + c.hw_count)
+        .sum();
+    let mut summary = vec![format!("clusters:   {drawn_clusters} drawn")];
+    if let Some(path) = &a.clusters_out {
+        let cl = r.render(
+            &camera,
+            a.width,
+            a.height,
+            &settings,
+            ViewMode::Clusters,
+            light,
+        )?;
+        cl.frame.save_png(path)?;
+        summary.push(format!("wrote {} (clusters view)", path.display()));
+    }
+    for (name, c) in [("main", &vf.main.counters), ("post", &vf.post.counters)] {
+        stats_lines.push(format!(
+            "  {name}: instances {}/{} visible, {} BVH nodes, {} clusters tested, {} drawn ({} sw, {} hw), {} triangles; deferred {} inst / {} nodes / {} clusters; occluded {} inst / {} nodes / {} clusters",
+            c.instances_visible,
+            c.instances_tested,
+            c.nodes_visited,
+            c.clusters_tested,
+            c.sw_count + c.hw_count,
+            c.sw_count,
+            c.hw_count,
+            c.triangles,
+            c.post_instance_count,
+            c.post_node_count,
+            c.post_cluster_count,
+            c.occluded_instances,
+            c.occluded_nodes,
+            c.occluded_clusters,
+        ));
+    }
+    stats_lines.push(format!(
+        "  visibility buffer: {:?} path; geometry {:.1} MiB",
+        r.vis_path(),
+        r.scene.geometry_bytes() as f64 / (1 << 20) as f64
+    ));
+    finish(a, ctx, info, vf.frame, load_s, &summary, &stats_lines)
+}
+
+/// A vgeo renderer whose meshes stream their pages under `--geometry-budget` (`.vgeo` files from
+/// the file, page by page; the other meshes from memory).
 fn streamed_renderer(
     ctx: &Context,
-    built: &[&vgeo::BuiltMesh],
-    placements: &[vgeo::Placement],
+    streamed: vgeo::StreamedScene,
     budget_mib: f64,
     a: &RenderArgs,
 ) -> Result<(VgeoRenderer, vgeo::Streamer)> {
@@ -485,15 +544,9 @@ fn streamed_renderer(
         upload_bytes_per_frame: mib(a.stream_mib_per_frame, "--stream-mib-per-frame")?,
     };
     let mut r = VgeoRenderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
-    let sources: Vec<(vgeo::BuiltMesh, Box<dyn vgeo::PageSource>)> = built
-        .iter()
-        .map(|m| {
-            let m: vgeo::BuiltMesh = (*m).clone();
-            (m.clone(), Box::new(m) as Box<dyn vgeo::PageSource>)
-        })
-        .collect();
-    let (streamer, handles) = vgeo::Streamer::new(&mut r.scene, sources, opts)?;
-    let descs: Vec<vgeo::InstanceDesc> = placements
+    let (streamer, handles) = vgeo::Streamer::new(&mut r.scene, streamed.meshes, opts)?;
+    let descs: Vec<vgeo::InstanceDesc> = streamed
+        .placements
         .iter()
         .map(|p| vgeo::InstanceDesc {
             mesh: handles[p.mesh as usize],
@@ -537,34 +590,41 @@ fn lod_strip(a: &RenderArgs, flags: u32) -> Result<()> {
     Ok(())
 }
 
+/// What the report says of the scene rendered.
+struct SceneSummary {
+    meshes: usize,
+    instances: usize,
+    /// Full-detail triangles, instanced.
+    triangles: u64,
+}
+
+impl SceneSummary {
+    fn of(loaded: &LoadedScene) -> Self {
+        Self {
+            meshes: loaded.prepared.len(),
+            instances: loaded.placements.len(),
+            triangles: loaded.scene_triangles(),
+        }
+    }
+}
+
 /// Writes the image and prints the report of a render.
 fn finish(
     a: &RenderArgs,
     ctx: &Context,
-    loaded: &LoadedScene,
+    scene: &SceneSummary,
     frame: vgeo::Frame,
     load_s: f64,
     summary: &[String],
     stats_lines: &[String],
 ) -> Result<()> {
     frame.save_png(&a.out)?;
-    let meshes = loaded.meshes();
-    let scene_tris: u64 = loaded
-        .placements
-        .iter()
-        .map(|p| {
-            meshes
-                .get(p.mesh as usize)
-                .map_or(0, |m| m.indices.len() as u64 / 3)
-        })
-        .sum();
+    let scene_tris = scene.triangles;
     println!("device:     {}", ctx.caps().device_name);
     println!("resolution: {}x{} ({} mode)", a.width, a.height, a.mode);
     println!(
         "scene:      {} meshes, {} instances, {} triangles (loaded in {load_s:.2} s)",
-        loaded.prepared.len(),
-        loaded.placements.len(),
-        scene_tris
+        scene.meshes, scene.instances, scene_tris
     );
     println!(
         "triangles:  {} drawn ({:.1} % of the scene)",

@@ -440,3 +440,156 @@ impl Streamer {
 fn mib(bytes: u64) -> String {
     format!("{:.2} MiB", bytes as f64 / (1u64 << 20) as f64)
 }
+
+/// A scene whose meshes stream (`vgeo render --geometry-budget`): `.vgeo` files are opened
+/// head-only ([`crate::format::VgeoFile`]: metadata, clusters, groups, BVH and page table; no
+/// page is read until the cull asks for it) and serve their pages from the file; every other mesh
+/// goes through the scene's one loader ([`crate::scene::load::MeshCache`]), is built, and serves
+/// its pages from memory. Scene entries naming the same mesh share one streamed mesh.
+pub struct StreamedScene {
+    /// The scene as its file describes it (a single mesh or `.vgeo` file: one instance).
+    pub scene: crate::scene::Scene,
+    /// Every instance; `mesh` indexes [`StreamedScene::meshes`].
+    pub placements: Vec<crate::render::Placement>,
+    /// The scene's light.
+    pub light: crate::render::Light,
+    /// Import warnings (each names its file).
+    pub warnings: Vec<String>,
+    /// The distinct meshes: the head (or built mesh) and where its pages come from.
+    pub meshes: Vec<(BuiltMesh, Box<dyn PageSource>)>,
+    /// Per distinct mesh, the bounds of its full detail (as [`crate::scene::load::LoadedScene`]
+    /// frames it: a source mesh's own bounds, a `.vgeo` file's level 0, known from its head).
+    bounds: Vec<([f32; 3], [f32; 3])>,
+    /// Per scene mesh entry, its distinct mesh.
+    entry_mesh: Vec<usize>,
+}
+
+impl StreamedScene {
+    /// Loads a scene file (`.toml`), a mesh file or a `.vgeo` file; `progress` gets a line per
+    /// mesh built.
+    pub fn load(path: &std::path::Path, progress: &(dyn Fn(&str) + Sync)) -> anyhow::Result<Self> {
+        use crate::scene::load::{MeshCache, MeshKey};
+        let is_scene = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+        let scene = if is_scene {
+            crate::scene::Scene::load(path)?
+        } else {
+            crate::scene::Scene::single_mesh(path)
+        };
+        let is_vgeo = |p: &std::path::Path| {
+            p.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("vgeo"))
+        };
+        // Distinct meshes in order of first use; scene entry -> distinct mesh.
+        let mut keys: Vec<MeshKey> = Vec::new();
+        let entry_mesh: Vec<usize> = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                let k = MeshKey::of(m);
+                keys.iter().position(|x| *x == k).unwrap_or_else(|| {
+                    keys.push(k);
+                    keys.len() - 1
+                })
+            })
+            .collect();
+        for k in keys.iter().filter(|k| is_vgeo(&k.path)) {
+            if let Some(n) = k.materials {
+                anyhow::bail!(
+                    "{}: materials = {n} needs the source mesh (a .vgeo file keeps its built materials)",
+                    k.path.display()
+                );
+            }
+        }
+        // The other meshes through the one loader, built.
+        let mut built_scene = scene.clone();
+        built_scene.meshes.retain(|m| !is_vgeo(&m.path));
+        built_scene.instances.clear();
+        let loaded =
+            crate::scene::load::LoadedScene::from_scene(&mut MeshCache::default(), built_scene)?;
+        let built = loaded.built_meshes(progress)?;
+        let mut meshes: Vec<(BuiltMesh, Box<dyn PageSource>)> = Vec::with_capacity(keys.len());
+        let mut bounds = Vec::with_capacity(keys.len());
+        for k in &keys {
+            if is_vgeo(&k.path) {
+                let file = crate::format::VgeoFile::open(&k.path)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", k.path.display()))?;
+                bounds.push(level0_bounds(file.head()));
+                meshes.push((file.head().clone(), Box::new(file)));
+            } else {
+                let i = loaded
+                    .prepared
+                    .iter()
+                    .position(|p| p.key == *k)
+                    .ok_or_else(|| anyhow::anyhow!("{}: not prepared", k.path.display()))?;
+                bounds.push(
+                    loaded.prepared[i]
+                        .mesh
+                        .bounds()
+                        .unwrap_or(([0.0; 3], [0.0; 3])),
+                );
+                meshes.push((built[i].clone(), Box::new(built[i].clone())));
+            }
+        }
+        let placements = scene
+            .instances
+            .iter()
+            .map(|i| crate::render::Placement {
+                mesh: entry_mesh[i.mesh as usize] as u32,
+                transform: i.transform,
+                color: i.color,
+            })
+            .collect();
+        Ok(Self {
+            light: crate::render::Light {
+                direction: scene.light_dir,
+            },
+            warnings: loaded.warnings.clone(),
+            scene,
+            placements,
+            meshes,
+            bounds,
+            entry_mesh,
+        })
+    }
+
+    /// Per scene mesh entry (`scene.meshes[i]`), the bounds of its mesh's full detail.
+    pub fn mesh_bounds(&self) -> Vec<([f32; 3], [f32; 3])> {
+        self.entry_mesh.iter().map(|&i| self.bounds[i]).collect()
+    }
+
+    /// The scene's camera for an image of `width` x `height`.
+    pub fn camera(&self, width: u32, height: u32) -> crate::camera::Camera {
+        self.scene
+            .camera(&self.mesh_bounds(), width as f32 / height.max(1) as f32)
+    }
+
+    /// Full-detail triangles of the scene (instanced): from each mesh's build statistics.
+    pub fn scene_triangles(&self) -> u64 {
+        self.placements
+            .iter()
+            .map(|p| {
+                self.meshes
+                    .get(p.mesh as usize)
+                    .map_or(0, |(m, _)| m.stats.level0_triangles as u64)
+            })
+            .sum()
+    }
+}
+
+/// The union of a built mesh's level-0 clusters' bounds (zeros for none).
+fn level0_bounds(m: &BuiltMesh) -> ([f32; 3], [f32; 3]) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for c in m.clusters.iter().filter(|c| c.level == 0) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(c.bounds_min[k]);
+            hi[k] = hi[k].max(c.bounds_max[k]);
+        }
+    }
+    if lo[0] > hi[0] {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    (lo, hi)
+}

@@ -227,3 +227,54 @@ fn no_arguments_render_the_demo_in_vgeo_mode() {
     }
     assert!(!err.contains("validation error"), "{err}");
 }
+
+/// `vgeo render FILE.vgeo --geometry-budget`: the file is opened head-only and read page by page
+/// as the view asks. With its finest page corrupted, a small far view (which never needs that
+/// page) renders without a word, while loading the whole file fails on that page; the intact
+/// file streamed settles to the image of the whole file.
+#[test]
+fn render_streams_a_vgeo_file_reading_only_the_pages_the_view_needs() {
+    let dir = std::env::temp_dir().join(format!("vgeo-cli-stream-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("bunny.vgeo");
+    let (ok, _, err) = run(vgeo()
+        .args(["build", "--threads", "1", "-o"])
+        .arg(&file)
+        .arg(assets().join("bunny.ply")));
+    assert!(ok, "build failed: {err}");
+    let render = |out: &str, streamed: bool| {
+        let mut c = vgeo();
+        c.args(["render", "--width", "64", "--height", "48", "--frames", "12", "--out"])
+            .arg(dir.join(out))
+            .arg(&file);
+        if streamed {
+            c.args(["--geometry-budget", "8", "--stream-mib-per-frame", "1"]);
+        }
+        run(&mut c)
+    };
+    let (ok, _, err) = render("whole.png", false);
+    assert!(ok, "{err}");
+    let (ok, out, err) = render("streamed.png", true);
+    assert!(ok && !err.contains("warning"), "{out}\n{err}");
+    assert_eq!(
+        std::fs::read(dir.join("whole.png")).unwrap(),
+        std::fs::read(dir.join("streamed.png")).unwrap(),
+        "the streamed frame settles to the whole file's"
+    );
+    // Corrupt the last page (the finest level's).
+    let f = vgeo::format::VgeoFile::open(&file).expect("opens");
+    let e = *f.page_entry(f.page_count() - 1).unwrap();
+    drop(f);
+    let mut bytes = std::fs::read(&file).unwrap();
+    bytes[(e.offset + e.length / 2) as usize] ^= 0x5a;
+    std::fs::write(&file, &bytes).unwrap();
+    let (ok, _, err) = render("whole2.png", false);
+    assert!(!ok && err.contains("corrupted .vgeo page"), "{err}");
+    let (ok, out, err) = render("streamed2.png", true);
+    assert!(ok && !err.contains("warning"), "{out}\n{err}");
+    assert_eq!(
+        std::fs::read(dir.join("streamed.png")).unwrap(),
+        std::fs::read(dir.join("streamed2.png")).unwrap(),
+        "the far view never needed the corrupted page"
+    );
+}
