@@ -1,21 +1,24 @@
 //! Makes large test meshes deterministically from a real scan, for timing `vgeo build` and
 //! `vgeo verify` at sizes we have no scan of:
 //!
-//! `cargo run --release --example subdivide_mesh -- IN OUT.ply [--levels N] [--copies K]`
+//! `cargo run --release --example subdivide_mesh -- IN OUT.ply [--levels N] [--copies K] [--seed S]`
 //!
 //! Each level splits every triangle into 4 at its edge midpoints (4^N times the triangles); a
 //! midpoint moves along the mean normal of its edge's ends by up to 2 % of the edge length (a hash of
 //! the two vertex indices picks how far), so that the new detail is not flat and simplifies like
 //! scanned detail. `--copies K` then places K copies side by side along x (disconnected parts).
 //! Midpoints are shared by both triangles of an edge, so the surface stays welded. Written as a
-//! binary little-endian PLY (positions and triangles only); same input, same bytes.
+//! binary little-endian PLY (positions and triangles only); same input, same bytes. `--seed S`
+//! changes how far each midpoint moves: meshes of different seeds are different geometry of the
+//! same size (a scene of unique meshes, for streaming).
 
 use std::collections::HashMap;
 use std::io::Write;
 
-fn hash(a: u32, b: u32) -> f32 {
-    // SplitMix64 of the edge: a value in [-1, 1].
-    let mut z = ((a as u64) << 32 | b as u64).wrapping_add(0x9e3779b97f4a7c15);
+fn hash(a: u32, b: u32, seed: u64) -> f32 {
+    // SplitMix64 of the edge and the seed: a value in [-1, 1].
+    let mut z = ((a as u64) << 32 | b as u64)
+        .wrapping_add(0x9e3779b97f4a7c15u64.wrapping_mul(seed.wrapping_add(1)));
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58476d1ce4e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d049bb133111eb);
     z ^= z >> 31;
@@ -39,7 +42,7 @@ fn len(a: [f32; 3]) -> f32 {
 }
 
 /// One 1:4 split of every triangle with displaced midpoints.
-fn subdivide(p: &mut Vec<[f32; 3]>, idx: &[u32]) -> Vec<u32> {
+fn subdivide(p: &mut Vec<[f32; 3]>, idx: &[u32], seed: u64) -> Vec<u32> {
     let mut normal = vec![[0f32; 3]; p.len()];
     for t in idx.chunks_exact(3) {
         let n = cross(
@@ -68,7 +71,7 @@ fn subdivide(p: &mut Vec<[f32; 3]>, idx: &[u32]) -> Vec<u32> {
             m[e] = *mid.entry(key).or_insert_with(|| {
                 let (pa, pb) = (p[key.0 as usize], p[key.1 as usize]);
                 let (na, nb) = (normal[key.0 as usize], normal[key.1 as usize]);
-                let h = 0.02 * len(sub(pa, pb)) * hash(key.0, key.1);
+                let h = 0.02 * len(sub(pa, pb)) * hash(key.0, key.1, seed);
                 let np = std::array::from_fn(|k| (pa[k] + pb[k]) * 0.5 + (na[k] + nb[k]) * 0.5 * h);
                 p.push(np);
                 p.len() as u32 - 1
@@ -83,14 +86,15 @@ fn subdivide(p: &mut Vec<[f32; 3]>, idx: &[u32]) -> Vec<u32> {
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: subdivide_mesh IN OUT.ply [--levels N] [--copies K]";
+    let usage = "usage: subdivide_mesh IN OUT.ply [--levels N] [--copies K] [--seed S]";
     let mut files = Vec::new();
-    let (mut levels, mut copies) = (1u32, 1u32);
+    let (mut levels, mut copies, mut seed) = (1u32, 1u32, 0u64);
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
             "--levels" => levels = it.next().ok_or(anyhow::anyhow!(usage))?.parse()?,
             "--copies" => copies = it.next().ok_or(anyhow::anyhow!(usage))?.parse()?,
+            "--seed" => seed = it.next().ok_or(anyhow::anyhow!(usage))?.parse()?,
             _ => files.push(a.clone()),
         }
     }
@@ -108,7 +112,7 @@ fn main() -> anyhow::Result<()> {
     let mut p = mesh.positions.clone();
     let mut idx = mesh.indices.clone();
     for _ in 0..levels {
-        idx = subdivide(&mut p, &idx);
+        idx = subdivide(&mut p, &idx, seed);
     }
     let (lo, hi) = mesh
         .bounds()

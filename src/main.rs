@@ -135,6 +135,12 @@ struct RenderArgs {
     /// With `--geometry-budget`: most page bytes read and uploaded between two frames (MiB).
     #[arg(long, value_name = "MIB", default_value_t = 16.0)]
     stream_mib_per_frame: f64,
+    /// `--mode vgeo`: move the camera along the scene's path (its `[[path]]` keyframes, as `vgeo
+    /// bench` does) over the `--frames` frames instead of holding the scene's camera; the image
+    /// is the last frame's. With `--stats` and several frames, one line per frame (GPU ms, and
+    /// with `--geometry-budget` the residency).
+    #[arg(long)]
+    path: bool,
 }
 
 /// RenderDoc, loaded before any Vulkan instance when a capture is asked for.
@@ -225,6 +231,7 @@ fn main() -> ExitCode {
             strip_view: "clusters".into(),
             geometry_budget: None,
             stream_mib_per_frame: 16.0,
+            path: false,
         }),
         Some(Command::Render(a)) => render(&a),
         Some(Command::Build(a)) => cli::build::run_build(&a),
@@ -338,7 +345,14 @@ fn render(a: &RenderArgs) -> Result<()> {
         for w in &streamed.warnings {
             eprintln!("warning: {w}");
         }
-        let camera = streamed.camera(a.width, a.height);
+        let camera = if a.path {
+            let aspect = a.width as f32 / a.height.max(1) as f32;
+            streamed
+                .scene
+                .path_cameras(&streamed.mesh_bounds(), aspect, a.frames)
+        } else {
+            vec![streamed.camera(a.width, a.height)]
+        };
         let info = SceneSummary {
             meshes: streamed.scene.meshes.len(),
             instances: streamed.placements.len(),
@@ -367,7 +381,18 @@ fn render(a: &RenderArgs) -> Result<()> {
     let camera = loaded.camera(a.width, a.height);
     let load_s = t0.elapsed().as_secs_f64();
     let ctx = context()?;
+    if a.path && a.mode != "vgeo" {
+        anyhow::bail!("--path renders vgeo frames along the scene's path: it needs --mode vgeo");
+    }
     if a.mode == "vgeo" {
+        let camera = if a.path {
+            let aspect = a.width as f32 / a.height.max(1) as f32;
+            loaded
+                .scene
+                .path_cameras(&loaded.mesh_bounds(), aspect, a.frames)
+        } else {
+            vec![camera]
+        };
         let built = loaded.built_meshes(&|line| eprintln!("{line}"))?;
         let r = VgeoRenderer::new(&ctx, &built, &loaded.placements)?;
         let info = SceneSummary::of(&loaded);
@@ -433,13 +458,13 @@ fn render_vgeo(
     ctx: &Context,
     mut r: VgeoRenderer,
     mut streamer: Option<vgeo::Streamer>,
-    camera: &vgeo::Camera,
+    cameras: &[vgeo::Camera],
     light: &vgeo::Light,
     info: &SceneSummary,
     load_s: f64,
     (view, flags, emit): (ViewMode, u32, vgeo::EmitPath),
 ) -> Result<()> {
-    let camera = *camera;
+    let camera = *cameras.last().context("no camera")?;
     let mut stats_lines = Vec::new();
     r.set_emit_path(emit);
     let settings = FrameSettings {
@@ -451,7 +476,8 @@ fn render_vgeo(
     let mut last = None;
     for i in 0..a.frames {
         let mut frame = || {
-            r.render(&camera, a.width, a.height, &settings, view, light)
+            let cam = cameras.get(i as usize).unwrap_or(&camera);
+            r.render(cam, a.width, a.height, &settings, view, light)
                 .map_err(anyhow::Error::from)
         };
         last = Some(if i + 1 == a.frames {
@@ -459,23 +485,31 @@ fn render_vgeo(
         } else {
             frame()?
         });
+        let gpu_ms = last.as_ref().map_or(0.0, |f| f.frame.gpu_total_ms());
         if let Some(s) = streamer.as_mut() {
+            let t = std::time::Instant::now();
             let st = s.update(&mut r.scene)?;
+            let update_ms = t.elapsed().as_secs_f64() * 1e3;
             for e in s.take_errors() {
                 eprintln!("warning: {e}");
             }
             if a.stats {
+                let mib = |b: u64| b as f64 / (1 << 20) as f64;
                 stats_lines.push(format!(
-                    "  streaming after frame {}: {} pages resident ({:.2} MiB), {} requested, {} loaded ({:.2} MiB), {} evicted",
+                    "  frame {}: {gpu_ms:.3} ms GPU; used {} pages ({:.2} MiB); then {} pages resident ({:.2} MiB), {} requested, {} loaded ({:.2} MiB in {update_ms:.1} ms), {} evicted",
                     i + 1,
+                    st.used_pages,
+                    mib(st.used_bytes),
                     st.resident_pages,
-                    st.resident_bytes as f64 / (1 << 20) as f64,
+                    mib(st.resident_bytes),
                     st.requests,
                     st.uploads,
-                    st.upload_bytes as f64 / (1 << 20) as f64,
+                    mib(st.upload_bytes),
                     st.evictions
                 ));
             }
+        } else if a.stats && a.frames > 1 {
+            stats_lines.push(format!("  frame {}: {gpu_ms:.3} ms GPU", i + 1));
         }
     }
     let vf = last.context("no frame rendered")?;

@@ -59,6 +59,10 @@ pub struct StreamStats {
     /// whole).
     pub resident_pages: u64,
     pub resident_bytes: u64,
+    /// Pages the frame just drawn used (those holding a drawn cluster) and their bytes: what
+    /// the cut needs resident.
+    pub used_pages: u64,
+    pub used_bytes: u64,
     /// Pages the cull asked for.
     pub requests: u64,
     /// Requests served (each with its load set, see [`StreamOptions::upload_bytes_per_frame`]).
@@ -325,6 +329,8 @@ impl Streamer {
             for p in 0..m.state.len() {
                 if used.get(first + p).is_some_and(|&u| u != 0) {
                     m.last_used[p] = frame;
+                    stats.used_pages += 1;
+                    stats.used_bytes += m.head.pages[p].bytes as u64;
                 }
                 let w = wish.get(first + p).map_or(0.0, |&w| f32::from_bits(w));
                 if w > 0.0 && m.state[p] == PageState::Absent {

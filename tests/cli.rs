@@ -244,9 +244,11 @@ fn render_streams_a_vgeo_file_reading_only_the_pages_the_view_needs() {
     assert!(ok, "build failed: {err}");
     let render = |out: &str, streamed: bool| {
         let mut c = vgeo();
-        c.args(["render", "--width", "64", "--height", "48", "--frames", "12", "--out"])
-            .arg(dir.join(out))
-            .arg(&file);
+        c.args([
+            "render", "--width", "64", "--height", "48", "--frames", "12", "--out",
+        ])
+        .arg(dir.join(out))
+        .arg(&file);
         if streamed {
             c.args(["--geometry-budget", "8", "--stream-mib-per-frame", "1"]);
         }
@@ -277,4 +279,42 @@ fn render_streams_a_vgeo_file_reading_only_the_pages_the_view_needs() {
         std::fs::read(dir.join("streamed2.png")).unwrap(),
         "the far view never needed the corrupted page"
     );
+}
+
+/// `vgeo render --path`: the camera follows the scene's path over `--frames`, with a line per
+/// frame under `--stats` (and the residency with `--geometry-budget`); other modes refuse it.
+#[test]
+fn render_path_reports_every_frame() {
+    let dir = std::env::temp_dir().join(format!("vgeo-cli-path-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = assets().join("scenes/herd.toml");
+    let args = |budget: bool| {
+        let mut c = vgeo();
+        c.args([
+            "render", "--path", "--frames", "3", "--stats", "--width", "64", "--height", "48",
+            "--out",
+        ])
+        .arg(dir.join("path.png"))
+        .arg(&scene);
+        if budget {
+            c.args(["--geometry-budget", "16"]);
+        }
+        c
+    };
+    let (ok, out, err) = run(&mut args(false));
+    assert!(ok, "{err}");
+    for f in 1..=3 {
+        assert!(
+            out.contains(&format!("  frame {f}: ")),
+            "frame {f} missing:\n{out}"
+        );
+    }
+    let (ok, out, err) = run(&mut args(true));
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("  frame 3: ") && out.contains("pages resident") && out.contains("used "),
+        "{out}"
+    );
+    let (ok, _, err) = run(args(false).args(["--mode", "brute"]));
+    assert!(!ok && err.contains("--path"), "{err}");
 }

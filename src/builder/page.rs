@@ -390,6 +390,7 @@ pub fn decode_page(
         let vw = &words[vstart..vstart + vwords];
         let nmin = normal_parts(code.normal_min);
         let mut local = Vec::with_capacity(vc as usize);
+        let mut decoded = Vec::with_capacity(vc as usize);
         for i in 0..vc as usize {
             let mut bit = i * vbits;
             let mut get = |w: u32| {
@@ -422,6 +423,7 @@ pub fn decode_page(
                 uv: u | v << 16,
             };
             let key = (pv, mat as u16);
+            decoded.push(key);
             let next = st.vertices.len() as u32;
             let s = *slot.entry(key).or_insert(next);
             if s == next {
@@ -434,6 +436,13 @@ pub fn decode_page(
         }
         if st.vertices.len() > MAX_PAGE_VERTICES {
             return Err(format!("more than {MAX_PAGE_VERTICES} vertices"));
+        }
+        // One encoding per cluster: the header must be the one its vertices give (minimums and
+        // the fewest bits), so that a loaded page saves to the same bytes and lengths.
+        if ClusterCode::of(&decoded, has_uvs, has_materials) != code {
+            return Err(bad(
+                "its header is not the minimal code of its vertices".into()
+            ));
         }
         let tri: Vec<u8> = bytemuck::cast_slice(&words[vstart + vwords..end]).to_vec();
         let ib = super::index_bits(vc);
