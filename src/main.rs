@@ -141,6 +141,13 @@ struct RenderArgs {
     /// with `--geometry-budget` the residency).
     #[arg(long)]
     path: bool,
+    /// `--mode vgeo`: after the last frame, render its view N more times back to back in one
+    /// submission (after about half a second of the same to let the GPU's clock rise, as `vgeo
+    /// bench` times) and print the mean GPU ms: a frame time that does not depend on the clock
+    /// falling between single frames. With `--geometry-budget`, the residency as the last frame
+    /// left it (nothing streams meanwhile).
+    #[arg(long, value_name = "N")]
+    time: Option<u32>,
 }
 
 /// RenderDoc, loaded before any Vulkan instance when a capture is asked for.
@@ -232,6 +239,7 @@ fn main() -> ExitCode {
             geometry_budget: None,
             stream_mib_per_frame: 16.0,
             path: false,
+            time: None,
         }),
         Some(Command::Render(a)) => render(&a),
         Some(Command::Build(a)) => cli::build::run_build(&a),
@@ -384,6 +392,9 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.path && a.mode != "vgeo" {
         anyhow::bail!("--path renders vgeo frames along the scene's path: it needs --mode vgeo");
     }
+    if a.time.is_some() && a.mode != "vgeo" {
+        anyhow::bail!("--time times vgeo frames back to back: it needs --mode vgeo");
+    }
     if a.mode == "vgeo" {
         let camera = if a.path {
             let aspect = a.width as f32 / a.height.max(1) as f32;
@@ -515,11 +526,28 @@ fn render_vgeo(
     let vf = last.context("no frame rendered")?;
     vf.check()
         .map_err(|e| anyhow::anyhow!("the frame is incomplete: {e}"))?;
+    let mut summary = Vec::new();
+    if let Some(n) = a.time.filter(|&n| n > 0) {
+        let cams = vec![camera; n as usize];
+        let t = std::time::Instant::now();
+        while t.elapsed().as_secs_f64() < 0.5 {
+            r.render_path_timed(&cams, a.width, a.height, &settings, view, light)?;
+        }
+        let times = r.render_path_timed(&cams, a.width, a.height, &settings, view, light)?;
+        let mean = times
+            .iter()
+            .map(|p| p.iter().map(|x| x.1).sum::<f64>())
+            .sum::<f64>()
+            / times.len().max(1) as f64;
+        summary.push(format!(
+            "timed:      {mean:.3} ms GPU per frame (mean of {n} frames back to back, after a warm-up)"
+        ));
+    }
     let drawn_clusters: u32 = [&vf.main.counters, &vf.post.counters]
         .iter()
         .map(|c| c.sw_count + c.hw_count)
         .sum();
-    let mut summary = vec![format!("clusters:   {drawn_clusters} drawn")];
+    summary.insert(0, format!("clusters:   {drawn_clusters} drawn"));
     if let Some(path) = &a.clusters_out {
         let cl = r.render(
             &camera,
@@ -669,6 +697,9 @@ fn finish(
         println!("{l}");
     }
     println!("GPU time:   {:.3} ms", frame.gpu_total_ms());
+    for l in summary.iter().filter(|l| l.starts_with("timed")) {
+        println!("{l}");
+    }
     if a.stats {
         for (pass, ms) in &frame.gpu_ms {
             println!("  {pass:<22} {ms:.3} ms");

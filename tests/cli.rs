@@ -317,4 +317,10 @@ fn render_path_reports_every_frame() {
     );
     let (ok, _, err) = run(args(false).args(["--mode", "brute"]));
     assert!(!ok && err.contains("--path"), "{err}");
+    // --time: the last view timed back to back.
+    let (ok, out, err) = run(args(true).args(["--time", "4"]));
+    assert!(
+        ok && out.contains("timed:") && out.contains("mean of 4 frames"),
+        "{out}\n{err}"
+    );
 }
