@@ -343,8 +343,17 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.lod_strip {
         return lod_strip(a, flags);
     }
-    if a.geometry_budget.is_some() && a.mode != "vgeo" {
-        anyhow::bail!("--geometry-budget streams vgeo's pages: it needs --mode vgeo");
+    for (given, what) in [
+        (
+            a.geometry_budget.is_some(),
+            "--geometry-budget streams vgeo's pages",
+        ),
+        (a.path, "--path renders vgeo frames along the scene's path"),
+        (a.time.is_some(), "--time times vgeo frames back to back"),
+    ] {
+        if given && a.mode != "vgeo" {
+            anyhow::bail!("{what}: it needs --mode vgeo");
+        }
     }
     let t0 = std::time::Instant::now();
     if let Some(mib) = a.geometry_budget {
@@ -353,14 +362,15 @@ fn render(a: &RenderArgs) -> Result<()> {
         for w in &streamed.warnings {
             eprintln!("warning: {w}");
         }
-        let camera = if a.path {
-            let aspect = a.width as f32 / a.height.max(1) as f32;
-            streamed
-                .scene
-                .path_cameras(&streamed.mesh_bounds(), aspect, a.frames)
-        } else {
-            vec![streamed.camera(a.width, a.height)]
-        };
+        let camera = render_cameras(
+            a,
+            |aspect| {
+                streamed
+                    .scene
+                    .path_cameras(&streamed.mesh_bounds(), aspect, a.frames)
+            },
+            streamed.camera(a.width, a.height),
+        );
         let info = SceneSummary {
             meshes: streamed.scene.meshes.len(),
             instances: streamed.placements.len(),
@@ -389,21 +399,16 @@ fn render(a: &RenderArgs) -> Result<()> {
     let camera = loaded.camera(a.width, a.height);
     let load_s = t0.elapsed().as_secs_f64();
     let ctx = context()?;
-    if a.path && a.mode != "vgeo" {
-        anyhow::bail!("--path renders vgeo frames along the scene's path: it needs --mode vgeo");
-    }
-    if a.time.is_some() && a.mode != "vgeo" {
-        anyhow::bail!("--time times vgeo frames back to back: it needs --mode vgeo");
-    }
     if a.mode == "vgeo" {
-        let camera = if a.path {
-            let aspect = a.width as f32 / a.height.max(1) as f32;
-            loaded
-                .scene
-                .path_cameras(&loaded.mesh_bounds(), aspect, a.frames)
-        } else {
-            vec![camera]
-        };
+        let camera = render_cameras(
+            a,
+            |aspect| {
+                loaded
+                    .scene
+                    .path_cameras(&loaded.mesh_bounds(), aspect, a.frames)
+            },
+            camera,
+        );
         let built = loaded.built_meshes(&|line| eprintln!("{line}"))?;
         let r = VgeoRenderer::new(&ctx, &built, &loaded.placements)?;
         let info = SceneSummary::of(&loaded);
@@ -459,6 +464,20 @@ fn render(a: &RenderArgs) -> Result<()> {
         &[],
         &stats_lines,
     )
+}
+
+/// The cameras of a vgeo render: with `--path`, `path(aspect)` (the scene's path over
+/// `--frames`), else the scene's `camera`.
+fn render_cameras(
+    a: &RenderArgs,
+    path: impl FnOnce(f32) -> Vec<vgeo::Camera>,
+    camera: vgeo::Camera,
+) -> Vec<vgeo::Camera> {
+    if a.path {
+        path(a.width as f32 / a.height.max(1) as f32)
+    } else {
+        vec![camera]
+    }
 }
 
 /// Renders `a.frames` vgeo frames (streaming between them when a streamer is given) and reports
