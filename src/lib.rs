@@ -104,6 +104,7 @@ pub mod format;
 pub mod frame;
 #[doc(hidden)]
 pub mod gpu;
+mod hash;
 #[doc(hidden)]
 pub mod imgerr;
 #[doc(hidden)]

@@ -16,34 +16,9 @@ use super::{
     LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
 };
 use super::{uf_find, uf_union};
+use crate::hash::FxBuild;
 use crate::mesh::Mesh;
 use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
-
-/// A fast deterministic hasher (FxHash) for the welding maps: keys are small integer tuples.
-#[derive(Default, Clone, Copy)]
-pub(crate) struct Fx(u64);
-impl std::hash::Hasher for Fx {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for c in bytes.chunks(8) {
-            let mut w = [0u8; 8];
-            w[..c.len()].copy_from_slice(c);
-            self.write_u64(u64::from_le_bytes(w));
-        }
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_u32(&mut self, x: u32) {
-        self.write_u64(x as u64);
-    }
-    fn write_u16(&mut self, x: u16) {
-        self.write_u64(x as u64);
-    }
-}
-pub(crate) type FxBuild = std::hash::BuildHasherDefault<Fx>;
 
 /// Builds the cluster DAG of `mesh`. Deterministic: the same input gives the same result whatever
 /// the thread count.

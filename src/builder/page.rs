@@ -39,6 +39,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::quantize::{POSITION_BITS, pack_coords, position_coords};
 use super::{BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, PackedVertex};
+use crate::hash::FxBuild;
 
 pub use crate::shared::PAGE_BYTES;
 
@@ -336,7 +337,7 @@ pub fn decode_page(
         triangles: Vec::new(),
         cluster_starts: Vec::with_capacity(clusters.len()),
     };
-    let mut slot: HashMap<(PackedVertex, u16), u32> = HashMap::new();
+    let mut slot: HashMap<(PackedVertex, u16), u32, FxBuild> = HashMap::default();
     let mut at = 0usize;
     let coord_max = (1u64 << POSITION_BITS) - 1;
     for (k, c) in clusters.iter().enumerate() {
@@ -573,7 +574,7 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
     let mut refs = Vec::with_capacity(m.vertex_refs.len());
     let mut triangles = Vec::with_capacity(m.triangles.len());
     let mut out_pages = Vec::with_capacity(pages.len());
-    let mut slot: HashMap<VertexKey, u32> = HashMap::new();
+    let mut slot: HashMap<VertexKey, u32, FxBuild> = HashMap::default();
     for (pi, members) in pages.iter_mut().enumerate() {
         members.sort_unstable();
         let mut page = Page {

@@ -516,7 +516,8 @@ pub fn weld(mesh: &mut Mesh) -> usize {
     if mesh.normals.len() != n || mesh.uvs.len() != n {
         return 0;
     }
-    let mut first: HashMap<[u32; 8], u32> = HashMap::with_capacity(n);
+    let mut first: HashMap<[u32; 8], u32, crate::hash::FxBuild> =
+        HashMap::with_capacity_and_hasher(n, Default::default());
     let mut remap = Vec::with_capacity(n);
     let mut kept = 0u32;
     let mut keep = Vec::with_capacity(n);

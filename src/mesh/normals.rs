@@ -12,6 +12,16 @@
 use std::collections::HashMap;
 
 use super::Mesh;
+use crate::hash::FxBuild;
+
+/// A face around a position, as a corner's fan reads it: its normal, the angle of its corner at
+/// the position (the weight) and its index.
+#[derive(Clone, Copy, Default)]
+struct FanFace {
+    normal: [f64; 3],
+    weight: f64,
+    face: u32,
+}
 
 /// Default crease angle in degrees (faces meeting at a sharper angle are shaded apart).
 pub const DEFAULT_CREASE_DEG: f32 = 60.0;
@@ -77,7 +87,8 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
     }
     let tri_count = mesh.indices.len() / 3;
     // Position ids (bit-equal positions share one) and, per position, the triangles around it.
-    let mut pos_id: HashMap<[u32; 3], u32> = HashMap::with_capacity(n);
+    let mut pos_id: HashMap<[u32; 3], u32, FxBuild> =
+        HashMap::with_capacity_and_hasher(n, FxBuild::default());
     let pid: Vec<u32> = mesh
         .positions
         .iter()
@@ -108,7 +119,8 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
             };
         }
     }
-    // CSR: triangles (and the corner) around each position, in triangle order.
+    // CSR: the faces around each position, in triangle order, each with its normal and the
+    // corner's angle (weight) stored in place, so that a corner's fan is read contiguously.
     let mut start = vec![0u32; npos + 1];
     for &v in &mesh.indices {
         if let Some(&p) = pid.get(v as usize) {
@@ -119,20 +131,26 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
         start[i + 1] += start[i];
     }
     let mut fill = start.clone();
-    let mut around = vec![(0u32, 0u8); mesh.indices.len()];
+    let mut around = vec![FanFace::default(); mesh.indices.len()];
     for (c, &v) in mesh.indices.iter().enumerate() {
         if let Some(&p) = pid.get(v as usize) {
-            around[fill[p as usize] as usize] = ((c / 3) as u32, (c % 3) as u8);
+            let (t, k) = (c / 3, c % 3);
+            around[fill[p as usize] as usize] = FanFace {
+                normal: face_n[t],
+                weight: angles[t][k],
+                face: t as u32,
+            };
             fill[p as usize] += 1;
         }
     }
+    drop(angles);
     let cos_crease = if crease_deg >= 180.0 {
         -2.0
     } else {
         (crease_deg.max(0.0) as f64).to_radians().cos() - 1e-9
     };
     // Per corner of a vertex that needs a normal: its crease normal; vertices split per normal.
-    let mut split: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
+    let mut split: HashMap<(u32, [u32; 3]), u32, FxBuild> = HashMap::default();
     let mut first_normal: Vec<Option<[u32; 3]>> = vec![None; n];
     let mut added = 0usize;
     for c in 0..mesh.indices.len() {
@@ -150,10 +168,10 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
         } else {
             fan
         };
-        for &(f, k) in fan {
-            let nf = face_n[f as usize];
-            if f as usize == t || dot(own, nf) >= cos_crease {
-                let w = angles[f as usize][k as usize];
+        for ff in fan {
+            let nf = ff.normal;
+            if ff.face as usize == t || dot(own, nf) >= cos_crease {
+                let w = ff.weight;
                 for i in 0..3 {
                     acc[i] += nf[i] * w;
                 }
