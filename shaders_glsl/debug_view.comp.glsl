@@ -43,7 +43,7 @@ layout(set = 0, binding = 1, scalar) readonly buffer Visible { uvec2 visible[]; 
 layout(set = 0, binding = 2, scalar) readonly buffer Flags { uint hw_flags[]; };
 layout(set = 0, binding = 3, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
 layout(set = 0, binding = 4, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 5, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 5, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
 layout(set = 0, binding = 6, scalar) readonly buffer Pages { PageGpu pages[]; };
 layout(set = 0, binding = 7, scalar) readonly buffer Pool { uint pool[]; };
 layout(set = 0, binding = 8, rgba8) uniform writeonly image2D out_image;
@@ -115,7 +115,7 @@ vec3 level_color(uint level) {
 vec3 lit_color(uvec2 entry, uint tri, ivec2 px) {
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
-    Cluster c = clusters[entry.y];
+    Cluster c = cluster_at(mesh, entry.y);
     ClusterData d = cluster_data(mesh, c);
     uvec3 t = cluster_triangle(d, c, tri);
     vec3 p[3];
@@ -193,10 +193,10 @@ void main() {
             color = hash_color(entry.x);
             break;
         case 5u:
-            color = level_color(clusters[entry.y].level);
+            color = level_color(cluster_at(meshes[instances[entry.x].mesh], entry.y).level);
             break;
         case 7u:
-            color = group_color(entry.x, clusters[entry.y].group);
+            color = group_color(entry.x, cluster_at(meshes[instances[entry.x].mesh], entry.y).group);
             break;
         case 9u:
         {

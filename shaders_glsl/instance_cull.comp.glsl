@@ -69,13 +69,15 @@ void main() {
     for (uint j = gid; j < n_clusters; j += threads) {
         uvec2 e = post_clusters[j];
         InstanceVgeo inst = instances[e.x];
-        Cluster cl = clusters[e.y];
-        if (hzb_occluded(inst, cl.bounds_min, cl.bounds_max)) {
+        uint at = cluster_word(meshes[inst.mesh], e.y);
+        vec3 bmin = cull_bounds_min(at);
+        vec3 bmax = cull_bounds_max(at);
+        if (hzb_occluded(inst, bmin, bmax)) {
             atomicAdd(counters.occluded_clusters, 1u);
             continue;
         }
-        vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
-        float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * inst.max_scale;
-        emit_cluster(e.x, e.y, cc, cr);
+        vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
+        float cr = length(bmax - bmin) * 0.5 * inst.max_scale;
+        emit_cluster(e.x, e.y, (pool[at + 6u] >> 8) & 0xffu, cc, cr);
     }
 }

@@ -17,7 +17,7 @@ layout(set = 0, binding = 0, scalar) uniform MaterialView { MaterialViewGpu mvie
 layout(set = 0, binding = 1, scalar) readonly buffer Visible { uvec2 visible[]; };
 layout(set = 0, binding = 2, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
 layout(set = 0, binding = 3, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 4, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 4, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
 layout(set = 0, binding = 5, scalar) readonly buffer Pages { PageGpu pages[]; };
 layout(set = 0, binding = 6, scalar) readonly buffer Pool { uint pool[]; };
 layout(set = 0, binding = 7, scalar) readonly buffer MeshMaterials { MeshMaterialGpu mesh_materials[]; };
@@ -58,7 +58,7 @@ void main() {
                     uint mi = instances[entry.x].mesh;
                     MeshGpu mesh = meshes[mi];
                     MeshMaterialGpu mm = mesh_materials[mi];
-                    Cluster c = clusters[entry.y];
+                    Cluster c = cluster_at(mesh, entry.y);
                     id = mm.material_offset;
                     if ((mesh.streams & MESH_STREAM_MATERIALS) != 0u) {
                         ClusterData d = cluster_data(mesh, c);

@@ -20,7 +20,7 @@ layout(set = 0, binding = 2, scalar) readonly buffer Visible { uvec2 visible[]; 
 layout(set = 0, binding = 3, scalar) readonly buffer SwList { uint sw_list[]; };
 layout(set = 0, binding = 4, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
 layout(set = 0, binding = 5, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
 layout(set = 0, binding = 7, scalar) readonly buffer Pages { PageGpu pages[]; };
 layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 
@@ -145,7 +145,7 @@ void main() {
         uvec2 entry = visible[visible_index];
         InstanceVgeo inst = instances[entry.x];
         MeshGpu mesh = meshes[inst.mesh];
-        Cluster c = clusters[entry.y];
+        Cluster c = cluster_at(mesh, entry.y);
         ClusterData d = cluster_data(mesh, c);
         uint vcount = cluster_vertex_count(c);
         uint tcount = cluster_triangle_count(c);

@@ -12,7 +12,9 @@
 //! zero: opening a file ([`VgeoFile::open`]) reads and checks only that head; each page is checked
 //! by its own checksum when it is read ([`VgeoFile::read_page`]). Older files are refused with a
 //! hint to rebuild: version 2 (vertex streams in whole-mesh sections) predates pages, version 3
-//! stored pages as plain streams (shared vertices with references) rather than encoded clusters.
+//! stored pages as plain streams (shared vertices with references) rather than encoded clusters,
+//! version 4's cluster headers lacked the cull words (bounds, counts, level, groups) that let the
+//! GPU read a cluster from its page alone.
 //!
 //! [`load`] and [`VgeoFile`] check everything before use: magic, version, lengths, checksums,
 //! section bounds, element sizes, and every index inside the data (so a loaded mesh can be indexed
@@ -32,7 +34,7 @@ use crate::mesh::Material;
 /// File magic.
 pub const MAGIC: [u8; 8] = *b"VGEO\0\r\n\x1a";
 /// Current format version.
-pub const VERSION: u32 = 4;
+pub const VERSION: u32 = 5;
 const HEADER_LEN: usize = 32;
 const ENTRY_LEN: usize = 24;
 const MAX_SECTIONS: u32 = 64;
@@ -68,8 +70,8 @@ pub enum FormatError {
     /// Not a .vgeo file.
     BadMagic,
     #[error(
-        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 3 and \
-         older predate encoded geometry pages: rebuild them with `vgeo build`)"
+        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 4 and \
+         older predate pages that carry their clusters' cull data: rebuild them with `vgeo build`)"
     )]
     /// A format version this build does not read.
     Version(u32),

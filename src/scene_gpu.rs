@@ -16,8 +16,8 @@ use crate::gpu::{Buffer, Cmd, Context, Desc, GpuError, GpuResult, MemoryKind, vk
 use crate::material::{MeshMaterialSource, SceneMaterials};
 use crate::render::Placement;
 use crate::shared::{
-    InstanceVgeo, MESH_STREAM_MATERIALS, MESH_STREAM_PARTIAL, MESH_STREAM_UVS, MeshGpu,
-    PAGE_NOT_RESIDENT, PageGpu,
+    ClusterLocGpu, InstanceVgeo, MESH_STREAM_MATERIALS, MESH_STREAM_PARTIAL, MESH_STREAM_UVS,
+    MeshGpu, PAGE_NOT_RESIDENT, PageGpu,
 };
 
 pub use arena::RangeAllocator;
@@ -225,7 +225,7 @@ impl std::fmt::Display for SceneMemory {
 /// The geometry arenas, in the order of [`GpuScene::arena_buffer`].
 const ARENAS: usize = 5;
 const ARENA_NAMES: [&str; ARENAS] = [
-    "scene clusters",
+    "scene cluster locators",
     "scene groups",
     "scene bvh",
     "scene pages",
@@ -291,7 +291,8 @@ pub struct GpuScene {
     pub meshes: Buffer,
     /// [`InstanceVgeo`], dense: `instance_count` entries in use.
     pub instances: Buffer,
-    /// Every live mesh's clusters (internal layout, see docs/architecture.md).
+    /// Every live mesh's cluster locators ([`ClusterLocGpu`]: page and word; the clusters
+    /// themselves are in their pages, see docs/architecture.md).
     pub clusters: Buffer,
     /// Every live mesh's DAG groups.
     pub groups: Buffer,
@@ -403,7 +404,7 @@ impl GpuScene {
     pub fn empty(ctx: &Context) -> GpuResult<Self> {
         let buf = |name: &str| Buffer::new(ctx, name, 0, arena::usage(), MemoryKind::Gpu);
         let elem = [
-            size_of::<crate::builder::Cluster>(),
+            size_of::<ClusterLocGpu>(),
             size_of::<crate::builder::Group>(),
             size_of::<crate::builder::BvhNode>(),
             size_of::<PageGpu>(),
@@ -640,8 +641,16 @@ impl GpuScene {
                 streams: gpu.streams | if partial { MESH_STREAM_PARTIAL } else { 0 },
                 ..gpu
             };
+            let locs: Vec<ClusterLocGpu> = m
+                .clusters
+                .iter()
+                .map(|c| ClusterLocGpu {
+                    page: c.page,
+                    data_offset: c.data_offset,
+                })
+                .collect();
             let data: [&[u8]; ARENAS] = [
-                bytemuck::cast_slice(&m.clusters),
+                bytemuck::cast_slice(&locs),
                 bytemuck::cast_slice(&m.groups),
                 bytemuck::cast_slice(&m.bvh),
                 bytemuck::cast_slice(&pages),

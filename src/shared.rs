@@ -97,6 +97,10 @@ pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
 /// Most bytes of one geometry page (the encoded clusters of whole groups; see
 /// `src/builder/page.rs`): the unit a `.vgeo` file stores and checks, and the GPU holds per slot.
 pub const PAGE_BYTES: u32 = 131072;
+/// Words at the start of a cluster's header in its page that culling reads: bounds (min, max as
+/// f32 bits), `vertex_count | triangle_count << 8 | level << 16`, group, creator group
+/// (`src/builder/page.rs`); the vertex code follows them.
+pub const CLUSTER_CULL_WORDS: u32 = 9;
 // END SHADER CONSTANTS
 const _: () = assert!(2 * HZB_GROUP == 1 << (HZB_HEAD_LEVELS - 1));
 
@@ -189,6 +193,19 @@ pub struct PageGpu {
     pub word: u32,
 }
 const _: () = assert!(size_of::<PageGpu>() == 4);
+
+/// Where a cluster lies: its page (in its mesh's page table) and the word of its data in the page
+/// ([`crate::builder::Cluster::page`], `data_offset`). The only per-cluster data that stays
+/// resident: the rest (bounds, counts, level, groups, vertices, triangles) is read from the page
+/// (`src/builder/page.rs`, `shaders_glsl/common/raster.glsl` `cluster_at`), its LOD pairs from its
+/// groups.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct ClusterLocGpu {
+    pub page: u32,
+    pub data_offset: u32,
+}
+const _: () = assert!(size_of::<ClusterLocGpu>() == 8);
 
 const _: () = assert!(size_of::<MeshGpu>() == 96);
 

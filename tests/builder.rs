@@ -882,8 +882,9 @@ fn vgeo_files_are_read_page_by_page_and_each_page_is_checked() {
         VgeoFile::open(&path),
         Err(FormatError::Checksum { .. })
     ));
-    // Versions 2 (no pages) and 3 (pages of plain streams): refused with the hint to rebuild.
-    for old in [2u32, 3] {
+    // Versions 2 (no pages), 3 (pages of plain streams) and 4 (cluster headers without cull
+    // words): refused with the hint to rebuild.
+    for old in [2u32, 3, 4] {
         let mut v = bytes.clone();
         v[8..12].copy_from_slice(&old.to_le_bytes());
         let err = load(&v).expect_err("an old version");

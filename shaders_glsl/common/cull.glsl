@@ -106,7 +106,7 @@ void push_item(uint64_t item) {
 
 // Appends a drawn cluster to the visible list and to the SW or HW list. `center`/`radius`: its
 // camera-relative bounding sphere.
-void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) {
+void emit_cluster(uint instance, uint cluster_index, uint triangles, vec3 center, float radius) {
     uint v = atomicAdd(counters.visible_count, 1u);
     if ((view.flags & VIEW_FLAG_DIRECT_VISIBLE) != 0u) {
         // The same slot on every run: the instance's base + the cluster's index in its mesh.
@@ -131,7 +131,7 @@ void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) 
     } else {
         // Projected edge length, estimated from the cluster's size on screen and its triangle count
         // (a cluster of T triangles across a disc of diameter D has edges of about D / sqrt(T / 2)).
-        float tris = float(max((clusters[cluster_index].counts >> 8) & 0xffu, 1u));
+        float tris = float(max(triangles, 1u));
         float diameter_px = 2.0 * radius * view.proj_scale / dist;
         hw = diameter_px * inversesqrt(tris * 0.5) > view.hw_threshold_px;
     }
@@ -147,13 +147,13 @@ void emit_cluster(uint instance, uint cluster_index, vec3 center, float radius) 
     } else {
         sw_list[slot] = v;
     }
-    atomicAdd(counters.triangles, (clusters[cluster_index].counts >> 8) & 0xffu);
+    atomicAdd(counters.triangles, triangles);
 }
 
 // The HZB test of a cluster in the cut: occluded in the main phase, it waits in `post_clusters`
 // for the post phase; occluded in the post phase, it is rejected for good. False: visible.
-bool cluster_occluded(uint instance, InstanceVgeo inst, Cluster cl, uint ci) {
-    if (!hzb_occluded(inst, cl.bounds_min, cl.bounds_max)) {
+bool cluster_occluded(uint instance, InstanceVgeo inst, vec3 bmin, vec3 bmax, uint ci) {
+    if (!hzb_occluded(inst, bmin, bmax)) {
         return false;
     }
     if (pc.phase == 0u) {
@@ -189,16 +189,39 @@ bool mesh_partial(MeshGpu mesh) {
     return (mesh.streams & MESH_STREAM_PARTIAL) != 0u;
 }
 
-// Whether cluster `cl`'s children (the members of the group that produced it) are all resident.
-bool children_resident(MeshGpu mesh, Cluster cl) {
-    return !mesh_partial(mesh) || cl.creator == NO_GROUP_ID
-        || group_pages_resident(mesh, groups[mesh.group_offset + cl.creator]);
+// Whether the children of a cluster made by group `creator` (that group's members) are all
+// resident.
+bool children_resident(MeshGpu mesh, uint creator) {
+    return !mesh_partial(mesh) || creator == NO_GROUP_ID
+        || group_pages_resident(mesh, groups[mesh.group_offset + creator]);
+}
+
+// A cluster's LOD pairs are its groups' (the builder stores exactly those, verify checks it): its
+// parent pair is its group's (lod_sphere, error), its self pair its creator group's; a level-0
+// cluster (no creator) has self error 0. The self error in pixels, for a cluster made by
+// `creator`.
+float self_error_px(InstanceVgeo inst, MeshGpu mesh, uint creator, float scale) {
+    if (creator == NO_GROUP_ID) {
+        return 0.0;
+    }
+    vec4 sphere = groups[mesh.group_offset + creator].lod_sphere;
+    float error = groups[mesh.group_offset + creator].error;
+    vec3 sc = relative_position(inst, view, sphere.xyz);
+    return lod_error_px(error * scale, sc, sphere.w * scale, view.proj_scale);
+}
+
+// A cluster's bounds, from the cull words at pool word `at` (common/cluster.glsl).
+vec3 cull_bounds_min(uint at) {
+    return uintBitsToFloat(uvec3(pool[at], pool[at + 1u], pool[at + 2u]));
+}
+vec3 cull_bounds_max(uint at) {
+    return uintBitsToFloat(uvec3(pool[at + 3u], pool[at + 4u], pool[at + 5u]));
 }
 
 // A drawn cluster that is coarser than wanted (`wish`: its projected error over the threshold)
 // because its children are absent asks for their pages; a drawn cluster marks its page used.
-void request_children(MeshGpu mesh, Cluster cl, float wish) {
-    Group g = groups[mesh.group_offset + cl.creator];
+void request_children(MeshGpu mesh, uint creator, float wish) {
+    Group g = groups[mesh.group_offset + creator];
     for (uint p = g.page_first; p < g.page_first + g.page_count; p++) {
         if (!page_resident(mesh, p)) {
             atomicMax(page_requests[mesh.page_offset + p], floatBitsToUint(min(wish, 1e30)));
@@ -206,9 +229,9 @@ void request_children(MeshGpu mesh, Cluster cl, float wish) {
     }
 }
 
-void mark_used(MeshGpu mesh, Cluster cl) {
+void mark_used(MeshGpu mesh, uint ci) {
     if (mesh_partial(mesh)) {
-        page_usage[mesh.page_offset + cl.page] = 1u;
+        page_usage[mesh.page_offset + cluster_locs[ci].page] = 1u;
     }
 }
 
@@ -219,32 +242,35 @@ void mark_used(MeshGpu mesh, Cluster cl) {
 // rejected in the post phase) and is emitted. False when the root is too coarse (walk the BVH).
 bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     uint ci = mesh.cluster_offset + mesh.root_cluster;
-    Cluster cl = clusters[ci];
+    uint at = cluster_word(mesh, ci);
+    uint info = pool[at + 6u];
+    uint creator = pool[at + 8u];
     float scale = inst.max_scale;
     if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u) {
         // The fallback cut is the root alone only when the fallback level is the root's.
-        if (cl.level > mesh.fallback_level) {
+        if ((info >> 16) > mesh.fallback_level) {
             return false;
         }
     } else {
-        vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
-        float self_px = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale);
+        float self_px = self_error_px(inst, mesh, creator, scale);
         if (self_px > view.error_px) {
-            if (children_resident(mesh, cl)) {
+            if (children_resident(mesh, creator)) {
                 return false;
             }
-            request_children(mesh, cl, self_px / view.error_px);
+            request_children(mesh, creator, self_px / view.error_px);
         }
     }
-    mark_used(mesh, cl);
+    mark_used(mesh, ci);
     atomicAdd(counters.clusters_tested, 1u);
-    vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
-    float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * scale;
+    vec3 bmin = cull_bounds_min(at);
+    vec3 bmax = cull_bounds_max(at);
+    vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
+    float cr = length(bmax - bmin) * 0.5 * scale;
     if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, cc, cr)) {
         return true;
     }
-    if (!cluster_occluded(instance, inst, cl, ci)) {
-        emit_cluster(instance, ci, cc, cr);
+    if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
+        emit_cluster(instance, ci, (info >> 8) & 0xffu, cc, cr);
     }
     return true;
 }
@@ -313,41 +339,54 @@ void process_node(uint64_t item, bool local) {
     for (uint g = 0u; g < node.count; g++) {
         Group group = groups[mesh.group_offset + node.first + g];
         // A group not wholly resident: its members' parent error counts as 0, none is drawn.
-        if (partial && !fallback && !group_pages_resident(mesh, group)) {
+        // (Its members are read from its pages: only a resident group's are, in either cut.)
+        if (partial && !group_pages_resident(mesh, group)) {
             continue;
+        }
+        // The fallback cut draws only groups simplified at or after the fallback level (always
+        // resident when the mesh was built with the default fallback size).
+        if (fallback && group.iteration < mesh.fallback_level) {
+            continue;
+        }
+        // The members' parent pair is the group's: when it is already fine, none is drawn.
+        if (!fallback) {
+            vec3 pcen = relative_position(inst, view, group.lod_sphere.xyz);
+            if (lod_error_px(group.error * scale, pcen, group.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
+                atomicAdd(counters.clusters_tested, group.cluster_count);
+                continue;
+            }
         }
         for (uint k = 0u; k < group.cluster_count; k++) {
             uint ci = mesh.cluster_offset + group.first_cluster + k;
-            Cluster cl = clusters[ci];
+            uint at = cluster_word(mesh, ci);
+            uint info = pool[at + 6u];
             atomicAdd(counters.clusters_tested, 1u);
             bool in_cut;
             if (fallback) {
-                in_cut = cl.level <= mesh.fallback_level
-                    && groups[mesh.group_offset + cl.group].iteration >= mesh.fallback_level;
+                in_cut = (info >> 16) <= mesh.fallback_level;
             } else {
-                vec3 sc = relative_position(inst, view, cl.self_sphere.xyz);
-                vec3 pcen = relative_position(inst, view, cl.parent_sphere.xyz);
-                float self_px = lod_error_px(cl.self_error * scale, sc, cl.self_sphere.w * scale, view.proj_scale);
-                bool parent_coarse =
-                    lod_error_px(cl.parent_error * scale, pcen, cl.parent_sphere.w * scale, view.proj_scale) > view.error_px;
+                uint creator = pool[at + 8u];
+                float self_px = self_error_px(inst, mesh, creator, scale);
                 bool fine = self_px <= view.error_px;
-                if (partial && parent_coarse && !fine && !children_resident(mesh, cl)) {
-                    request_children(mesh, cl, self_px / view.error_px);
+                if (partial && !fine && !children_resident(mesh, creator)) {
+                    request_children(mesh, creator, self_px / view.error_px);
                     fine = true;
                 }
-                in_cut = fine && parent_coarse;
+                in_cut = fine;
             }
             if (!in_cut) {
                 continue;
             }
-            mark_used(mesh, cl);
-            vec3 cc = relative_position(inst, view, (cl.bounds_min + cl.bounds_max) * 0.5);
-            float cr = length(cl.bounds_max - cl.bounds_min) * 0.5 * scale;
+            mark_used(mesh, ci);
+            vec3 bmin = cull_bounds_min(at);
+            vec3 bmax = cull_bounds_max(at);
+            vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
+            float cr = length(bmax - bmin) * 0.5 * scale;
             if (frustum && !sphere_in_frustum(view, cc, cr)) {
                 continue;
             }
-            if (!cluster_occluded(instance, inst, cl, ci)) {
-                emit_cluster(instance, ci, cc, cr);
+            if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
+                emit_cluster(instance, ci, (info >> 8) & 0xffu, cc, cr);
             }
         }
     }

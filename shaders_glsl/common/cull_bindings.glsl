@@ -11,7 +11,7 @@ layout(set = 0, binding = 3, scalar) coherent buffer Counters { CullCounters cou
 layout(set = 0, binding = 4) coherent buffer Queue { uint64_t queue[]; };
 layout(set = 0, binding = 5, scalar) readonly buffer Bvh { BvhNode bvh[]; };
 layout(set = 0, binding = 6, scalar) readonly buffer Groups { Group groups[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
 layout(set = 0, binding = 8) writeonly buffer Visible { uvec2 visible[]; };
 layout(set = 0, binding = 9) writeonly buffer SwList { uint sw_list[]; };
 layout(set = 0, binding = 10) writeonly buffer HwList { uint hw_list[]; };
@@ -28,9 +28,12 @@ layout(set = 0, binding = 16) buffer PostClusters { uvec2 post_clusters[]; };
 layout(set = 0, binding = 17, scalar) readonly buffer Pages { PageGpu pages[]; };
 layout(set = 0, binding = 18) buffer PageRequests { uint page_requests[]; };
 layout(set = 0, binding = 19) buffer PageUsage { uint page_usage[]; };
+// The geometry pool: the resident pages' bytes (a cluster's cull words are read from its page).
+layout(set = 0, binding = 20) readonly buffer Pool { uint pool[]; };
 
 // 0: main phase (test against the previous frame's HZB, defer what it rejects);
 // 1: post phase (retest what was deferred against this frame's HZB).
 layout(push_constant) uniform Phase { uint phase; } pc;
 
+#include "cluster.glsl"
 #include "cull.glsl"

@@ -8,7 +8,7 @@ layout(set = 0, binding = 2, scalar) uniform View { ViewGpu view; };
 layout(set = 0, binding = 3, scalar) readonly buffer Visible { uvec2 visible[]; };
 layout(set = 0, binding = 4, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
 layout(set = 0, binding = 5, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Clusters { Cluster clusters[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
 layout(set = 0, binding = 7, scalar) readonly buffer Pages { PageGpu pages[]; };
 layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 layout(set = 0, binding = 9, scalar) readonly buffer Materials { MaterialGpu materials[]; };

@@ -5,7 +5,7 @@
 // SW and HW must agree on depth bit for bit.
 //
 // The including shader declares the scene buffers with these names before including this file:
-// `instances[]` (InstanceVgeo), `meshes[]` (MeshGpu), `clusters[]` (Cluster), `pages[]`
+// `instances[]` (InstanceVgeo), `meshes[]` (MeshGpu), `cluster_locs[]` (ClusterLoc), `pages[]`
 // (PageGpu), `pool[]` (uint: the geometry pool, every resident page's bytes) and `view` (ViewGpu). A shader with only `view` defines RASTER_NO_SCENE first (fixed-point helpers only).
 #ifndef VGEO_RASTER_GLSL
 #define VGEO_RASTER_GLSL
@@ -19,9 +19,7 @@
 #define RASTER_GUARD_PIXELS 1048576.0
 
 #ifndef RASTER_NO_SCENE
-uint cluster_vertex_count(Cluster c) { return c.counts & 0xffu; }
-uint cluster_triangle_count(Cluster c) { return (c.counts >> 8) & 0xffu; }
-uint cluster_flags(Cluster c) { return c.counts >> 16; }
+#include "cluster.glsl"
 
 // A cluster's encoded data in the pool (src/builder/page.rs): where its vertices and triangles
 // start, the per-field bit widths and the minimums its vertices are coded from.
@@ -69,7 +67,7 @@ uint64_t pool_bits64(uint word0, uint bit) {
 // The cluster's data, from its page's slot (the page must be resident).
 ClusterData cluster_data(MeshGpu mesh, Cluster c) {
     ClusterData d;
-    uint at = pages[mesh.page_offset + c.page].word + c.data_offset;
+    uint at = pages[mesh.page_offset + c.page].word + c.data_offset + CLUSTER_CULL_WORDS;
     d.position_min = uvec3(pool[at], pool[at + 1u], pool[at + 2u]);
     uint w = pool[at + 3u];
     d.normal_min = pool[at + 4u];

@@ -111,7 +111,8 @@ struct OcclusionGpu {
     uint _pad;
 };
 
-// Builder structs (src/builder/mod.rs), as stored in the .vgeo file.
+// A cluster as the passes use it: read from its page (`cluster_at`, common/cluster.glsl) through
+// its locator; the LOD pairs (self_*, parent_*) are its groups' (filled by the cull only).
 struct Cluster {
     vec4 self_sphere;
     vec4 parent_sphere;
@@ -119,16 +120,21 @@ struct Cluster {
     float self_error;
     vec3 bounds_max;
     float parent_error;
-    uint vertex_ref_offset;
     uint data_offset;  // word of the cluster's encoded data in its page
-    uint triangle_offset;
-    uint counts;  // vertex_count | triangle_count << 8 | flags << 16
+    uint counts;  // vertex_count | triangle_count << 8
     uint group;
     uint creator;
     uint level;
     uint page;
 };
 
+// Where a cluster lies (ClusterLocGpu in src/shared.rs): the only per-cluster data kept resident.
+struct ClusterLoc {
+    uint page;
+    uint data_offset;
+};
+
+// Builder structs (src/builder/mod.rs), as stored in the .vgeo file.
 struct Group {
     vec4 lod_sphere;
     vec3 bounds_min;

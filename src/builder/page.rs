@@ -12,10 +12,13 @@
 //! *encoded* bytes ([`encode_page`]): for each of its clusters, in index order, starting at word
 //! [`super::Cluster::data_offset`]:
 //!
-//! - a header of [`header_words`] u32 words: the smallest grid coordinates of its positions (3
-//!   words), the bit widths `x | y << 5 | z << 10 | normal << 15 | uv << 20 | material << 25`,
-//!   the smallest octahedral normal components (two i16), the smallest UV components (two u16,
-//!   meshes with UVs) and the smallest material (meshes with a material stream);
+//! - a header of [`header_words`] u32 words: first what culling reads ([`CULL_WORDS`]: the
+//!   cluster's bounds, min then max, as f32 bits; `vertex_count | triangle_count << 8 | level <<
+//!   16`; its group; its creator group), then its code: the smallest grid coordinates of its
+//!   positions (3 words), the bit widths `x | y << 5 | z << 10 | normal << 15 | uv << 20 |
+//!   material << 25`, the smallest octahedral normal components (two i16), the smallest UV
+//!   components (two u16, meshes with UVs) and the smallest material (meshes with a material
+//!   stream);
 //! - its vertices, each `vertex_bits` bits (the widths summed, normal and UV components twice)
 //!   of offsets from those minimums, as one little-endian bit stream (vertex `i` at bit
 //!   `i * vertex_bits`; fields x, y, z, normal x, normal y, u, v, material);
@@ -23,6 +26,11 @@
 //!
 //! After the last cluster a page has one spare zero word, so that a reader may always fetch the
 //! word after a field's first (the GPU reads every field as two words, without a branch).
+//!
+//! The cull words make a page carry its clusters whole: on the GPU a cluster is found by a small
+//! resident locator (its page and word offset) and everything else about it is read from its page
+//! (its LOD pairs are its groups', in the resident group table), so the per-cluster records need
+//! not stay resident for geometry that is not (`docs/architecture.md`, "Streaming").
 //!
 //! A vertex is stored once per cluster that uses it, with no reference indirection, in as few
 //! bits as the cluster's range needs; the codes are those of the mesh's grid, so the decoded
@@ -64,9 +72,28 @@ pub struct Page {
 }
 const _: () = assert!(size_of::<Page>() == 32);
 
+/// Words of a cluster's header that culling reads: bounds (6), counts and level, group, creator.
+pub const CULL_WORDS: u32 = crate::shared::CLUSTER_CULL_WORDS;
+
 /// Words of a cluster's header in an encoded page.
 pub fn header_words(has_uvs: bool, has_materials: bool) -> u32 {
-    5 + has_uvs as u32 + has_materials as u32
+    CULL_WORDS + 5 + has_uvs as u32 + has_materials as u32
+}
+
+/// A cluster's cull words ([`CULL_WORDS`]), from its record.
+pub fn cull_words(c: &Cluster) -> [u32; CULL_WORDS as usize] {
+    let (lo, hi) = (c.bounds_min, c.bounds_max);
+    [
+        lo[0].to_bits(),
+        lo[1].to_bits(),
+        lo[2].to_bits(),
+        hi[0].to_bits(),
+        hi[1].to_bits(),
+        hi[2].to_bits(),
+        c.vertex_count() | c.triangle_count() << 8 | c.level.min(0xffff) << 16,
+        c.group,
+        c.creator,
+    ]
 }
 
 /// Bits needed for values `0 ..= range`.
@@ -230,6 +257,7 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
     let (has_uvs, has_mats) = (m.has_uvs, m.has_material_stream());
     let verts = cluster_vertices(m, c);
     let code = ClusterCode::of(&verts, has_uvs, has_mats);
+    out.extend_from_slice(&cull_words(c));
     out.extend_from_slice(&code.position_min);
     out.push(code.widths);
     out.push(code.normal_min);
@@ -351,6 +379,13 @@ pub fn decode_page(
         let head = words
             .get(at..at + hw)
             .ok_or_else(|| bad("header past the page's end".into()))?;
+        let (cull, head) = head.split_at(CULL_WORDS as usize);
+        if cull != cull_words(c) {
+            return Err(bad(
+                "its cull words (bounds, counts, level, group, creator) differ from its record"
+                    .into(),
+            ));
+        }
         let mut code = ClusterCode {
             position_min: [head[0], head[1], head[2]],
             widths: head[3],

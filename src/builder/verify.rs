@@ -227,6 +227,31 @@ fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
                 c.creator
             ));
         }
+        // The GPU reads a cluster's LOD pairs from its groups (its parent pair from its group,
+        // its self pair from its creator), so they must be theirs.
+        let pair = |sp: &Sphere, e: f32| (sp.map(f32::to_bits), e.to_bits());
+        if let Some(g) = m.groups.get(c.group as usize)
+            && pair(&c.parent_sphere, c.parent_error) != pair(&g.lod_sphere, g.error)
+        {
+            s.add(format!("cluster {ci}: parent pair is not its group's"));
+        }
+        if c.creator == NO_GROUP {
+            if c.self_error != 0.0 {
+                s.add(format!(
+                    "cluster {ci}: level-0 cluster with self error {}",
+                    c.self_error
+                ));
+            }
+        } else if let Some(g) = m.groups.get(c.creator as usize)
+            && pair(&c.self_sphere, c.self_error) != pair(&g.lod_sphere, g.error)
+        {
+            s.add(format!(
+                "cluster {ci}: self pair is not its creator group's"
+            ));
+        }
+        if c.level > 0xffff {
+            s.add(format!("cluster {ci}: level {} over 65535", c.level));
+        }
         let Some(p) = m.pages.get(c.page as usize) else {
             s.add(format!("cluster {ci}: page {} out of range", c.page));
             continue;
