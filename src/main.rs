@@ -76,7 +76,10 @@ struct RenderArgs {
     /// ambient), albedo, normals, materials (a colour per material). `--mode vgeo` also: lambert
     /// (vertex normals, no materials), depth, triangles, clusters, instances, lod (DAG level),
     /// hwsw (which rasterizer drew it), groups (DAG group), overdraw (rasterizer writes per pixel),
-    /// fallback (the fallback mesh: the DAG level nearest 2,000 triangles).
+    /// fallback (the fallback mesh: the DAG level nearest 2,000 triangles), residency (streaming:
+    /// the pages of the group each drawn cluster would refine into; green resident, dark green
+    /// absent but not needed at this threshold, amber requested this frame, red wanted but
+    /// missing; all green without --geometry-budget).
     #[arg(long, default_value = "lit")]
     view: String,
     /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).
