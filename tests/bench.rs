@@ -239,3 +239,34 @@ fn record_cpu_measures_every_configuration() {
     let md = vgeo::bench::record_cpu::markdown(&rows, "dev");
     assert_eq!(md.lines().filter(|l| l.starts_with("| 400")).count(), 2);
 }
+
+/// `--geometry-budget` takes MiB or `auto` (a quarter of the device-local heap) and refuses
+/// anything else with a message saying what it takes.
+#[test]
+fn geometry_budget_parses_mib_and_auto() {
+    use vgeo::GeometryBudget;
+    assert_eq!(GeometryBudget::parse("auto"), Ok(GeometryBudget::Auto));
+    assert_eq!(GeometryBudget::parse("AUTO"), Ok(GeometryBudget::Auto));
+    assert_eq!(
+        GeometryBudget::parse("64"),
+        Ok(GeometryBudget::Bytes(64 << 20))
+    );
+    assert_eq!(
+        GeometryBudget::parse("0.5"),
+        Ok(GeometryBudget::Bytes(512 << 10))
+    );
+    for bad in ["0", "-3", "nan", "inf", "1e300", "lots", ""] {
+        let err = GeometryBudget::parse(bad).expect_err(bad);
+        assert!(err.contains("auto"), "{bad}: {err}");
+    }
+    assert_eq!(GeometryBudget::Auto.bytes(8 << 30), 2 << 30);
+    assert_eq!(GeometryBudget::Bytes(5).bytes(8 << 30), 5);
+    assert!(
+        GeometryBudget::Auto
+            .describe(8 << 30)
+            .contains("2048.00 MiB (auto: a quarter of the 8192.00 MiB device-local heap)")
+    );
+    // The device reports its heap (lavapipe: system memory).
+    let ctx = common::gpu();
+    assert!(ctx.caps().device_local_bytes > 0);
+}
