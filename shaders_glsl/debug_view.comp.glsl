@@ -3,7 +3,9 @@
 // Modes (push constant, DebugViewPush::mode; src/passes/debug_view.rs ViewMode): 0 lit, 1 depth,
 // 2 triangles, 3 clusters, 4 instances, 5 LOD level, 6 HW/SW, 7 groups, 8 overdraw (the counter at
 // binding 10, filled by the rasterizers), 9 fallback (Lambert, cluster tint, cluster borders and a
-// faint wireframe; the frame forces the cut to the DAG roots). Empty pixels get the background.
+// faint wireframe; the frame forces the cut to the DAG roots), 10 residency (the pages of the group
+// the cluster would refine into: resident, not needed, requested this frame, wanted but missing;
+// RESIDENCY_COLOR_* in src/shared.rs). Empty pixels get the background.
 // The `mark` variant is the pass's first step: it flags every visible entry that is in the HW list
 // (flags[] cleared to 0 before), which the HW/SW mode reads.
 //! variant image VISBUFFER_IMAGE
@@ -49,6 +51,10 @@ layout(set = 0, binding = 7, scalar) readonly buffer Pool { uint pool[]; };
 layout(set = 0, binding = 8, rgba8) uniform writeonly image2D out_image;
 // binding 9: the visibility buffer (visbuffer.glsl)
 layout(set = 0, binding = 10, scalar) readonly buffer Overdraw { uint overdraw_counts[]; };
+// The residency view: DAG groups (their pages) and the cull's page requests of this frame (per
+// entry of `pages`: the largest wish to refine into the page, 0 for none; src/scene_gpu.rs).
+layout(set = 0, binding = 11, scalar) readonly buffer Groups { Group groups[]; };
+layout(set = 0, binding = 12) readonly buffer PageRequests { uint page_requests[]; };
 
 layout(push_constant, scalar) uniform Push {
     vec4 background;  // sRGB-encoded
@@ -60,6 +66,7 @@ layout(push_constant, scalar) uniform Push {
 };
 
 #include "raster.glsl"
+#include "lod.glsl"
 
 uint hash_u32(uint x) {
     x ^= x >> 16;
@@ -108,6 +115,40 @@ vec3 level_color(uint level) {
                                     vec3(0.95, 0.75, 0.10), vec3(0.95, 0.45, 0.10),
                                     vec3(0.90, 0.15, 0.15), vec3(0.85, 0.20, 0.80));
     return palette[min(level, 7u)];
+}
+
+// Residency: the state of the pages of the group the drawn cluster would refine into (the group
+// that produced it). Only meshes with absent pages (MESH_STREAM_PARTIAL) can read other than
+// resident; the cut's test is the cull's (common/cull.glsl: `!fine` with absent children is what
+// makes it ask for their pages).
+vec3 residency_color(uvec2 entry) {
+    InstanceVgeo inst = instances[entry.x];
+    MeshGpu mesh = meshes[inst.mesh];
+    Cluster cl = cluster_at(mesh, entry.y);
+    if ((mesh.streams & MESH_STREAM_PARTIAL) == 0u || cl.creator == NO_GROUP_ID) {
+        return unpackUnorm4x8(RESIDENCY_COLOR_RESIDENT).rgb;
+    }
+    Group g = groups[mesh.group_offset + cl.creator];
+    bool resident = true;
+    bool requested = false;
+    for (uint p = g.page_first; p < g.page_first + g.page_count; p++) {
+        uint i = mesh.page_offset + p;
+        if (pages[i].word == PAGE_NOT_RESIDENT) {
+            resident = false;
+            requested = requested || page_requests[i] != 0u;
+        }
+    }
+    if (resident) {
+        return unpackUnorm4x8(RESIDENCY_COLOR_RESIDENT).rgb;
+    }
+    float scale = inst.max_scale;
+    // The cluster's self pair is its creator group's (common/cull.glsl).
+    vec3 sc = relative_position(inst, view, g.lod_sphere.xyz);
+    float self_px = lod_error_px(g.error * scale, sc, g.lod_sphere.w * scale, view.proj_scale);
+    if (self_px > view.error_px) {
+        return unpackUnorm4x8(RESIDENCY_COLOR_MISSING).rgb;
+    }
+    return unpackUnorm4x8(requested ? RESIDENCY_COLOR_REQUESTED : RESIDENCY_COLOR_NOT_NEEDED).rgb;
 }
 
 // Lambert shading with the interpolated vertex normal at the pixel centre (barycentrics from the
@@ -219,6 +260,9 @@ void main() {
             color *= edge;
             break;
         }
+        case 10u:
+            color = residency_color(entry);
+            break;
         default: {
             bool hw = visible_index < visible_capacity && hw_flags[visible_index] != 0u;
             color = hw ? vec3(0.95, 0.45, 0.10) : vec3(0.15, 0.45, 0.95);

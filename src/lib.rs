@@ -154,7 +154,9 @@ pub use render::{BACKGROUND, Frame, Light, Placement};
 pub use scene::generated::generated_mesh;
 pub use scene::load::LoadedScene;
 pub use scene_gpu::{GpuScene, InstanceDesc, InstanceHandle, MeshHandle, SceneMemory};
-pub use streaming::{PageSource, StreamOptions, StreamStats, StreamedScene, Streamer};
+pub use streaming::{
+    GeometryBudget, PageSource, StreamOptions, StreamStats, StreamedScene, Streamer,
+};
 
 /// The command line's workflows as functions, for tools built on vgeo: `vgeo build` (plan,
 /// write, describe), `vgeo verify`, `vgeo info` and `vgeo render --lod-strip`. The `vgeo` binary

@@ -76,7 +76,10 @@ struct RenderArgs {
     /// ambient), albedo, normals, materials (a colour per material). `--mode vgeo` also: lambert
     /// (vertex normals, no materials), depth, triangles, clusters, instances, lod (DAG level),
     /// hwsw (which rasterizer drew it), groups (DAG group), overdraw (rasterizer writes per pixel),
-    /// fallback (the fallback mesh: the DAG level nearest 2,000 triangles).
+    /// fallback (the fallback mesh: the DAG level nearest 2,000 triangles), residency (streaming:
+    /// the pages of the group each drawn cluster would refine into; green resident, dark green
+    /// absent but not needed at this threshold, amber requested this frame, red wanted but
+    /// missing; all green without --geometry-budget).
     #[arg(long, default_value = "lit")]
     view: String,
     /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).
@@ -129,9 +132,11 @@ struct RenderArgs {
     /// `--mode vgeo`: stream the meshes' geometry pages under this GPU budget (MiB): only the
     /// pages the view needs stay resident, loaded on the GPU's requests between frames and
     /// evicted least-recently-used (use `--frames` to let the detail stream in; `--stats` prints
-    /// each frame's residency, requests, uploads and evictions). Default: everything resident.
-    #[arg(long, value_name = "MIB")]
-    geometry_budget: Option<f64>,
+    /// each frame's residency, requests, uploads and evictions). `auto` (also the flag alone):
+    /// a quarter of the device's largest device-local memory heap, printed at the start.
+    /// Without the flag: everything resident.
+    #[arg(long, value_name = "MIB|auto", num_args = 0..=1, default_missing_value = "auto")]
+    geometry_budget: Option<String>,
     /// With `--geometry-budget`: most page bytes read and uploaded between two frames (MiB).
     #[arg(long, value_name = "MIB", default_value_t = 16.0)]
     stream_mib_per_frame: f64,
@@ -356,7 +361,13 @@ fn render(a: &RenderArgs) -> Result<()> {
         }
     }
     let t0 = std::time::Instant::now();
-    if let Some(mib) = a.geometry_budget {
+    let budget = a
+        .geometry_budget
+        .as_deref()
+        .map(vgeo::GeometryBudget::parse)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!("--geometry-budget: {e}"))?;
+    if let Some(budget) = budget {
         // Streamed: `.vgeo` files are opened head-only and read page by page.
         let streamed = vgeo::StreamedScene::load(&a.input, &|line| eprintln!("{line}"))?;
         for w in &streamed.warnings {
@@ -379,7 +390,10 @@ fn render(a: &RenderArgs) -> Result<()> {
         let load_s = t0.elapsed().as_secs_f64();
         let ctx = context()?;
         let light = streamed.light;
-        let (r, streamer) = streamed_renderer(&ctx, streamed, mib, a)?;
+        let device_local = ctx.caps().device_local_bytes;
+        eprintln!("{}", budget.describe(device_local));
+        let budget_bytes = budget.bytes(device_local);
+        let (r, streamer) = streamed_renderer(&ctx, streamed, budget_bytes, a)?;
         return render_vgeo(
             a,
             &ctx,
@@ -611,18 +625,16 @@ fn render_vgeo(
 fn streamed_renderer(
     ctx: &Context,
     streamed: vgeo::StreamedScene,
-    budget_mib: f64,
+    budget_bytes: u64,
     a: &RenderArgs,
 ) -> Result<(VgeoRenderer, vgeo::Streamer)> {
-    let mib = |x: f64, what: &str| -> Result<u64> {
-        if !(x.is_finite() && x > 0.0) {
-            anyhow::bail!("{what} must be a positive number of MiB");
-        }
-        Ok((x * (1u64 << 20) as f64) as u64)
-    };
+    let x = a.stream_mib_per_frame;
+    if !(x.is_finite() && x > 0.0) {
+        anyhow::bail!("--stream-mib-per-frame must be a positive number of MiB");
+    }
     let opts = vgeo::StreamOptions {
-        budget_bytes: mib(budget_mib, "--geometry-budget")?,
-        upload_bytes_per_frame: mib(a.stream_mib_per_frame, "--stream-mib-per-frame")?,
+        budget_bytes,
+        upload_bytes_per_frame: (x * (1u64 << 20) as f64) as u64,
     };
     let mut r = VgeoRenderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
     let (streamer, handles) = vgeo::Streamer::new(&mut r.scene, streamed.meshes, opts)?;

@@ -101,6 +101,21 @@ pub const PAGE_BYTES: u32 = 131072;
 /// f32 bits), `vertex_count | triangle_count << 8 | level << 16`, group, creator group
 /// (`src/builder/page.rs`); the vertex code follows them.
 pub const CLUSTER_CULL_WORDS: u32 = 9;
+/// Colours of the `residency` debug view, RGBA8 packed as `r | g << 8 | b << 16 | a << 24` (GLSL
+/// `unpackUnorm4x8`; the image holds these bytes exactly). Per drawn cluster, by the pages of the
+/// group it would refine into (the group that produced it, `Cluster::creator`): resident (green)
+/// when they are resident or the cluster is a leaf (level 0) or its mesh is wholly resident.
+pub const RESIDENCY_COLOR_RESIDENT: u32 = 0xff4cb82e;
+/// `residency` view: the finer pages are absent and nothing this frame asked for them, but the
+/// cut does not want them here (the cluster is fine at this threshold): dark green.
+pub const RESIDENCY_COLOR_NOT_NEEDED: u32 = 0xff3c5a23;
+/// `residency` view: the finer pages are absent, the cluster is fine here, but the cull asked for
+/// one of them this frame (for another instance of the mesh): amber.
+pub const RESIDENCY_COLOR_REQUESTED: u32 = 0xff1ebef0;
+/// `residency` view: wanted but missing: the cut would refine the cluster at this threshold but
+/// the finer pages are not resident (the cull asked for them this frame): the pixel is coarser
+/// than the all-resident image. Red.
+pub const RESIDENCY_COLOR_MISSING: u32 = 0xff2828dc;
 // END SHADER CONSTANTS
 const _: () = assert!(2 * HZB_GROUP == 1 << (HZB_HEAD_LEVELS - 1));
 

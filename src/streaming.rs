@@ -52,6 +52,64 @@ pub struct StreamOptions {
     pub upload_bytes_per_frame: u64,
 }
 
+/// A geometry budget as the command line gives it (`vgeo render` and `vgeo bench`,
+/// `--geometry-budget MIB|auto`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GeometryBudget {
+    /// A share of the device's memory: its largest device-local heap over
+    /// [`GeometryBudget::AUTO_DIVISOR`] (a quarter), leaving the rest to the frame's buffers,
+    /// the hierarchy (cluster records, groups, BVH: resident in full) and the application.
+    Auto,
+    /// This many bytes.
+    Bytes(u64),
+}
+
+impl GeometryBudget {
+    /// `auto` takes the device-local heap over this.
+    pub const AUTO_DIVISOR: u64 = 4;
+
+    /// Parses `auto` or a positive, finite number of MiB (fractions allowed); the error says what
+    /// is accepted.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        let s = s.trim();
+        if s.eq_ignore_ascii_case("auto") {
+            return Ok(GeometryBudget::Auto);
+        }
+        match s.parse::<f64>() {
+            Ok(mib)
+                if mib.is_finite() && mib > 0.0 && mib * ((1u64 << 20) as f64) < 2f64.powi(63) =>
+            {
+                Ok(GeometryBudget::Bytes((mib * (1u64 << 20) as f64) as u64))
+            }
+            _ => Err(format!(
+                "`{s}` is no geometry budget: a positive number of MiB, or `auto` (a quarter of the device-local memory)"
+            )),
+        }
+    }
+
+    /// The budget in bytes on a device whose largest device-local heap holds
+    /// `device_local_bytes` (see [`crate::gpu::Caps::device_local_bytes`]).
+    pub fn bytes(self, device_local_bytes: u64) -> u64 {
+        match self {
+            GeometryBudget::Auto => device_local_bytes / Self::AUTO_DIVISOR,
+            GeometryBudget::Bytes(b) => b,
+        }
+    }
+
+    /// One line for the start of a run: the budget, and for `auto` where it comes from.
+    pub fn describe(self, device_local_bytes: u64) -> String {
+        match self {
+            GeometryBudget::Auto => format!(
+                "geometry budget: {} (auto: a quarter of the {} device-local heap)",
+                mib(self.bytes(device_local_bytes)),
+                mib(device_local_bytes)
+            ),
+            GeometryBudget::Bytes(b) => format!("geometry budget: {}", mib(b)),
+        }
+    }
+}
+
 /// What one [`Streamer::update`] did, and the residency after it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct StreamStats {
@@ -213,9 +271,16 @@ impl Streamer {
                 mib(slot_bytes)
             )));
         }
-        let slot_count = u32::try_from((opts.budget_bytes - fixed_bytes) / slot_bytes)
-            .unwrap_or(u32::MAX)
-            .min(1 << 20);
+        // No more slots than there are pages to hold (a generous budget, e.g. `auto` on a large
+        // device, reserves only what the meshes can use).
+        let streamable: u64 = meshes
+            .iter()
+            .map(|(h, _)| (h.pages.len() as u64).saturating_sub(h.resident_pages as u64))
+            .sum();
+        let slot_count =
+            u32::try_from(((opts.budget_bytes - fixed_bytes) / slot_bytes).min(streamable.max(1)))
+                .unwrap_or(u32::MAX)
+                .min(1 << 20);
         let mut handles = Vec::with_capacity(meshes.len());
         let mut streamed = Vec::with_capacity(meshes.len());
         for ((head, source), prefix) in meshes.into_iter().zip(prefixes) {

@@ -239,3 +239,132 @@ fn record_cpu_measures_every_configuration() {
     let md = vgeo::bench::record_cpu::markdown(&rows, "dev");
     assert_eq!(md.lines().filter(|l| l.starts_with("| 400")).count(), 2);
 }
+
+/// `vgeo bench --geometry-budget`: vgeo streams the demo scene's pages under a budget below its
+/// geometry (each camera settled before its frame is timed) and reports per scene and threshold
+/// the resident page bytes, their peak, requests, uploads, evictions and the bytes the last frame
+/// used, within the budget, in bench.json and bench.md.
+#[test]
+fn bench_streams_under_a_geometry_budget_and_reports_the_residency() {
+    use vgeo::GeometryBudget;
+    let ctx = common::gpu();
+    let mut settings = Suite::Quick.settings();
+    settings.scenes = vec!["demo".into()];
+    settings.stress = false;
+    settings.modes = vec!["vgeo".into()];
+    // 0 px wants full detail wherever the camera looks: more than the budget holds.
+    settings.error_sweep = vec![1.0, 0.0];
+    settings.frames = 2;
+    let budget = BUDGET_KIB << 10;
+    settings.geometry_budget = Some(GeometryBudget::Bytes(budget));
+    settings.stream_mib_per_frame = 0.25;
+    let scenes_dir = common::assets().join("scenes");
+    let report = bench::run(&ctx, &settings, &scenes_dir, false)
+        .unwrap_or_else(|e| panic!("streamed bench failed: {e:#}"));
+    common::assert_no_validation_errors(&ctx);
+    assert!(report.skipped.is_empty(), "{:?}", report.skipped);
+    let vgeo_records = report.records.iter().filter(|r| r.mode == "vgeo").count();
+    assert_eq!(vgeo_records, 4, "two frames at each of two thresholds");
+    assert!(
+        report
+            .records
+            .iter()
+            .all(|r| r.triangles > 0 && r.gpu_ms > 0.0)
+    );
+    let geometry = report.memory.iter().find(|m| m.mode == "vgeo").unwrap();
+    assert_eq!(report.streaming.len(), 2, "{:?}", report.streaming);
+    for s in &report.streaming {
+        eprintln!("{s:?}");
+        assert_eq!((s.scene.as_str(), s.budget_bytes), ("demo", budget));
+        assert!(
+            s.peak_resident_bytes <= budget && s.resident_bytes <= s.peak_resident_bytes,
+            "{s:?}"
+        );
+        assert!(
+            s.used_bytes_last_frame > 0 && s.used_bytes_last_frame <= s.resident_bytes,
+            "{s:?}"
+        );
+        assert!(
+            s.slot_bytes > 0 && s.errors.is_empty() && s.failed == 0,
+            "{s:?}"
+        );
+        assert!(s.settled && s.settle_frames_max >= 1, "{s:?}");
+        assert!(s.upload_bytes >= s.uploads, "{s:?}");
+    }
+    // Full detail: pages were asked for and loaded until the view had them all or the budget
+    // was full.
+    let full = &report.streaming[1];
+    assert_eq!(full.error_px, 0.0);
+    assert!(full.requests > 0 && full.uploads > 0, "{full:?}");
+    assert!(
+        full.requests_last_frame == 0 || full.peak_resident_bytes + full.slot_bytes > budget,
+        "settled with room left and pages still wanted: {full:?}"
+    );
+    assert!(
+        full.peak_resident_bytes > report.streaming[0].peak_resident_bytes,
+        "full detail holds more than 1 px"
+    );
+    assert!(geometry.geometry_bytes > 0);
+    // Reported in both outputs.
+    let out = std::env::temp_dir().join(format!("vgeo-bench-stream-{}", std::process::id()));
+    bench::write_outputs(&report, &out).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("bench.json")).unwrap()).unwrap();
+    let first = &json["streaming"][0];
+    for key in [
+        "resident_bytes",
+        "peak_resident_bytes",
+        "requests",
+        "uploads",
+        "evictions",
+        "used_bytes_last_frame",
+    ] {
+        assert!(
+            first[key].as_u64().is_some(),
+            "bench.json: {key} in {first}"
+        );
+    }
+    assert_eq!(
+        json["settings"]["geometry_budget"]["bytes"].as_u64(),
+        Some(budget)
+    );
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("geometry budget of"), "{md}");
+    assert!(md.contains("| peak resident MiB |"), "{md}");
+    std::fs::remove_dir_all(&out).ok();
+}
+
+/// The demo scene's streamed budget for the test above (KiB): below its pages, above its
+/// always-resident ones.
+const BUDGET_KIB: u64 = 1024;
+
+/// `--geometry-budget` takes MiB or `auto` (a quarter of the device-local heap) and refuses
+/// anything else with a message saying what it takes.
+#[test]
+fn geometry_budget_parses_mib_and_auto() {
+    use vgeo::GeometryBudget;
+    assert_eq!(GeometryBudget::parse("auto"), Ok(GeometryBudget::Auto));
+    assert_eq!(GeometryBudget::parse("AUTO"), Ok(GeometryBudget::Auto));
+    assert_eq!(
+        GeometryBudget::parse("64"),
+        Ok(GeometryBudget::Bytes(64 << 20))
+    );
+    assert_eq!(
+        GeometryBudget::parse("0.5"),
+        Ok(GeometryBudget::Bytes(512 << 10))
+    );
+    for bad in ["0", "-3", "nan", "inf", "1e300", "lots", ""] {
+        let err = GeometryBudget::parse(bad).expect_err(bad);
+        assert!(err.contains("auto"), "{bad}: {err}");
+    }
+    assert_eq!(GeometryBudget::Auto.bytes(8 << 30), 2 << 30);
+    assert_eq!(GeometryBudget::Bytes(5).bytes(8 << 30), 5);
+    assert!(
+        GeometryBudget::Auto
+            .describe(8 << 30)
+            .contains("2048.00 MiB (auto: a quarter of the 8192.00 MiB device-local heap)")
+    );
+    // The device reports its heap (lavapipe: system memory).
+    let ctx = common::gpu();
+    assert!(ctx.caps().device_local_bytes > 0);
+}

@@ -35,6 +35,7 @@ fn info_prints_device_and_features() {
         "drawIndirectCount:",
         "timestamps:",
         "subgroup size:",
+        "device-local memory:",
     ] {
         assert!(out.contains(key), "`{key}` missing from:\n{out}");
     }
@@ -323,4 +324,45 @@ fn render_path_reports_every_frame() {
         ok && out.contains("timed:") && out.contains("mean of 4 frames"),
         "{out}\n{err}"
     );
+}
+
+/// `--geometry-budget` alone (or `auto`) streams under a quarter of the device-local heap, said at
+/// the start; the `residency` view renders with it; a budget that is no number of MiB is refused
+/// with what is accepted.
+#[test]
+fn geometry_budget_auto_and_the_residency_view() {
+    let dir = std::env::temp_dir().join(format!("vgeo-cli-auto-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("residency.png");
+    let bunny = assets().join("bunny.ply");
+    let mut c = vgeo();
+    c.arg("render")
+        .arg(&bunny)
+        .args(["--width", "64", "--height", "48", "--frames", "2"])
+        .args(["--view", "residency", "--geometry-budget", "--out"])
+        .arg(&png);
+    let (ok, out, err) = run(&mut c);
+    assert!(ok, "{out}\n{err}");
+    assert!(
+        err.contains("geometry budget: ") && err.contains("(auto: a quarter of the"),
+        "{err}"
+    );
+    let img = image::open(&png).expect("a readable PNG").to_rgba8();
+    let green = vgeo::shared::RESIDENCY_COLOR_RESIDENT.to_le_bytes();
+    let dark = vgeo::shared::RESIDENCY_COLOR_NOT_NEEDED.to_le_bytes();
+    let drawn = img
+        .pixels()
+        .filter(|p| p.0[..3] == green[..3] || p.0[..3] == dark[..3])
+        .count();
+    assert!(drawn > 50, "{drawn} pixels resident or not needed");
+    let (ok, _, err) = run(vgeo()
+        .arg("render")
+        .arg(&bunny)
+        .args(["--geometry-budget", "lots", "--out"])
+        .arg(dir.join("x.png")));
+    assert!(
+        !ok && err.contains("--geometry-budget") && err.contains("auto"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -520,6 +520,8 @@ fn every_view_mode_renders() {
             distinct.len()
         );
         let min_colours = match mode {
+            // Every page resident: one colour (resident) and the background.
+            ViewMode::Residency => 2,
             ViewMode::Lod | ViewMode::HwSw | ViewMode::Instances | ViewMode::Groups => 3,
             _ => 20,
         };

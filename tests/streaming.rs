@@ -512,3 +512,254 @@ fn a_per_frame_cap_below_every_load_set_still_streams_one_set_per_frame() {
     );
     assert_no_validation_errors(&ctx);
 }
+
+/// The residency view's colour of each state, as the image holds it (RGBA8).
+fn residency_rgba(state: u32) -> [u8; 4] {
+    state.to_le_bytes()
+}
+
+/// Per pixel of `f` (one mesh `m`, instances `placements`, drawn with page residency `resident`
+/// and having written the page requests `wish`), the colour the residency view must show: `None`
+/// for the background and for clusters whose decision is within rounding of the threshold.
+fn expected_residency(
+    m: &BuiltMesh,
+    placements: &[Placement],
+    f: &VgeoFrame,
+    resident: &[bool],
+    wish: &[f32],
+    camera: &Camera,
+) -> Vec<Option<[u8; 4]>> {
+    use vgeo::shared::{
+        RESIDENCY_COLOR_MISSING, RESIDENCY_COLOR_NOT_NEEDED, RESIDENCY_COLOR_REQUESTED,
+        RESIDENCY_COLOR_RESIDENT,
+    };
+    let view = view_for(camera, W, H, &settings());
+    let tau = view.error_px;
+    f.visbuffer
+        .iter()
+        .map(|&v| {
+            if v == 0 {
+                return None;
+            }
+            let slot = (v as u32 >> vgeo::shared::VISBUFFER_TRIANGLE_BITS) as usize;
+            let [instance, cluster] = f.visible_table[slot];
+            let c = &m.clusters[cluster as usize];
+            if c.creator == vgeo::builder::NO_GROUP {
+                return Some(residency_rgba(RESIDENCY_COLOR_RESIDENT));
+            }
+            let g = &m.groups[c.creator as usize];
+            let pages = g.page_first as usize..(g.page_first + g.page_count) as usize;
+            if pages.clone().all(|p| resident[p]) {
+                return Some(residency_rgba(RESIDENCY_COLOR_RESIDENT));
+            }
+            let requested = pages.clone().any(|p| !resident[p] && wish[p] > 0.0);
+            let inst = vgeo::scene_gpu::instance_gpu(&placements[instance as usize]);
+            let s = c.self_sphere;
+            let centre =
+                vgeo::reference::cut::relative_position(&inst, &view, Vec3::new(s[0], s[1], s[2]));
+            let px = vgeo::builder::lod_error_px(
+                c.self_error * inst.max_scale,
+                centre,
+                s[3] * inst.max_scale,
+                Vec3::ZERO,
+                view.proj_scale,
+            );
+            if (px - tau).abs() <= 1e-4 * tau {
+                return None;
+            }
+            Some(residency_rgba(if px > tau {
+                RESIDENCY_COLOR_MISSING
+            } else if requested {
+                RESIDENCY_COLOR_REQUESTED
+            } else {
+                RESIDENCY_COLOR_NOT_NEEDED
+            }))
+        })
+        .collect()
+}
+
+/// Pixels of each residency colour in `f`'s image, after checking every covered pixel against
+/// `expected` (within one step of rounding): (resident, not needed, requested, missing).
+fn residency_counts(f: &VgeoFrame, expected: &[Option<[u8; 4]>], what: &str) -> [usize; 4] {
+    use vgeo::shared::{
+        RESIDENCY_COLOR_MISSING, RESIDENCY_COLOR_NOT_NEEDED, RESIDENCY_COLOR_REQUESTED,
+        RESIDENCY_COLOR_RESIDENT,
+    };
+    let states = [
+        RESIDENCY_COLOR_RESIDENT,
+        RESIDENCY_COLOR_NOT_NEEDED,
+        RESIDENCY_COLOR_REQUESTED,
+        RESIDENCY_COLOR_MISSING,
+    ]
+    .map(residency_rgba);
+    let close = |a: &[u8], b: &[u8; 4]| (0..3).all(|k| a[k].abs_diff(b[k]) <= 1);
+    let mut counts = [0usize; 4];
+    let mut wrong = 0;
+    for (i, (px, want)) in f.frame.color.chunks(4).zip(expected).enumerate() {
+        let Some(want) = want else { continue };
+        if !close(px, want) {
+            if wrong < 5 {
+                eprintln!("{what}: pixel {i} is {px:?}, expected {want:?}");
+            }
+            wrong += 1;
+        }
+        if let Some(k) = states.iter().position(|s| close(px, s)) {
+            counts[k] += 1;
+        }
+    }
+    assert_eq!(wrong, 0, "{what}: {wrong} pixels show another state");
+    counts
+}
+
+/// The `residency` debug view (issue 13, item 6). Under a budget well below the mesh's pages, a
+/// close view's first frame (only the always-resident pages there) shows "wanted but missing"
+/// where the cut would refine, and "requested" on a second, distant instance of the same mesh
+/// whose coarse clusters the near one asked to refine; once the detail has streamed in, no pixel
+/// is wanted but missing. Every covered pixel of every frame shows the state the CPU derives from
+/// the residency the frame was drawn with and the page requests it wrote. With every page
+/// resident (no streaming), every covered pixel reads resident.
+#[test]
+fn residency_view_shows_missing_detail_until_it_streams_in() {
+    use vgeo::shared::RESIDENCY_COLOR_RESIDENT;
+    let ctx = gpu();
+    let m = bunny();
+    let placements = [
+        place(),
+        Placement {
+            mesh: 0,
+            transform: DMat4::from_translation(DVec3::new(0.35, 0.0, -1.2)),
+            color: [1.0; 3],
+        },
+    ];
+    let camera = Camera::look_at(
+        DVec3::new(0.05, 0.13, 0.28),
+        DVec3::new(0.06, 0.1, 0.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.01,
+    );
+    // A budget of the always-resident pages, the pages this view needs (closed) and two spare
+    // slots: well below the whole mesh.
+    let slot = m
+        .pages
+        .iter()
+        .map(|p| p.bytes as u64)
+        .max()
+        .unwrap()
+        .next_multiple_of(4);
+    let fixed: u64 = m.pages[..m.resident_pages as usize]
+        .iter()
+        .map(|p| p.bytes as u64)
+        .sum();
+    let view = view_for(&camera, W, H, &settings());
+    let (cut, _) =
+        reference_cut_resident(std::slice::from_ref(&m), &[None], &placements, &view, 1e-4);
+    let mut need = vec![false; m.pages.len()];
+    for e in &cut {
+        need[m.clusters[e.cluster as usize].page as usize] = true;
+    }
+    close_residency(&m, &group_needs(&m), &mut need);
+    let slots = need[m.resident_pages as usize..]
+        .iter()
+        .filter(|&&n| n)
+        .count() as u64;
+    let budget = fixed + (slots + 2) * slot;
+    let total: u64 = m.pages.iter().map(|p| p.bytes as u64).sum();
+    assert!(
+        budget < total * 3 / 4,
+        "the view needs {budget} B of {total}: pick a farther view"
+    );
+    let opts = StreamOptions {
+        budget_bytes: budget,
+        upload_bytes_per_frame: 64 << 10,
+    };
+    let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
+    let (mut streamer, handles) = Streamer::new(
+        &mut r.scene,
+        vec![(m.clone(), Box::new(m.clone()) as Box<dyn PageSource>)],
+        opts,
+    )
+    .expect("streamer");
+    for p in &placements {
+        r.scene
+            .add_instance(&InstanceDesc {
+                mesh: handles[0],
+                transform: p.transform,
+                color: p.color,
+            })
+            .expect("instance");
+    }
+    let residency_frame = |r: &mut VgeoRenderer| {
+        let f = r
+            .render(
+                &camera,
+                W,
+                H,
+                &settings(),
+                ViewMode::Residency,
+                &Light::default(),
+            )
+            .expect("frame renders");
+        f.check().expect("no overflow, no watchdog");
+        f
+    };
+    let mut first = None;
+    let mut last = None;
+    for k in 0..40 {
+        let resident = streamer.residency().remove(0);
+        let f = residency_frame(&mut r);
+        let (wish, _) = r.scene.page_feedback(handles[0]).expect("feedback");
+        let expected = expected_residency(&m, &placements, &f, &resident, &wish, &camera);
+        let counts = residency_counts(&f, &expected, &format!("frame {k}"));
+        eprintln!("frame {k}: resident, not needed, requested, missing = {counts:?}");
+        if let Ok(dir) = std::env::var("VGEO_TEST_DUMP") {
+            let path = std::path::Path::new(&dir).join(format!("residency_{k}.png"));
+            image::save_buffer(&path, &f.frame.color, W, H, image::ColorType::Rgba8)
+                .expect("save dump");
+        }
+        if k == 0 {
+            first = Some(counts);
+        }
+        let st = streamer.update(&mut r.scene).expect("streaming step");
+        assert!(st.resident_bytes <= budget, "{st:?} over {budget}");
+        if st.requests == 0 {
+            last = Some(counts);
+            break;
+        }
+    }
+    let [_, _, requested, missing] = first.unwrap();
+    assert!(
+        missing > 100,
+        "the first frame shows {missing} pixels wanted but missing"
+    );
+    assert!(
+        requested > 0,
+        "the far instance's clusters the near one asked to refine read requested"
+    );
+    let [resident, not_needed, requested, missing] = last.expect("settles within 40 frames");
+    assert_eq!(
+        (missing, requested),
+        (0, 0),
+        "settled: no pixel is wanted but missing or requested"
+    );
+    assert!(
+        resident > 0 && resident + not_needed > 1000,
+        "settled: {resident} pixels resident, {not_needed} not needed"
+    );
+    // Every page resident: every covered pixel reads resident.
+    let mut full = VgeoRenderer::new(&ctx, std::slice::from_ref(&m), &placements).unwrap();
+    let f = residency_frame(&mut full);
+    let green = residency_rgba(RESIDENCY_COLOR_RESIDENT);
+    let covered: Vec<usize> = (0..f.visbuffer.len())
+        .filter(|&i| f.visbuffer[i] != 0)
+        .collect();
+    assert!(covered.len() > 1000, "{} pixels covered", covered.len());
+    for &i in &covered {
+        assert_eq!(
+            f.frame.color[4 * i..4 * i + 3],
+            green[..3],
+            "all resident: pixel {i}"
+        );
+    }
+    assert_no_validation_errors(&ctx);
+}

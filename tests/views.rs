@@ -79,7 +79,12 @@ fn new_views_render_without_validation_errors() {
     let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &[at(0, DVec3::ZERO)])
         .expect("renderer");
     let camera = common::filling_camera(&mesh, 1.6);
-    for mode in [ViewMode::Groups, ViewMode::Overdraw, ViewMode::Fallback] {
+    for mode in [
+        ViewMode::Groups,
+        ViewMode::Overdraw,
+        ViewMode::Fallback,
+        ViewMode::Residency,
+    ] {
         let f = render(&mut r, &camera, &FrameSettings::default(), mode);
         let shown = non_background(&f.frame.color);
         let covered = f.visbuffer.iter().filter(|v| **v != 0).count();

@@ -1,22 +1,13 @@
-// Shared by instance_cull and cluster_cull: camera-relative transforms, frustum and HZB tests, the
-// LOD error projection (mirrors src/builder/cut.rs::lod_error_px operation for operation), queue
-// pushes and cluster emission. The including shader declares, before including this file:
-// `view` (ViewGpu), `counters` (CullCounters), `queue` (uint64_t[]), `occ` (OcclusionGpu),
-// `hzb` (float[]), `clusters`, `visible`, `sw_list`, `hw_list`.
+// Shared by instance_cull and cluster_cull: frustum and HZB tests, the cut (with the LOD error
+// projection and camera-relative transforms of lod.glsl), queue pushes and cluster emission. The
+// including shader declares, before including this file: `view` (ViewGpu), `counters`
+// (CullCounters), `queue` (uint64_t[]), `occ` (OcclusionGpu), `hzb` (float[]), `cluster_locs`,
+// `pages`, `pool`, `groups`,
+// `visible`, `sw_list`, `hw_list`.
 #ifndef VGEO_CULL_GLSL
 #define VGEO_CULL_GLSL
 
-// Camera-relative position of object-space point p of an instance for a camera at hi + lo:
-// translation minus camera first (exact for large coordinates), then the linear part by column.
-vec3 relative_to(InstanceVgeo inst, vec3 cam_hi, vec3 cam_lo, vec3 p) {
-    precise vec3 t = (inst.translation_hi - cam_hi) + (inst.translation_lo - cam_lo);
-    precise vec3 l = inst.linear[0].xyz * p.x + inst.linear[1].xyz * p.y + inst.linear[2].xyz * p.z;
-    return t + l;
-}
-
-vec3 relative_position(InstanceVgeo inst, ViewGpu v, vec3 p) {
-    return relative_to(inst, v.camera_hi.xyz, v.camera_lo.xyz, p);
-}
+#include "lod.glsl"
 
 // Whether a camera-relative sphere touches the frustum (far plane at infinity).
 bool sphere_in_frustum(ViewGpu v, vec3 c, float r) {
@@ -26,19 +17,6 @@ bool sphere_in_frustum(ViewGpu v, vec3 c, float r) {
         }
     }
     return true;
-}
-
-// Projected size in pixels of `error` at the sphere's point nearest to the camera (at the origin).
-float lod_error_px(float error, vec3 center, float radius, float proj_scale) {
-    if (error <= 0.0) {
-        return 0.0;
-    }
-    precise float d = length(center) - radius;
-    if (d <= 0.0) {
-        return 1.0 / 0.0;
-    }
-    precise float e = error * proj_scale;
-    return e / d;
 }
 
 // Whether an instance's object-space box lies entirely behind the HZB in `occ` (conservative: a box

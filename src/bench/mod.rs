@@ -46,6 +46,7 @@ use serde::Serialize;
 use crate::Context;
 use crate::EmitPath;
 use crate::FrameSettings;
+use crate::GeometryBudget;
 use crate::scene::load::MeshCache;
 use error::{equal_error, summarize};
 use report::{git_commit, utc_now};
@@ -53,8 +54,8 @@ use scenes::load_scene;
 use timing::run_scene;
 
 pub use report::{
-    BenchReport, EqualError, FrameRecord, MemoryRecord, SceneInfo, Skipped, Summary, markdown,
-    write_outputs,
+    BenchReport, EqualError, FrameRecord, MemoryRecord, SceneInfo, Skipped, StreamRecord, Summary,
+    markdown, write_outputs,
 };
 
 /// The benchmark scenes with a scene file of their own, in run order (`stress` comes last).
@@ -69,6 +70,13 @@ pub const DEFAULT_REFERENCE_SPP: u32 = 16;
 
 /// Default `--psnr-margin` (dB): "equal error" is a PSNR at most this far below brute's floor.
 pub const DEFAULT_PSNR_MARGIN_DB: f64 = 1.0;
+
+/// Default `--stream-mib-per-frame` (MiB), as `vgeo render`'s.
+pub const DEFAULT_STREAM_MIB_PER_FRAME: f64 = 16.0;
+
+/// Most frames a camera of the path is rendered (streaming between them) to settle before its
+/// frame is timed, with `--geometry-budget`.
+pub const SETTLE_FRAMES: u32 = 64;
 
 /// A benchmark suite: sizes and sweeps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -111,6 +119,8 @@ impl Suite {
                 emit: EmitPath::default(),
                 reference_spp: DEFAULT_REFERENCE_SPP,
                 psnr_margin_db: DEFAULT_PSNR_MARGIN_DB,
+                geometry_budget: None,
+                stream_mib_per_frame: DEFAULT_STREAM_MIB_PER_FRAME,
             },
             Suite::Full => BenchSettings {
                 suite: self,
@@ -129,6 +139,8 @@ impl Suite {
                 emit: EmitPath::default(),
                 reference_spp: DEFAULT_REFERENCE_SPP,
                 psnr_margin_db: DEFAULT_PSNR_MARGIN_DB,
+                geometry_budget: None,
+                stream_mib_per_frame: DEFAULT_STREAM_MIB_PER_FRAME,
             },
         }
     }
@@ -170,6 +182,12 @@ pub struct BenchSettings {
     /// "Equal error": a mode's threshold qualifies when its PSNR is at most this many dB below
     /// brute's at one sample per pixel ([`EqualError`]).
     pub psnr_margin_db: f64,
+    /// vgeo: stream the meshes' pages under this budget (`None`: every page resident). Each
+    /// camera of the path is rendered until the streaming settles (no more uploads) before its
+    /// frame is timed; [`StreamRecord`] reports the residency.
+    pub geometry_budget: Option<GeometryBudget>,
+    /// With a budget: most page bytes read and uploaded between two frames (MiB).
+    pub stream_mib_per_frame: f64,
 }
 
 /// The rendering modes a benchmark compares.
@@ -240,6 +258,19 @@ pub struct BenchArgs {
     /// many dB below brute's at one sample per pixel (default 1.0).
     #[arg(long)]
     pub psnr_margin: Option<f64>,
+    /// vgeo: stream the meshes' geometry pages under this GPU budget (MiB), as `vgeo render
+    /// --geometry-budget` does; `auto` (also the flag alone): a quarter of the device's largest
+    /// device-local heap, printed at the start. Each camera of a path is rendered, streaming
+    /// between frames, until nothing more is uploaded (at most 64 frames) before its frame is
+    /// timed (then alone, after the warm-up); bench.json and bench.md report per scene and
+    /// threshold the resident page bytes, their peak, requests, uploads, evictions and the
+    /// bytes the last frame used. Default: every page resident.
+    #[arg(long, value_name = "MIB|auto", num_args = 0..=1, default_missing_value = "auto")]
+    pub geometry_budget: Option<String>,
+    /// With --geometry-budget: most page bytes read and uploaded between two frames (MiB,
+    /// default 16).
+    #[arg(long, value_name = "MIB")]
+    pub stream_mib_per_frame: Option<f64>,
 }
 
 impl BenchArgs {
@@ -301,6 +332,17 @@ impl BenchArgs {
         if let Some(m) = self.psnr_margin {
             s.psnr_margin_db = m;
         }
+        if let Some(b) = &self.geometry_budget {
+            s.geometry_budget = Some(
+                GeometryBudget::parse(b).map_err(|e| anyhow::anyhow!("--geometry-budget: {e}"))?,
+            );
+        }
+        if let Some(m) = self.stream_mib_per_frame {
+            if s.geometry_budget.is_none() {
+                bail!("--stream-mib-per-frame needs --geometry-budget");
+            }
+            s.stream_mib_per_frame = m;
+        }
         s.validate()?;
         Ok(s)
     }
@@ -348,6 +390,12 @@ impl BenchSettings {
         }
         if !self.psnr_margin_db.is_finite() || self.psnr_margin_db < 0.0 {
             bail!("the PSNR margin must be a finite number of dB >= 0");
+        }
+        if !(self.stream_mib_per_frame.is_finite() && self.stream_mib_per_frame > 0.0) {
+            bail!("the streaming bytes per frame must be a positive number of MiB");
+        }
+        if self.geometry_budget == Some(GeometryBudget::Bytes(0)) {
+            bail!("the geometry budget must be positive");
         }
         if self.stress && (self.stress_n.is_empty() || self.stress_n.contains(&0)) {
             bail!("stress grid sizes must be >= 1");
@@ -424,6 +472,7 @@ pub fn run(
         equal_error: Vec::new(),
         skipped: Vec::new(),
         memory: Vec::new(),
+        streaming: Vec::new(),
         wall_s: 0.0,
         images: Vec::new(),
     };
@@ -471,6 +520,9 @@ pub fn run_bench(args: &BenchArgs) -> Result<()> {
         print!("{md}");
         println!("wrote {}", args.out.display());
         return Ok(());
+    }
+    if let Some(b) = settings.geometry_budget {
+        println!("{}", b.describe(ctx.caps().device_local_bytes));
     }
     let report = run(&ctx, &settings, &scenes_dir, !args.quiet)?;
     write_outputs(&report, &args.out)?;
@@ -572,6 +624,7 @@ mod tests {
             equal_error: Vec::new(),
             skipped: Vec::new(),
             memory: Vec::new(),
+            streaming: Vec::new(),
             wall_s: 0.0,
             images: Vec::new(),
         };

@@ -134,6 +134,8 @@ pub struct BenchReport {
     pub skipped: Vec<Skipped>,
     /// GPU memory per scene and mode.
     pub memory: Vec<MemoryRecord>,
+    /// vgeo's streaming per scene and threshold (with `--geometry-budget`; empty otherwise).
+    pub streaming: Vec<StreamRecord>,
     pub wall_s: f64,
     /// Example images for the output folder (file stem, frame): the middle frame of each path,
     /// the reference, brute and both other modes at the threshold nearest 1 px.
@@ -175,6 +177,41 @@ pub struct MemoryRecord {
     pub geometry_bytes: u64,
     /// Instance records (vgeo's per-frame work buffers are not counted).
     pub instance_bytes: u64,
+}
+
+/// vgeo under a geometry budget (`--geometry-budget`): the streaming of one scene at one
+/// threshold, over its whole path (each camera settled before its frame was timed).
+#[derive(Clone, Debug, Serialize)]
+pub struct StreamRecord {
+    pub scene: String,
+    pub error_px: f32,
+    /// The budget the pages stream under (bytes), and one page slot's bytes.
+    pub budget_bytes: u64,
+    pub slot_bytes: u64,
+    /// Page bytes resident after the path's last frame: the always-resident pages and the slots
+    /// in use (counted whole).
+    pub resident_bytes: u64,
+    /// The most page bytes resident after any streaming step of the path.
+    pub peak_resident_bytes: u64,
+    /// Over the path, settling included: pages the cull asked for (summed over the steps), pages
+    /// loaded and their bytes, pages evicted, pages that could not be read.
+    pub requests: u64,
+    pub uploads: u64,
+    pub upload_bytes: u64,
+    pub evictions: u64,
+    pub failed: u64,
+    /// Page bytes the path's last frame used (pages holding a drawn cluster): what its cut needs
+    /// resident.
+    pub used_bytes_last_frame: u64,
+    /// Pages the cull still asked for after the last frame (0: everything the view wants is
+    /// resident; more: the budget or the per-frame uploads did not allow it).
+    pub requests_last_frame: u64,
+    /// The most frames a camera of the path was rendered to settle (no more uploads), and
+    /// whether every camera settled within [`super::SETTLE_FRAMES`].
+    pub settle_frames_max: u32,
+    pub settled: bool,
+    /// Pages that could not be read, one line each.
+    pub errors: Vec<String>,
 }
 
 pub(super) fn git_commit() -> Option<String> {
@@ -675,6 +712,36 @@ pub fn markdown(report: &BenchReport) -> String {
             }
             md.push('\n');
         }
+        let streamed: Vec<&StreamRecord> = (report.streaming.iter())
+            .filter(|r| r.scene == info.name)
+            .collect();
+        if let Some(first) = streamed.first() {
+            let _ = writeln!(
+                md,
+                "vgeo streamed under a geometry budget of {:.2} MiB (slots of {:.1} KiB; each camera settled before its frame was timed; counts over the path, settling included):\n\n| px | resident MiB | peak resident MiB | used by the last frame MiB | requests | uploads | uploaded MiB | evictions | failed | still requested | frames to settle (most) |\n|---|---|---|---|---|---|---|---|---|---|---|",
+                mib(first.budget_bytes),
+                first.slot_bytes as f64 / 1024.0
+            );
+            for r in streamed {
+                let _ = writeln!(
+                    md,
+                    "| {} | {:.2} | {:.2} | {:.2} | {} | {} | {:.2} | {} | {} | {} | {}{} |",
+                    r.error_px,
+                    mib(r.resident_bytes),
+                    mib(r.peak_resident_bytes),
+                    mib(r.used_bytes_last_frame),
+                    r.requests,
+                    r.uploads,
+                    mib(r.upload_bytes),
+                    r.evictions,
+                    r.failed,
+                    r.requests_last_frame,
+                    r.settle_frames_max,
+                    if r.settled { "" } else { " (not settled)" }
+                );
+            }
+            md.push('\n');
+        }
     }
     let scaling = scaling_series(report);
     if scaling.iter().any(|(_, p)| !p.is_empty()) {
@@ -691,4 +758,8 @@ pub fn markdown(report: &BenchReport) -> String {
         md.push('\n');
     }
     md
+}
+
+fn mib(bytes: u64) -> f64 {
+    bytes as f64 / (1u64 << 20) as f64
 }

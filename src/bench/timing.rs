@@ -8,9 +8,9 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 use indicatif::ProgressBar;
 
-use super::BenchSettings;
-use super::report::{BenchReport, FrameRecord, MemoryRecord, Skipped};
+use super::report::{BenchReport, FrameRecord, MemoryRecord, Skipped, StreamRecord};
 use super::scenes::BenchScene;
+use super::{BenchSettings, SETTLE_FRAMES};
 use crate::BruteRenderer as Brute;
 use crate::Camera;
 use crate::Context;
@@ -19,6 +19,7 @@ use crate::FrameSettings;
 use crate::Renderer as VgeoRenderer;
 use crate::ViewMode;
 use crate::imgerr::{Reference, image_error};
+use crate::{BuiltMesh, InstanceDesc, PageSource, Placement, StreamOptions, StreamStats, Streamer};
 use crate::{LodOptions, LodRenderer as Lod};
 
 /// The memory a mode holds for a scene: (geometry bytes, instance bytes).
@@ -250,21 +251,25 @@ pub(super) fn run_scene(
         None
     };
     times.build_s = t.elapsed().as_secs_f64();
+    let stream = settings.geometry_budget.map(|b| StreamOptions {
+        budget_bytes: b.bytes(ctx.caps().device_local_bytes),
+        upload_bytes_per_frame: (settings.stream_mib_per_frame * (1u64 << 20) as f64) as u64,
+    });
     let mut vgeo = match &built {
         None => {
             bar.inc(frames * sweep.len() as u64);
             None
         }
-        Some(built) => match VgeoRenderer::new(ctx, built, &scene.placements) {
+        Some(built) => match new_vgeo(ctx, built, &scene.placements, stream) {
             Ok(r) => Some(r),
             Err(err) => {
-                skip(report, "vgeo", None, format!("failed: {err}"));
+                skip(report, "vgeo", None, format!("failed: {err:#}"));
                 bar.inc(frames * sweep.len() as u64);
                 None
             }
         },
     };
-    if let Some(r) = vgeo.as_mut() {
+    if let Some((r, streamer)) = vgeo.as_mut() {
         r.set_emit_path(settings.emit);
         memory.insert(
             "vgeo",
@@ -279,6 +284,20 @@ pub(super) fn run_scene(
                 hw_threshold_px: settings.hw_threshold_px,
                 ..FrameSettings::default()
             };
+            if let Some(streamer) = streamer.as_mut() {
+                let budget = stream.map_or(0, |o| o.budget_bytes);
+                run_streamed(
+                    settings,
+                    scene,
+                    r,
+                    streamer,
+                    (&fs, budget),
+                    &reference,
+                    report,
+                    bar,
+                )?;
+                continue;
+            }
             // Timed along the path (history flows frame to frame as in an application), then
             // rendered again with read-back for the counters and the image error.
             let timed = time_path(settings.warmup, &scene.cameras, |first, cams| {
@@ -300,28 +319,8 @@ pub(super) fn run_scene(
                     bar.inc(frames - f as u64);
                     break;
                 }
-                let (m, p) = (&vf.main.counters, &vf.post.counters);
-                let error = match &reference[f] {
-                    Some(rf) => Some(image_error(rf, &vf.frame)?),
-                    None => None,
-                };
-                report.records.push(FrameRecord {
-                    scene: name.clone(),
-                    mode: "vgeo".into(),
-                    error_px: Some(e),
-                    frame: f as u32,
-                    gpu_ms: passes.iter().map(|p| p.1).sum(),
-                    passes,
-                    cpu_ms,
-                    triangles: vf.frame.triangles,
-                    clusters: Some(
-                        (m.sw_count + m.hw_count) as u64 + (p.sw_count + p.hw_count) as u64,
-                    ),
-                    instances_visible: Some(
-                        m.instances_visible as u64 + p.instances_visible as u64,
-                    ),
-                    error,
-                });
+                let rec = vgeo_record(name, e, f, &vf, passes, cpu_ms, reference[f].as_ref())?;
+                report.records.push(rec);
                 save_example(report, name, "vgeo", Some(e), f, &vf.frame, None);
                 bar.inc(1);
             }
@@ -338,6 +337,176 @@ pub(super) fn run_scene(
         }
     }
     Ok(times)
+}
+
+/// vgeo's renderer for a scene: every page resident, or with `stream` the meshes added with
+/// only their always-resident pages and a [`Streamer`] for the rest (as `vgeo render
+/// --geometry-budget` builds it; the pages come from the built meshes in memory).
+fn new_vgeo(
+    ctx: &Context,
+    built: &[&BuiltMesh],
+    placements: &[Placement],
+    stream: Option<StreamOptions>,
+) -> Result<(VgeoRenderer, Option<Streamer>)> {
+    let Some(opts) = stream else {
+        return Ok((VgeoRenderer::new(ctx, built, placements)?, None));
+    };
+    let mut r = VgeoRenderer::new(ctx, &[] as &[BuiltMesh], &[])?;
+    let sources: Vec<(BuiltMesh, Box<dyn PageSource>)> = built
+        .iter()
+        .map(|&b| (b.clone(), Box::new(b.clone()) as Box<dyn PageSource>))
+        .collect();
+    let (streamer, handles) = Streamer::new(&mut r.scene, sources, opts)?;
+    let descs: Vec<InstanceDesc> = placements
+        .iter()
+        .map(|p| InstanceDesc {
+            mesh: handles[p.mesh as usize],
+            transform: p.transform,
+            color: p.color,
+        })
+        .collect();
+    r.scene.add_instances(&descs)?;
+    Ok((r, Some(streamer)))
+}
+
+/// A vgeo frame's record: counters from the read-back frame `vf`, times from its timed run.
+fn vgeo_record(
+    scene: &str,
+    e: f32,
+    f: usize,
+    vf: &crate::VgeoFrame,
+    passes: PassTimes,
+    cpu_ms: f64,
+    reference: Option<&Reference>,
+) -> Result<FrameRecord> {
+    let (m, p) = (&vf.main.counters, &vf.post.counters);
+    let error = match reference {
+        Some(rf) => Some(image_error(rf, &vf.frame)?),
+        None => None,
+    };
+    Ok(FrameRecord {
+        scene: scene.to_string(),
+        mode: "vgeo".into(),
+        error_px: Some(e),
+        frame: f as u32,
+        gpu_ms: passes.iter().map(|p| p.1).sum(),
+        passes,
+        cpu_ms,
+        triangles: vf.frame.triangles,
+        clusters: Some((m.sw_count + m.hw_count) as u64 + (p.sw_count + p.hw_count) as u64),
+        instances_visible: Some(m.instances_visible as u64 + p.instances_visible as u64),
+        error,
+    })
+}
+
+/// One streaming step after a frame, added to `rec`'s totals.
+fn stream_step(
+    r: &mut VgeoRenderer,
+    streamer: &mut Streamer,
+    rec: &mut StreamRecord,
+) -> Result<StreamStats> {
+    let st = streamer.update(&mut r.scene)?;
+    rec.errors.extend(streamer.take_errors());
+    rec.requests += st.requests;
+    rec.uploads += st.uploads;
+    rec.upload_bytes += st.upload_bytes;
+    rec.evictions += st.evictions;
+    rec.failed += st.failed;
+    rec.resident_bytes = st.resident_bytes;
+    rec.peak_resident_bytes = rec.peak_resident_bytes.max(st.resident_bytes);
+    Ok(st)
+}
+
+/// vgeo at threshold `fs.error_px` along the path, streaming under the budget: per camera,
+/// frames rendered with a streaming step after each until a step uploads nothing (settled: what
+/// the view wants is resident, or the budget holds no more of it; at most [`SETTLE_FRAMES`]),
+/// then the frame timed alone ([`time_path`], with the warm-up: the settling's waits let the GPU
+/// clock fall) with the residency fixed, then rendered with read-back for its record, and its
+/// usage and remaining requests read by one more step. The occlusion history flows along the
+/// path. Pushes the frames' records and one [`StreamRecord`].
+#[allow(clippy::too_many_arguments)]
+fn run_streamed(
+    settings: &BenchSettings,
+    scene: &BenchScene,
+    r: &mut VgeoRenderer,
+    streamer: &mut Streamer,
+    (fs, budget_bytes): (&FrameSettings, u64),
+    reference: &[Option<Reference>],
+    report: &mut BenchReport,
+    bar: &ProgressBar,
+) -> Result<()> {
+    let (w, h) = (settings.width, settings.height);
+    let name = &scene.info.name;
+    let e = fs.error_px;
+    let mut rec = StreamRecord {
+        scene: name.clone(),
+        error_px: e,
+        budget_bytes,
+        slot_bytes: streamer.slot_bytes(),
+        resident_bytes: 0,
+        peak_resident_bytes: 0,
+        requests: 0,
+        uploads: 0,
+        upload_bytes: 0,
+        evictions: 0,
+        failed: 0,
+        used_bytes_last_frame: 0,
+        requests_last_frame: 0,
+        settle_frames_max: 0,
+        settled: true,
+        errors: Vec::new(),
+    };
+    r.reset_history();
+    let light = &scene.light;
+    for (f, cam) in scene.cameras.iter().enumerate() {
+        let one = std::slice::from_ref(cam);
+        let mut settle = 0;
+        loop {
+            if settle == SETTLE_FRAMES {
+                rec.settled = false;
+                break;
+            }
+            r.render_path_timed(one, w, h, fs, ViewMode::Lit, light)?;
+            settle += 1;
+            if stream_step(r, streamer, &mut rec)?.uploads == 0 {
+                break;
+            }
+        }
+        rec.settle_frames_max = rec.settle_frames_max.max(settle);
+        let timed = time_path(settings.warmup, one, |_, cams| {
+            Ok(r.render_path_timed(cams, w, h, fs, ViewMode::Lit, light)?)
+        })?;
+        let Some((passes, cpu_ms)) = timed.into_iter().next() else {
+            bail!("{name}: frame {f} was not timed");
+        };
+        let vf = r.render(cam, w, h, fs, ViewMode::Lit, light)?;
+        if let Err(msg) = vf.check() {
+            report.skipped.push(Skipped {
+                scene: name.clone(),
+                mode: "vgeo".into(),
+                error_px: Some(e),
+                reason: format!("failed at frame {f}: {msg}"),
+            });
+            bar.inc(scene.cameras.len() as u64 - f as u64);
+            break;
+        }
+        report.records.push(vgeo_record(
+            name,
+            e,
+            f,
+            &vf,
+            passes,
+            cpu_ms,
+            reference[f].as_ref(),
+        )?);
+        save_example(report, name, "vgeo", Some(e), f, &vf.frame, None);
+        let st = stream_step(r, streamer, &mut rec)?;
+        rec.used_bytes_last_frame = st.used_bytes;
+        rec.requests_last_frame = st.requests;
+        bar.inc(1);
+    }
+    report.streaming.push(rec);
+    Ok(())
 }
 
 /// Keeps the middle frame's images for the output folder: brute's and its reference, lod's and

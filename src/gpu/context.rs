@@ -73,6 +73,9 @@ pub struct Caps {
     /// `maxStorageBufferRange`: the largest storage buffer a shader may bind (the geometry pool
     /// is one).
     pub max_storage_buffer_range: u32,
+    /// Bytes of the device's largest device-local memory heap (`auto` geometry budgets are a
+    /// share of it; on a CPU device such as lavapipe, system memory).
+    pub device_local_bytes: u64,
     /// Whether vgeo's validation messenger collects errors.
     pub validation: bool,
     /// Tools hooked into Vulkan (`VK_EXT_tooling_info`: RenderDoc, the validation layer), by name
@@ -122,6 +125,11 @@ impl std::fmt::Display for Caps {
             None => writeln!(f, "timestamps:            no")?,
         }
         writeln!(f, "subgroup size:         {}", self.subgroup_size)?;
+        writeln!(
+            f,
+            "device-local memory:   {:.2} GiB (largest heap)",
+            self.device_local_bytes as f64 / (1u64 << 30) as f64
+        )?;
         write!(
             f,
             "validation:            {}",
@@ -725,6 +733,15 @@ impl Context {
                 "no VK_EXT_debug_utils{hidden}: objects are not named and passes not labelled"
             ));
         }
+        // SAFETY: `physical` is a physical device of `instance`.
+        let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
+        let device_local_bytes = memory
+            .memory_heaps_as_slice()
+            .iter()
+            .filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0);
         let caps = Caps {
             device_name: cstr_array(&props.device_name),
             device_type: format!("{:?}", props.device_type)
@@ -751,6 +768,7 @@ impl Context {
             max_compute_workgroups: props.limits.max_compute_work_group_count,
             max_image_dimension_2d: props.limits.max_image_dimension2_d,
             max_storage_buffer_range: props.limits.max_storage_buffer_range,
+            device_local_bytes,
             validation: validation.is_some(),
             tools,
             fallbacks,

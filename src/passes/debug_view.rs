@@ -63,11 +63,21 @@ pub enum ViewMode {
     Normals,
     /// A hashed colour per material (material passes).
     Materials,
+    /// Streaming: per drawn cluster, the state of the pages of the group it would refine into
+    /// (the group that produced it, [`crate::builder::Cluster::creator`]), as flat colours
+    /// ([`crate::shared::RESIDENCY_COLOR_RESIDENT`] and the others): resident (green: those pages
+    /// are resident, or the cluster is a leaf, or its mesh is wholly resident), not needed (dark
+    /// green: absent, but the cluster is fine at this threshold and nothing asked for them),
+    /// requested (amber: absent and fine here, but the cull asked for one of them this frame, for
+    /// another instance), wanted but missing (red: the cut would refine the cluster at this
+    /// threshold but those pages are absent; the cull asked for them). Without streaming every
+    /// covered pixel reads resident.
+    Residency,
 }
 
 impl ViewMode {
     /// Every mode.
-    pub const ALL: [ViewMode; 10] = [
+    pub const ALL: [ViewMode; 11] = [
         ViewMode::Lambert,
         ViewMode::Depth,
         ViewMode::Triangles,
@@ -78,6 +88,7 @@ impl ViewMode {
         ViewMode::Groups,
         ViewMode::Overdraw,
         ViewMode::Fallback,
+        ViewMode::Residency,
     ];
 
     /// The modes drawn by the material passes instead of this one.
@@ -106,7 +117,8 @@ impl ViewMode {
     }
 
     /// The mode's name on the command line (`lambert`, `depth`, `triangles`, `clusters`, `instances`,
-    /// `lod`, `hwsw`, `groups`, `overdraw`, `fallback`, `lit`, `albedo`, `normals`, `materials`).
+    /// `lod`, `hwsw`, `groups`, `overdraw`, `fallback`, `residency`, `lit`, `albedo`, `normals`,
+    /// `materials`).
     pub fn name(self) -> &'static str {
         match self {
             ViewMode::Lambert => "lambert",
@@ -119,6 +131,7 @@ impl ViewMode {
             ViewMode::Groups => "groups",
             ViewMode::Overdraw => "overdraw",
             ViewMode::Fallback => "fallback",
+            ViewMode::Residency => "residency",
             ViewMode::Lit => "lit",
             ViewMode::Albedo => "albedo",
             ViewMode::Normals => "normals",
@@ -152,6 +165,7 @@ impl ViewMode {
             ViewMode::Groups => 7,
             ViewMode::Overdraw => 8,
             ViewMode::Fallback => 9,
+            ViewMode::Residency => 10,
             // Drawn by the material passes; `record` refuses them.
             ViewMode::Lit | ViewMode::Albedo | ViewMode::Normals | ViewMode::Materials => 0,
         }
@@ -199,7 +213,8 @@ impl DebugView {
         bindings.extend([D::STORAGE_BUFFER; 7]);
         bindings.push(D::STORAGE_IMAGE);
         bindings.push(vis);
-        bindings.push(D::STORAGE_BUFFER);
+        // Overdraw counters; groups and page requests (the residency view).
+        bindings.extend([D::STORAGE_BUFFER; 3]);
         let view = ComputePipeline::new(
             ctx,
             ShaderStage { name: NAME, spirv },
@@ -375,6 +390,8 @@ impl DebugView {
                     Desc::StorageImage(&self.image),
                     vis,
                     Desc::Storage(overdraw),
+                    Desc::Storage(&scene.groups),
+                    Desc::Storage(&scene.page_requests),
                 ],
             ),
         );

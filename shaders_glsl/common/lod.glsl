@@ -1,0 +1,33 @@
+// The LOD error projection and the camera-relative transform it is computed in (mirrors
+// src/builder/cut.rs::lod_error_px operation for operation): one definition for every shader that
+// decides or explains the cut (instance_cull and cluster_cull through cull.glsl; debug_view's
+// residency view). Needs `shared.glsl` (InstanceVgeo, ViewGpu).
+#ifndef VGEO_LOD_GLSL
+#define VGEO_LOD_GLSL
+
+// Camera-relative position of object-space point p of an instance for a camera at hi + lo:
+// translation minus camera first (exact for large coordinates), then the linear part by column.
+vec3 relative_to(InstanceVgeo inst, vec3 cam_hi, vec3 cam_lo, vec3 p) {
+    precise vec3 t = (inst.translation_hi - cam_hi) + (inst.translation_lo - cam_lo);
+    precise vec3 l = inst.linear[0].xyz * p.x + inst.linear[1].xyz * p.y + inst.linear[2].xyz * p.z;
+    return t + l;
+}
+
+vec3 relative_position(InstanceVgeo inst, ViewGpu v, vec3 p) {
+    return relative_to(inst, v.camera_hi.xyz, v.camera_lo.xyz, p);
+}
+
+// Projected size in pixels of `error` at the sphere's point nearest to the camera (at the origin).
+float lod_error_px(float error, vec3 center, float radius, float proj_scale) {
+    if (error <= 0.0) {
+        return 0.0;
+    }
+    precise float d = length(center) - radius;
+    if (d <= 0.0) {
+        return 1.0 / 0.0;
+    }
+    precise float e = error * proj_scale;
+    return e / d;
+}
+
+#endif
