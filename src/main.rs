@@ -617,6 +617,21 @@ fn render_vgeo(
         r.vis_path(),
         r.scene.geometry_bytes() as f64 / (1 << 20) as f64
     ));
+    // What the geometry buffers hold (the allocation grows by doubling): per buffer, used MiB.
+    let mib = |b: u64| b as f64 / (1 << 20) as f64;
+    let mem = r.scene.memory();
+    let used: Vec<String> = mem
+        .buffers
+        .iter()
+        .filter(|b| b.used_bytes > 0)
+        .map(|b| format!("{} {:.2}", b.name, mib(b.used_bytes)))
+        .collect();
+    stats_lines.push(format!(
+        "  scene buffers used (MiB): {} (all {:.1} used of {:.1} allocated)",
+        used.join(", "),
+        mib(mem.used_bytes()),
+        mib(mem.capacity_bytes())
+    ));
     finish(a, ctx, info, vf.frame, load_s, &summary, &stats_lines)
 }
 

@@ -85,7 +85,7 @@ fn check_capture(rdc: &Path) {
     }
     let names = strings(&xml, "ObjectName");
     for object in [
-        "scene clusters",
+        "scene cluster locators",
         "scene instances",
         "scene bvh",
         "cull queue",
