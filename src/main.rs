@@ -653,16 +653,8 @@ fn streamed_renderer(
     };
     let mut r = VgeoRenderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
     let (streamer, handles) = vgeo::Streamer::new(&mut r.scene, streamed.meshes, opts)?;
-    let descs: Vec<vgeo::InstanceDesc> = streamed
-        .placements
-        .iter()
-        .map(|p| vgeo::InstanceDesc {
-            mesh: handles[p.mesh as usize],
-            transform: p.transform,
-            color: p.color,
-        })
-        .collect();
-    r.scene.add_instances(&descs)?;
+    r.scene
+        .add_instances(&vgeo::InstanceDesc::placed(&streamed.placements, &handles))?;
     Ok((r, streamer))
 }
 

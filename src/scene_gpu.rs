@@ -125,6 +125,21 @@ pub struct InstanceDesc {
     pub color: [f32; 3],
 }
 
+impl InstanceDesc {
+    /// The instances of `placements`, whose meshes were added as `handles` (in the placements'
+    /// mesh order). The caller has checked each placement's mesh index.
+    pub fn placed(placements: &[Placement], handles: &[MeshHandle]) -> Vec<InstanceDesc> {
+        placements
+            .iter()
+            .map(|p| InstanceDesc {
+                mesh: handles[p.mesh as usize],
+                transform: p.transform,
+                color: p.color,
+            })
+            .collect()
+    }
+}
+
 /// A page to load into the geometry pool, or to evict ([`GpuScene::update_pages`]).
 #[derive(Clone, Debug)]
 pub struct PageChange {
@@ -387,15 +402,7 @@ impl GpuScene {
         }
         let mut s = Self::empty(ctx)?;
         let handles = s.add_meshes(built)?;
-        let descs: Vec<InstanceDesc> = placements
-            .iter()
-            .map(|p| InstanceDesc {
-                mesh: handles[p.mesh as usize],
-                transform: p.transform,
-                color: p.color,
-            })
-            .collect();
-        s.add_instances(&descs)?;
+        s.add_instances(&InstanceDesc::placed(placements, &handles))?;
         s.release_retired();
         Ok(s)
     }

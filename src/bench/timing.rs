@@ -357,15 +357,11 @@ fn new_vgeo(
         .map(|&b| (b.clone(), Box::new(b.clone()) as Box<dyn PageSource>))
         .collect();
     let (streamer, handles) = Streamer::new(&mut r.scene, sources, opts)?;
-    let descs: Vec<InstanceDesc> = placements
-        .iter()
-        .map(|p| InstanceDesc {
-            mesh: handles[p.mesh as usize],
-            transform: p.transform,
-            color: p.color,
-        })
-        .collect();
-    r.scene.add_instances(&descs)?;
+    if let Some(p) = placements.iter().find(|p| p.mesh as usize >= handles.len()) {
+        bail!("placement refers to mesh {} of {}", p.mesh, handles.len());
+    }
+    r.scene
+        .add_instances(&InstanceDesc::placed(placements, &handles))?;
     Ok((r, Some(streamer)))
 }
 
