@@ -70,14 +70,14 @@ void main() {
         uvec2 e = post_clusters[j];
         InstanceVgeo inst = instances[e.x];
         uint at = cluster_word(meshes[inst.mesh], e.y);
-        vec3 bmin = cull_bounds_min(at);
-        vec3 bmax = cull_bounds_max(at);
+        vec3 bmin = cluster_bounds_min(at);
+        vec3 bmax = cluster_bounds_max(at);
         if (hzb_occluded(inst, bmin, bmax)) {
             atomicAdd(counters.occluded_clusters, 1u);
             continue;
         }
         vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
         float cr = length(bmax - bmin) * 0.5 * inst.max_scale;
-        emit_cluster(e.x, e.y, (pool[at + 6u] >> 8) & 0xffu, cc, cr);
+        emit_cluster(e.x, e.y, (cluster_info(at) >> 8) & 0xffu, cc, cr);
     }
 }

@@ -1,11 +1,11 @@
 // A cluster read from its page (src/builder/page.rs): the resident locator `cluster_locs[ci]`
 // (ClusterLocGpu: page and word) gives where its data starts in the pool, and its first
-// CLUSTER_CULL_WORDS words are what the passes need of it: bounds (min, max as f32 bits),
-// `vertex_count | triangle_count << 8 | level << 16`, group and creator group.
+// CLUSTER_CULL_WORDS words are what the passes need of it. Their layout, read only here:
+// words 0-2 bounds min and 3-5 bounds max (f32 bits), 6 `vertex_count | triangle_count << 8 |
+// level << 16`, 7 its group, 8 its creator group. Its LOD pairs are its groups' (cull.glsl).
 //
 // The including shader declares `cluster_locs[]` (ClusterLoc), `pages[]` (PageGpu) and `pool[]`
-// (uint) before including this file. The cluster's page must be resident. The LOD pairs
-// (self_*, parent_*) are left zero: they are its groups' (cull.glsl `cluster_with_pairs`).
+// (uint) before including this file. The cluster's page must be resident.
 #ifndef VGEO_CLUSTER_GLSL
 #define VGEO_CLUSTER_GLSL
 
@@ -15,23 +15,36 @@ uint cluster_word(MeshGpu mesh, uint ci) {
     return pages[mesh.page_offset + loc.page].word + loc.data_offset;
 }
 
+// The cull words of the cluster whose data starts at pool word `at`.
+vec3 cluster_bounds_min(uint at) {
+    return uintBitsToFloat(uvec3(pool[at], pool[at + 1u], pool[at + 2u]));
+}
+vec3 cluster_bounds_max(uint at) {
+    return uintBitsToFloat(uvec3(pool[at + 3u], pool[at + 4u], pool[at + 5u]));
+}
+// `vertex_count | triangle_count << 8 | level << 16`.
+uint cluster_info(uint at) {
+    return pool[at + 6u];
+}
+uint cluster_group(uint at) {
+    return pool[at + 7u];
+}
+uint cluster_creator(uint at) {
+    return pool[at + 8u];
+}
+
 Cluster cluster_at(MeshGpu mesh, uint ci) {
-    ClusterLoc loc = cluster_locs[ci];
-    uint at = pages[mesh.page_offset + loc.page].word + loc.data_offset;
+    uint at = cluster_word(mesh, ci);
+    uint info = cluster_info(at);
     Cluster c;
-    c.bounds_min = uintBitsToFloat(uvec3(pool[at], pool[at + 1u], pool[at + 2u]));
-    c.bounds_max = uintBitsToFloat(uvec3(pool[at + 3u], pool[at + 4u], pool[at + 5u]));
-    uint info = pool[at + 6u];
+    c.bounds_min = cluster_bounds_min(at);
+    c.bounds_max = cluster_bounds_max(at);
     c.counts = info & 0xffffu;
     c.level = info >> 16;
-    c.group = pool[at + 7u];
-    c.creator = pool[at + 8u];
-    c.page = loc.page;
-    c.data_offset = loc.data_offset;
-    c.self_sphere = vec4(0.0);
-    c.self_error = 0.0;
-    c.parent_sphere = vec4(0.0);
-    c.parent_error = 0.0;
+    c.group = cluster_group(at);
+    c.creator = cluster_creator(at);
+    c.page = cluster_locs[ci].page;
+    c.data_offset = cluster_locs[ci].data_offset;
     return c;
 }
 

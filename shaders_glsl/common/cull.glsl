@@ -1,9 +1,8 @@
 // Shared by instance_cull and cluster_cull: frustum and HZB tests, the cut (with the LOD error
 // projection and camera-relative transforms of lod.glsl), queue pushes and cluster emission. The
 // including shader declares, before including this file: `view` (ViewGpu), `counters`
-// (CullCounters), `queue` (uint64_t[]), `occ` (OcclusionGpu), `hzb` (float[]), `cluster_locs`,
-// `pages`, `pool`, `groups`,
-// `visible`, `sw_list`, `hw_list`.
+// (CullCounters), `queue` (uint64_t[]), `occ` (OcclusionGpu), `hzb` (float[]), `groups`, `pages`,
+// `pool`, `cluster_locs` (and includes common/cluster.glsl), `visible`, `sw_list`, `hw_list`.
 #ifndef VGEO_CULL_GLSL
 #define VGEO_CULL_GLSL
 
@@ -188,14 +187,6 @@ float self_error_px(InstanceVgeo inst, MeshGpu mesh, uint creator, float scale) 
     return lod_error_px(error * scale, sc, sphere.w * scale, view.proj_scale);
 }
 
-// A cluster's bounds, from the cull words at pool word `at` (common/cluster.glsl).
-vec3 cull_bounds_min(uint at) {
-    return uintBitsToFloat(uvec3(pool[at], pool[at + 1u], pool[at + 2u]));
-}
-vec3 cull_bounds_max(uint at) {
-    return uintBitsToFloat(uvec3(pool[at + 3u], pool[at + 4u], pool[at + 5u]));
-}
-
 // A drawn cluster that is coarser than wanted (`wish`: its projected error over the threshold)
 // because its children are absent asks for their pages; a drawn cluster marks its page used.
 void request_children(MeshGpu mesh, uint creator, float wish) {
@@ -221,8 +212,8 @@ void mark_used(MeshGpu mesh, uint ci) {
 bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     uint ci = mesh.cluster_offset + mesh.root_cluster;
     uint at = cluster_word(mesh, ci);
-    uint info = pool[at + 6u];
-    uint creator = pool[at + 8u];
+    uint info = cluster_info(at);
+    uint creator = cluster_creator(at);
     float scale = inst.max_scale;
     if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u) {
         // The fallback cut is the root alone only when the fallback level is the root's.
@@ -240,8 +231,8 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     }
     mark_used(mesh, ci);
     atomicAdd(counters.clusters_tested, 1u);
-    vec3 bmin = cull_bounds_min(at);
-    vec3 bmax = cull_bounds_max(at);
+    vec3 bmin = cluster_bounds_min(at);
+    vec3 bmax = cluster_bounds_max(at);
     vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
     float cr = length(bmax - bmin) * 0.5 * scale;
     if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, cc, cr)) {
@@ -337,13 +328,13 @@ void process_node(uint64_t item, bool local) {
         for (uint k = 0u; k < group.cluster_count; k++) {
             uint ci = mesh.cluster_offset + group.first_cluster + k;
             uint at = cluster_word(mesh, ci);
-            uint info = pool[at + 6u];
+            uint info = cluster_info(at);
             atomicAdd(counters.clusters_tested, 1u);
             bool in_cut;
             if (fallback) {
                 in_cut = (info >> 16) <= mesh.fallback_level;
             } else {
-                uint creator = pool[at + 8u];
+                uint creator = cluster_creator(at);
                 float self_px = self_error_px(inst, mesh, creator, scale);
                 bool fine = self_px <= view.error_px;
                 if (partial && !fine && !children_resident(mesh, creator)) {
@@ -356,8 +347,8 @@ void process_node(uint64_t item, bool local) {
                 continue;
             }
             mark_used(mesh, ci);
-            vec3 bmin = cull_bounds_min(at);
-            vec3 bmax = cull_bounds_max(at);
+            vec3 bmin = cluster_bounds_min(at);
+            vec3 bmax = cluster_bounds_max(at);
             vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
             float cr = length(bmax - bmin) * 0.5 * scale;
             if (frustum && !sphere_in_frustum(view, cc, cr)) {

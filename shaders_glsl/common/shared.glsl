@@ -112,14 +112,10 @@ struct OcclusionGpu {
 };
 
 // A cluster as the passes use it: read from its page (`cluster_at`, common/cluster.glsl) through
-// its locator; the LOD pairs (self_*, parent_*) are its groups' (filled by the cull only).
+// its locator. Its LOD pairs are not here: they are its groups' (common/cull.glsl).
 struct Cluster {
-    vec4 self_sphere;
-    vec4 parent_sphere;
     vec3 bounds_min;
-    float self_error;
     vec3 bounds_max;
-    float parent_error;
     uint data_offset;  // word of the cluster's encoded data in its page
     uint counts;  // vertex_count | triangle_count << 8
     uint group;
