@@ -279,8 +279,8 @@ fn streamed_frames_are_crack_free_within_budget_and_settle_to_the_all_resident_i
     assert_eq!(settled.frame.color, reference.frame.color);
     // A camera cut to another view: it settles again, within a bounded number of frames.
     let cut_to = Camera::look_at(
-        DVec3::new(1.0, 0.33, -0.58),
-        DVec3::new(0.75, 0.1, 0.0),
+        DVec3::new(1.05, 0.25, -0.4),
+        DVec3::new(0.883, 0.11, 0.0),
         Vec3::Y,
         45f32.to_radians(),
         0.01,
@@ -302,6 +302,14 @@ fn streamed_frames_are_crack_free_within_budget_and_settle_to_the_all_resident_i
             bytes <= budget,
             "the view after the cut needs {bytes} B, over {budget}"
         );
+        // ... and pages the view before it did not leave resident (a closer look at bunny 3).
+        let res = streamer.residency();
+        let missing: usize = need
+            .iter()
+            .zip(&res)
+            .map(|(n, r)| n.iter().zip(r).filter(|(a, b)| **a && !**b).count())
+            .sum();
+        assert!(missing > 0, "the view after the cut needs no new page");
     }
     let mut frames_to_settle = None;
     let mut cut_uploads = 0;
