@@ -10,7 +10,11 @@
 //!
 //! Options: `--frames N`, `--instances N`, `--size WxH`, `--mesh PATH` (twice; `generated:box` is
 //! a unit cube), `--no-host-draws`, `--no-vgeo`, `--validate` (Khronos validation with synchronization
-//! validation; errors are counted and make the program fail).
+//! validation; errors are counted and make the program fail), `--geometry-budget MIB` (stream the
+//! meshes' pages under that budget: a `vgeo::Streamer` steps after each fence wait, reading the
+//! page feedback of the frames already done and staging its uploads for the next frame, without
+//! waiting for the GPU), `--still-from N` (the camera and instances stop at frame N), `--orbit X`
+//! (the camera's orbit X times the default: smaller is closer).
 //!
 //! tests/embed.rs runs this same code (`run`) on lavapipe and checks its image against vgeo's own
 //! `render` and the occlusion between the host's triangles and vgeo's geometry.
@@ -45,6 +49,13 @@ pub struct Options {
     /// Khronos validation (and synchronization validation where the layer has it).
     pub validate: bool,
     pub out: Option<PathBuf>,
+    /// Stream the meshes' geometry pages under this many GPU bytes (`None`: all resident): a
+    /// [`vgeo::Streamer`] steps after each fence wait, its uploads ride in the next frame.
+    pub geometry_budget: Option<u64>,
+    /// The camera and the instances stop moving from this frame on (`None`: they move to the end).
+    pub still_from: Option<u32>,
+    /// The camera's orbit, as a multiple of the default one (smaller: closer).
+    pub orbit: f64,
 }
 
 impl Default for Options {
@@ -61,8 +72,26 @@ impl Default for Options {
             vgeo_draws: true,
             validate: false,
             out: None,
+            geometry_budget: None,
+            still_from: None,
+            orbit: 1.0,
         }
     }
+}
+
+/// What streaming did over the run (with [`Options::geometry_budget`]).
+#[derive(Clone, Debug, Default)]
+pub struct StreamSummary {
+    /// Pages uploaded, and evicted.
+    pub uploads: u64,
+    pub evictions: u64,
+    /// Requests the last step saw, and whether it was at rest (staged nothing, read nothing).
+    pub last_requests: u64,
+    pub last_settled: bool,
+    /// Most resident page bytes after a step.
+    pub peak_resident_bytes: u64,
+    /// Submissions vgeo made and waited for inside the streaming steps (a step should make none).
+    pub waits: u64,
 }
 
 /// What the host got: the last frame's colour (RGBA8, sRGB-encoded) and depth (reverse-Z), its
@@ -81,6 +110,8 @@ pub struct Output {
     /// Triangles vgeo drew in the last frame whose stats came back.
     pub last_triangles: u64,
     pub sync_validation: bool,
+    /// With a geometry budget, what streaming did.
+    pub stream: Option<StreamSummary>,
 }
 
 /// The host's colour format and the background it clears to (vgeo's, sRGB-encoded, so a frame
@@ -107,8 +138,13 @@ pub fn host_triangles() -> [([[f32; 3]; 3], [f32; 4]); 2] {
 
 /// The camera of frame `i`: an orbit around the grid.
 pub fn camera_at(i: u32) -> Camera {
+    camera_orbit(i, 1.0)
+}
+
+/// The camera of frame `i` on an orbit `scale` times as large (smaller: closer).
+pub fn camera_orbit(i: u32, scale: f64) -> Camera {
     let a = 0.6 + i as f64 * 0.01;
-    let eye = DVec3::new(a.sin() * 16.0, 7.0, a.cos() * 16.0);
+    let eye = DVec3::new(a.sin() * 16.0, 7.0, a.cos() * 16.0) * scale;
     Camera::look_at(
         eye,
         DVec3::new(0.0, 0.5, 0.0),
@@ -750,7 +786,26 @@ pub fn run(opts: &Options) -> Result<Output> {
     };
 
     let ctx = Context::from_host(hd, false)?;
-    let mut renderer = VgeoRenderer::new(&ctx, &built, &placements)?;
+    let (mut renderer, mut streamer) = match opts.geometry_budget {
+        None => (VgeoRenderer::new(&ctx, &built, &placements)?, None),
+        Some(budget_bytes) => {
+            // Only the always-resident pages at first; the rest comes at the GPU's request.
+            let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[])?;
+            let sources: Vec<(BuiltMesh, Box<dyn vgeo::PageSource>)> = built
+                .iter()
+                .map(|m| (m.clone(), Box::new(m.clone()) as Box<dyn vgeo::PageSource>))
+                .collect();
+            let stream_opts = vgeo::StreamOptions {
+                budget_bytes,
+                upload_bytes_per_frame: 4 << 20,
+            };
+            let (s, meshes) = vgeo::Streamer::new(&mut r.scene, sources, stream_opts)?;
+            r.scene
+                .add_instances(&vgeo::InstanceDesc::placed(&placements, &meshes))?;
+            (r, Some(s))
+        }
+    };
+    let mut stream = streamer.as_ref().map(|_| StreamSummary::default());
     let mut view: View = renderer.create_view("main", w, h, nf)?;
     // Handles of the instances, by their placement (slot j is placement j in a new renderer).
     let handles = (0..placements.len() as u32)
@@ -779,7 +834,24 @@ pub fn run(opts: &Options) -> Result<Output> {
                 stats_frames += 1;
                 last_triangles = s.triangles();
             }
-            camera = camera_at(i);
+            // Streaming: the page feedback of the frames done so far, loads and evictions
+            // staged for this frame's `update_scene`.
+            if let (Some(st), Some(sum)) = (streamer.as_mut(), stream.as_mut()) {
+                let waits = ctx.waited_submissions();
+                let step = st.update(&mut renderer.scene)?;
+                sum.waits += ctx.waited_submissions() - waits;
+                sum.uploads += step.uploads;
+                sum.evictions += step.evictions;
+                sum.last_requests = step.requests;
+                sum.last_settled = step.settled();
+                sum.peak_resident_bytes = sum.peak_resident_bytes.max(step.resident_bytes);
+                if let Some(e) = st.take_errors().first() {
+                    bail!("streaming: {e}");
+                }
+            }
+            // The pose of the scene this frame (it stops changing at `still_from`).
+            let t = opts.still_from.map_or(i, |k| i.min(k));
+            camera = camera_orbit(t, opts.orbit);
             let vp = camera.view_proj(w, h);
             let last = i + 1 == opts.frames;
             // SAFETY: recording the slot's command buffer, idle since the fence wait.
@@ -926,7 +998,7 @@ pub fn run(opts: &Options) -> Result<Output> {
                 for (j, (&h, p)) in handles.iter().zip(&placements).enumerate() {
                     renderer
                         .scene
-                        .set_transform(h, &transform_at(p, j as u32, i))?;
+                        .set_transform(h, &transform_at(p, j as u32, t))?;
                 }
                 // SAFETY: `cb` is recording, outside a render pass; the images and vgeo's objects
                 // live until the device is idle at the end.
@@ -1061,6 +1133,7 @@ pub fn run(opts: &Options) -> Result<Output> {
     result?;
     // The last frame's places (what a fresh render of the same scene must show).
     let last_frame = opts.frames.saturating_sub(1);
+    let last_frame = opts.still_from.map_or(last_frame, |k| last_frame.min(k));
     let placements = placements
         .iter()
         .enumerate()
@@ -1081,6 +1154,7 @@ pub fn run(opts: &Options) -> Result<Output> {
         stats_frames,
         last_triangles,
         sync_validation,
+        stream,
     };
     if let Some(path) = &opts.out {
         image::save_buffer(path, &out.color, w, h, image::ColorType::Rgba8)
@@ -1109,6 +1183,9 @@ fn parse_args() -> Result<Options> {
             "--no-host-draws" => o.host_draws = false,
             "--no-vgeo" => o.vgeo_draws = false,
             "--validate" => o.validate = true,
+            "--geometry-budget" => o.geometry_budget = Some(value()?.parse::<u64>()? << 20),
+            "--still-from" => o.still_from = Some(value()?.parse()?),
+            "--orbit" => o.orbit = value()?.parse()?,
             other => bail!("unknown argument {other}"),
         }
     }
@@ -1132,6 +1209,16 @@ fn main() -> Result<()> {
         out.stats_frames,
         out.last_triangles
     );
+    if let Some(st) = &out.stream {
+        println!(
+            "streaming: {} uploads, {} evictions, peak {:.1} MiB resident, {} requests in the last step, {} waits",
+            st.uploads,
+            st.evictions,
+            st.peak_resident_bytes as f64 / (1 << 20) as f64,
+            st.last_requests,
+            st.waits
+        );
+    }
     if let Some(p) = &opts.out {
         println!("wrote {}", p.display());
     }

@@ -636,6 +636,9 @@ impl VgeoRenderer {
                     break;
                 }
             }
+            // What the frames asked of the streamer, for `Streamer::update` to read without
+            // waiting.
+            scene.record_feedback(cmd);
         })?;
         self.scene.updates_submitted();
         self.scene.release_retired();
@@ -701,6 +704,8 @@ impl VgeoRenderer {
             self.depth_import.record(cmd, timer, fb, buf);
             cmd.barrier((S::COMPUTE_SHADER, rw), (raster_stages, rw));
         }
+        // The culls write page feedback: the next `record_feedback` copies it.
+        self.scene.note_feedback_frame();
         for phase in [Phase::Main, Phase::Post] {
             self.record_cull(cmd, timer, fb, &inputs.pyramid.hzb, phase);
             self.raster_sw
@@ -782,6 +787,8 @@ impl VgeoRenderer {
             scene.record_updates(cmd);
             cmd.fill_buffer(&fb.visible, u32::MAX);
             self.record_cull(cmd, &mut timer, fb, hzb, Phase::Main);
+            scene.note_feedback_frame();
+            scene.record_feedback(cmd);
         })?;
         self.scene.updates_submitted();
         self.scene.release_retired();

@@ -540,7 +540,7 @@ fn render_vgeo(
             if a.stats {
                 let mib = |b: u64| b as f64 / (1 << 20) as f64;
                 stats_lines.push(format!(
-                    "  frame {}: {gpu_ms:.3} ms GPU; used {} pages ({:.2} MiB); then {} pages resident ({:.2} MiB), {} requested, {} loaded ({:.2} MiB in {update_ms:.1} ms), {} evicted",
+                    "  frame {}: {gpu_ms:.3} ms GPU; used {} pages ({:.2} MiB); then {} pages resident ({:.2} MiB), {} requested, {} staged ({:.2} MiB), {} reading, {} evicted (step {update_ms:.1} ms)",
                     i + 1,
                     st.used_pages,
                     mib(st.used_bytes),
@@ -549,6 +549,7 @@ fn render_vgeo(
                     st.requests,
                     st.uploads,
                     mib(st.upload_bytes),
+                    st.reading,
                     st.evictions
                 ));
             }

@@ -5,6 +5,7 @@
 //! See docs/architecture.md, "A scene that changes".
 
 mod arena;
+mod page_io;
 
 use std::borrow::Borrow;
 
@@ -88,7 +89,8 @@ fn mesh_sphere(m: &BuiltMesh) -> ([f32; 3], f32) {
     (c, r * 1.0001)
 }
 
-/// Slots of the staging ring: one per frame that may be in flight.
+/// Slots of the staging ring: one per frame that may be in flight (at least this many; more
+/// when a host's views have more, [`GpuScene::set_frames_in_flight`]).
 pub const FRAMES_IN_FLIGHT: usize = 2;
 
 /// A mesh of a [`GpuScene`]: stable until removed (then every use is a [`SceneError::StaleMesh`]).
@@ -357,9 +359,17 @@ pub struct GpuScene {
     /// The staging ring (host-visible), one buffer per frame in flight, grown on demand.
     ring: Vec<Buffer>,
     ring_next: usize,
+    /// Frames that may be in flight: staging-ring slots (page-feedback slots: one more).
+    ring_slots: usize,
     /// The copies of the prepared update (ring slot, regions), until it is submitted.
     pending: Option<usize>,
     regions: Vec<vk::BufferCopy>,
+    /// Page loads and evictions for the next frame ([`GpuScene::update_pages`]), and their
+    /// prepared copies into the pool, the page table and the mesh table (`page_io`).
+    staged: page_io::StagedPages,
+    page_regions: [Vec<vk::BufferCopy>; 3],
+    /// Host-visible copies of the page feedback, one per frame in flight and one more.
+    feedback: page_io::FeedbackRing,
     /// Buffers replaced by growth, kept until the GPU is done with them.
     retired: Vec<Buffer>,
 }
@@ -448,8 +458,12 @@ impl GpuScene {
             dirty_flag: Vec::new(),
             ring: Vec::new(),
             ring_next: 0,
+            ring_slots: FRAMES_IN_FLIGHT,
             pending: None,
             regions: Vec::new(),
+            staged: Default::default(),
+            page_regions: Default::default(),
+            feedback: Default::default(),
             retired: Vec::new(),
         })
     }
@@ -783,6 +797,7 @@ impl GpuScene {
         self.total_clusters -= self.mesh_table[h.index as usize].cluster_count;
         // No instance reads a free slot's entry; the GPU copy is left as it was.
         self.mesh_table[h.index as usize] = MeshGpu::default();
+        self.staged.forget_mesh(h.index);
         self.free_meshes.push(h.index);
         self.mesh_epoch += 1;
         Ok(())
@@ -889,160 +904,9 @@ impl GpuScene {
         Ok(start as u32)
     }
 
-    /// Loads pages into the pool and evicts others, in one submission (waited for): each change
-    /// names a mesh's page and either its bytes and the pool word to put them at (a slot of
-    /// [`GpuScene::reserve_page_slots`]), or `None` to mark it absent (its slot may be reused
-    /// after this call). The cull uses loaded pages from the next frame on.
-    pub fn update_pages(&mut self, changes: &[PageChange]) -> SceneResult<()> {
-        if changes.is_empty() {
-            return Ok(());
-        }
-        let pool_words = self.arenas[POOL].size();
-        let mut staged: Vec<u8> = Vec::new();
-        // (staging offset, destination buffer 0 = pool / 1 = pages, destination offset, bytes)
-        let mut copies: Vec<(u64, usize, u64, u64)> = Vec::new();
-        let mut touched: Vec<u32> = Vec::new();
-        for c in changes {
-            let live = self.live_mesh(c.mesh)?;
-            let p = c.page as usize;
-            if p >= live.page_records.len() || p < live.resident_pages as usize {
-                return Err(SceneError::Residency(format!(
-                    "page {p} of {} cannot be loaded or evicted (always resident: {})",
-                    live.page_records.len(),
-                    live.resident_pages
-                )));
-            }
-            let word = match &c.load {
-                Some((word, bytes)) => {
-                    let len = live.page_records[p].bytes as usize;
-                    if bytes.len() != len || *word as u64 + (len / 4) as u64 > pool_words {
-                        return Err(SceneError::Residency(format!(
-                            "page {p}: {} bytes at word {word} (its page table says {len}, the pool {pool_words} words)",
-                            bytes.len()
-                        )));
-                    }
-                    copies.push((staged.len() as u64, 0, 4 * *word as u64, len as u64));
-                    staged.extend_from_slice(bytes);
-                    *word
-                }
-                None => PAGE_NOT_RESIDENT,
-            };
-            let ri = c.mesh.index as usize;
-            let first = {
-                let live = self.mesh_slots[ri].live.as_mut().expect("checked live");
-                live.loaded[p] = word;
-                live.ranges[PAGES].0
-            };
-            let entry = self.mesh_slots[ri]
-                .live
-                .as_ref()
-                .expect("checked live")
-                .entry(p);
-            copies.push((
-                staged.len() as u64,
-                1,
-                (first + p as u64) * size_of::<PageGpu>() as u64,
-                size_of::<PageGpu>() as u64,
-            ));
-            staged.extend_from_slice(bytemuck::bytes_of(&entry));
-            if !touched.contains(&c.mesh.index) {
-                touched.push(c.mesh.index);
-            }
-        }
-        // The meshes' partial flag follows their pages.
-        for &i in &touched {
-            let live = self.mesh_slots[i as usize].live.as_ref().expect("live");
-            let partial = live.loaded.contains(&PAGE_NOT_RESIDENT);
-            let e = &mut self.mesh_table[i as usize];
-            e.streams = if partial {
-                e.streams | MESH_STREAM_PARTIAL
-            } else {
-                e.streams & !MESH_STREAM_PARTIAL
-            };
-        }
-        let staging = Buffer::staging(&self.ctx, "scene page upload (staging)", &staged)?;
-        let (pool, pages, meshes, table) =
-            (&self.pool, &self.pages, &self.meshes, &self.mesh_table);
-        self.ctx.submit_and_wait("scene page upload", |cmd| {
-            use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
-            cmd.barrier(
-                (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
-                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-            );
-            for &(src, dst, at, bytes) in &copies {
-                let d = if dst == 0 { pool } else { pages };
-                cmd.copy_buffer_region(&staging, src, d, at, bytes);
-            }
-            for &i in &touched {
-                cmd.update_buffer(
-                    meshes,
-                    MESH_GPU_BYTES * i as u64,
-                    bytemuck::bytes_of(&table[i as usize]),
-                );
-            }
-            cmd.barrier(
-                (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-                (S::ALL_COMMANDS, A::MEMORY_READ),
-            );
-        })?;
-        Ok(())
-    }
-
-    /// The streaming feedback of mesh `h`'s pages since the last
-    /// [`GpuScene::clear_page_feedback`]: per page, the largest wish to refine into it (projected
-    /// error over the threshold; 0: not asked for) and whether a drawn cluster used it. Waits for
-    /// the GPU.
-    pub fn page_feedback(&self, h: MeshHandle) -> SceneResult<(Vec<f32>, Vec<bool>)> {
-        let live = self.live_mesh(h)?;
-        let (first, n) = live.ranges[PAGES];
-        let words = |b: &Buffer| -> SceneResult<Vec<u32>> {
-            let bytes = b.download_prefix(4 * (first + n))?;
-            Ok(bytemuck::pod_collect_to_vec(&bytes[4 * first as usize..]))
-        };
-        let wish = words(&self.page_requests)?
-            .into_iter()
-            .map(f32::from_bits)
-            .collect();
-        let used = words(&self.page_usage)?
-            .into_iter()
-            .map(|u| u != 0)
-            .collect();
-        Ok((wish, used))
-    }
-
-    /// The streaming feedback of every page entry of the scene (requests as f32 bits, usage
-    /// flags), indexed by [`GpuScene::page_range`]'s first entry plus the page. Waits for the GPU.
-    pub fn page_feedback_words(&self) -> SceneResult<(Vec<u32>, Vec<u32>)> {
-        let n = 4 * self.arenas[PAGES].size();
-        let words = |b: &Buffer| -> SceneResult<Vec<u32>> {
-            Ok(bytemuck::pod_collect_to_vec(&b.download_prefix(n)?))
-        };
-        Ok((words(&self.page_requests)?, words(&self.page_usage)?))
-    }
-
     /// Mesh `h`'s first entry in the scene's page table, and its page count.
     pub fn page_range(&self, h: MeshHandle) -> SceneResult<(u64, u64)> {
         Ok(self.live_mesh(h)?.ranges[PAGES])
-    }
-
-    /// Zeroes the streaming feedback of every page (one-shot submission, waited for).
-    pub fn clear_page_feedback(&self) -> SceneResult<()> {
-        let (req, used) = (&self.page_requests, &self.page_usage);
-        self.ctx
-            .submit_and_wait("scene clear page feedback", |cmd| {
-                use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
-                cmd.barrier(
-                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
-                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-                );
-                cmd.fill_buffer(req, 0);
-                cmd.fill_buffer(used, 0);
-                cmd.barrier(
-                    (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-                    (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
-                );
-            })?;
-        Ok(())
     }
 
     /// Whether `h` names a mesh of this scene.
@@ -1301,9 +1165,19 @@ impl GpuScene {
         self.dirty.len()
     }
 
-    /// Writes the changed instances into the next staging-ring buffer (grown if needed) and
-    /// prepares the copies [`GpuScene::record_updates`] records: O(changed), contiguous slots
-    /// merged into one copy. A prepared update that was never submitted is prepared again.
+    /// Frames the host keeps in flight (at least [`FRAMES_IN_FLIGHT`]): the staging ring and the
+    /// page-feedback read-back get a slot per frame, so that neither is rewritten while a frame
+    /// that uses it may still run.
+    pub fn set_frames_in_flight(&mut self, frames: usize) {
+        self.ring_slots = frames.max(FRAMES_IN_FLIGHT);
+        self.ring_next %= self.ring_slots;
+    }
+
+    /// Writes the changed instances and the staged page changes ([`GpuScene::update_pages`])
+    /// into the next staging-ring buffer (grown if needed) and prepares the copies
+    /// [`GpuScene::record_updates`] records: O(changed), contiguous slots merged into one copy.
+    /// Also makes the page-feedback read-back slots as large as the feedback. A prepared update
+    /// that was never submitted is prepared again.
     pub fn prepare_updates(&mut self) -> GpuResult<()> {
         if self.pending.take().is_some() {
             // Not submitted: those slots are still to be written.
@@ -1316,19 +1190,21 @@ impl GpuScene {
             }
         }
         self.regions.clear();
+        self.prepare_feedback()?;
         let count = self.instance_count;
         for &s in &self.dirty {
             self.dirty_flag[s as usize] = false;
         }
         self.dirty.retain(|&s| s < count);
-        if self.dirty.is_empty() {
+        let page_bytes = self.staged.bytes();
+        if self.dirty.is_empty() && page_bytes == 0 {
             return Ok(());
         }
         self.dirty.sort_unstable();
         let stride = size_of::<InstanceVgeo>() as u64;
-        let need = stride * self.dirty.len() as u64;
+        let need = stride * self.dirty.len() as u64 + page_bytes;
         let slot = self.ring_next;
-        self.ring_next = (self.ring_next + 1) % FRAMES_IN_FLIGHT;
+        self.ring_next = (self.ring_next + 1) % self.ring_slots;
         if slot >= self.ring.len() || self.ring[slot].size() < need {
             let old = self.ring.get(slot).map(|b| b.size()).unwrap_or(0);
             let b = Buffer::new(
@@ -1363,14 +1239,15 @@ impl GpuScene {
             });
             off += bytes.len() as u64;
         }
+        self.stage_pages_into(slot, off)?;
         self.dirty.clear();
         self.pending = Some(slot);
         Ok(())
     }
 
-    /// Records the prepared instance updates (label `scene_update`): the copies from the staging
-    /// ring into the instance buffer, between barriers, before anything of the frame reads
-    /// instances. Records nothing when nothing changed.
+    /// Records the prepared updates (label `scene_update`): the copies from the staging ring into
+    /// the instance buffer, the geometry pool, the page table and the mesh table, between
+    /// barriers, before anything of the frame reads them. Records nothing when nothing changed.
     pub fn record_updates(&self, cmd: &mut Cmd) {
         use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         let Some(slot) = self.pending else {
@@ -1378,10 +1255,11 @@ impl GpuScene {
         };
         cmd.begin_label("scene_update");
         cmd.barrier(
-            (S::ALL_COMMANDS, A::MEMORY_READ),
+            (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
             (S::ALL_TRANSFER, A::TRANSFER_WRITE),
         );
         cmd.copy_buffer_regions(&self.ring[slot], &self.instances, &self.regions);
+        self.record_page_copies(cmd, slot);
         cmd.barrier(
             (S::ALL_TRANSFER, A::TRANSFER_WRITE),
             (S::ALL_COMMANDS, A::MEMORY_READ),
@@ -1391,6 +1269,9 @@ impl GpuScene {
 
     /// The prepared updates were submitted (the mirror and the GPU agree from that frame on).
     pub fn updates_submitted(&mut self) {
+        if self.pending.is_some() {
+            self.pages_submitted();
+        }
         self.pending = None;
         self.regions.clear();
     }

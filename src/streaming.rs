@@ -3,14 +3,19 @@
 //! (the DAG's top, [`BuiltMesh::resident_pages`]) for good, the other pages in fixed-size slots,
 //! loaded when the cull asks for them and evicted least-recently-used.
 //!
-//! Per frame ([`Streamer::update`], between frames): the cull's feedback is read (per page, the
-//! largest wish to refine into it, and whether a drawn cluster used it; `shaders_glsl/common/cull.glsl`),
-//! requests are taken by decreasing wish, each with the pages that keep the residency closed
-//! ([`crate::builder::page::close_residency`]: a resident group's products' groups stay
-//! resident, so the cut is crack-free), pages are read on worker threads, slots are freed by
-//! evicting least-recently-used pages that no resident group needs, and the loads are uploaded,
-//! at most [`StreamOptions::upload_bytes_per_frame`] per frame. A page that cannot be read (I/O
-//! error, checksum) is reported once and never asked for again: its mesh stays coarser there.
+//! Per frame ([`Streamer::update`], between frames, never waiting for the GPU): the pages the
+//! previous step's worker thread read are staged for the next frame's `scene_update` copies
+//! ([`GpuScene::update_pages`]); the newest page feedback that has landed in host memory is read
+//! (per page, the largest wish to refine into it, and whether a drawn cluster used it;
+//! `shaders_glsl/common/cull.glsl`, copied at the end of a frame by
+//! [`GpuScene::record_feedback`]); requests are taken by decreasing wish, each with the pages that
+//! keep the residency closed ([`crate::builder::page::close_residency`]: a resident group's
+//! products' groups stay resident, so the cut is crack-free); slots are freed by evicting
+//! least-recently-used pages that no resident group needs and reserved for the new loads, at most
+//! [`StreamOptions::upload_bytes_per_frame`] per step; and the new loads are read on a worker
+//! thread (pages in parallel) while the next frame draws. A request is thus drawn two frames
+//! after the frame that asked. A page that cannot be read (I/O error, checksum) is reported once
+//! and never asked for again: its mesh stays coarser there.
 
 use rayon::prelude::*;
 
@@ -113,24 +118,35 @@ impl GeometryBudget {
 /// What one [`Streamer::update`] did, and the residency after it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct StreamStats {
-    /// Pages resident (always-resident ones included) and the bytes they take (slots counted
-    /// whole).
+    /// Pages resident (always-resident ones included; pages being read count: their slots are
+    /// theirs) and the bytes they take (slots counted whole).
     pub resident_pages: u64,
     pub resident_bytes: u64,
-    /// Pages the frame just drawn used (those holding a drawn cluster) and their bytes: what
-    /// the cut needs resident.
+    /// Pages the frames of the newest feedback used (those holding a drawn cluster) and their
+    /// bytes: what the cut needs resident.
     pub used_pages: u64,
     pub used_bytes: u64,
     /// Pages the cull asked for.
     pub requests: u64,
     /// Requests served (each with its load set, see [`StreamOptions::upload_bytes_per_frame`]).
     pub load_sets: u64,
-    /// Pages loaded and their bytes; pages evicted.
+    /// Pages staged for the next frame (read by the previous step) and their bytes; pages
+    /// evicted.
     pub uploads: u64,
     pub upload_bytes: u64,
     pub evictions: u64,
     /// Pages that could not be read (reported once each, in [`Streamer::take_errors`]).
     pub failed: u64,
+    /// Pages whose reads this step started on worker threads: they are staged by the next step.
+    pub reading: u64,
+}
+
+impl StreamStats {
+    /// Whether streaming has come to rest: this step staged nothing and started no read (what
+    /// the frames ask for is resident, or the budget holds no more).
+    pub fn settled(&self) -> bool {
+        self.uploads == 0 && self.reading == 0 && self.evictions == 0
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -140,6 +156,8 @@ enum PageState {
     Absent,
     /// In slot `n`.
     Slot(u32),
+    /// Being read into slot `n` (staged by the next step).
+    Loading(u32),
     /// Could not be read: never asked for again.
     Failed,
 }
@@ -147,7 +165,7 @@ enum PageState {
 struct StreamedMesh {
     handle: MeshHandle,
     head: BuiltMesh,
-    source: Box<dyn PageSource>,
+    source: std::sync::Arc<dyn PageSource>,
     state: Vec<PageState>,
     last_used: Vec<u64>,
     /// Per group, the pages that must be resident while it is ([`group_needs`]).
@@ -230,6 +248,20 @@ pub struct Streamer {
     fixed_bytes: u64,
     frame: u64,
     errors: Vec<String>,
+    /// The reads started by the last step: (mesh, page, slot) and the worker thread reading them.
+    reads: Option<Reads>,
+}
+
+/// Page reads running on worker threads while the GPU draws a frame.
+struct Reads {
+    loads: Vec<(usize, u32, u32)>,
+    thread: ReadsThread,
+}
+
+/// What reads the pages: a worker thread, or (when none could be started) nothing, done already.
+enum ReadsThread {
+    Running(std::thread::JoinHandle<Vec<Result<Vec<u8>, String>>>),
+    Done(Vec<Result<Vec<u8>, String>>),
 }
 
 impl Streamer {
@@ -315,7 +347,7 @@ impl Streamer {
             streamed.push(StreamedMesh {
                 handle,
                 head,
-                source,
+                source: source.into(),
                 state,
                 last_used: vec![0; n],
                 needs,
@@ -340,6 +372,7 @@ impl Streamer {
                 fixed_bytes,
                 frame: 0,
                 errors: Vec::new(),
+                reads: None,
             },
             handles,
         ))
@@ -379,14 +412,19 @@ impl Streamer {
         (fixed + slots, self.fixed_bytes + slots * self.slot_bytes)
     }
 
-    /// One streaming step between frames (see the module's documentation): reads and clears the
-    /// cull's feedback of the frame just rendered, then loads and evicts pages for the next.
+    /// One streaming step between frames (see the module's documentation). It never waits for
+    /// the GPU: the pages read by the last step's worker thread are staged for the next frame
+    /// (waiting for that thread only if the reads took longer than a frame), the newest page
+    /// feedback that has landed is read, requests are served by evicting and reserving slots,
+    /// and the reads of the new loads start on a worker thread while the next frame draws.
     pub fn update(&mut self, scene: &mut GpuScene) -> SceneResult<StreamStats> {
         self.frame += 1;
         let frame = self.frame;
-        let (wish, used) = scene.page_feedback_words()?;
-        scene.clear_page_feedback()?;
         let mut stats = StreamStats::default();
+        let mut changes: Vec<PageChange> = Vec::new();
+        self.finish_reads(frame, &mut stats, &mut changes);
+        // The newest feedback copy that landed (none new: nothing asked, nothing marked used).
+        let (wish, used) = scene.take_page_feedback()?.unwrap_or_default();
         // (wish, mesh, page) of absent pages asked for, largest wish first.
         let mut asks: Vec<(f32, usize, u32)> = Vec::new();
         for (mi, m) in self.meshes.iter_mut().enumerate() {
@@ -405,7 +443,6 @@ impl Streamer {
         }
         stats.requests = asks.len() as u64;
         asks.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
-        let mut changes: Vec<PageChange> = Vec::new();
         let mut budget = self.opts.upload_bytes_per_frame;
         let mut loads: Vec<(usize, u32, u32)> = Vec::new(); // (mesh, page, slot)
         for (_, mi, page) in asks {
@@ -459,19 +496,60 @@ impl Streamer {
             let m = &mut self.meshes[mi];
             for &p in &set {
                 let s = self.free.pop().expect("counted");
-                m.state[p as usize] = PageState::Slot(s);
+                m.state[p as usize] = PageState::Loading(s);
                 m.last_used[p as usize] = frame;
                 loads.push((mi, p, s));
             }
         }
-        // Read the loads on worker threads; a page that fails is reported and its set's other
-        // pages stay (they are closed without it only if nothing needs it: drop them too).
-        let read: Vec<Result<Vec<u8>, String>> = loads
-            .par_iter()
-            .map(|&(mi, p, _)| self.meshes[mi].source.read_page(p))
+        self.start_reads(loads, &mut stats);
+        scene.update_pages(&changes)?;
+        let (pages, bytes) = self.residency_stats();
+        stats.resident_pages = pages;
+        stats.resident_bytes = bytes;
+        Ok(stats)
+    }
+
+    /// Starts reading `loads` on a worker thread (read right here if no thread can be made).
+    fn start_reads(&mut self, loads: Vec<(usize, u32, u32)>, stats: &mut StreamStats) {
+        if loads.is_empty() {
+            return;
+        }
+        stats.reading = loads.len() as u64;
+        let jobs: Vec<(std::sync::Arc<dyn PageSource>, u32)> = loads
+            .iter()
+            .map(|&(mi, p, _)| (self.meshes[mi].source.clone(), p))
             .collect();
+        let read = move || -> Vec<Result<Vec<u8>, String>> {
+            jobs.par_iter().map(|(src, p)| src.read_page(*p)).collect()
+        };
+        let thread = std::thread::Builder::new()
+            .name("vgeo page reads".into())
+            .spawn(read.clone());
+        let thread = match thread {
+            Ok(t) => ReadsThread::Running(t),
+            Err(_) => ReadsThread::Done(read()),
+        };
+        self.reads = Some(Reads { loads, thread });
+    }
+
+    /// Stages the pages the last step's reads brought (waiting for its worker thread if it is
+    /// still reading). A page that failed is reported once and never asked for again; the other
+    /// pages of its mesh from those reads are dropped too (their residency would not be closed
+    /// without it).
+    fn finish_reads(&mut self, frame: u64, stats: &mut StreamStats, changes: &mut Vec<PageChange>) {
+        let Some(reads) = self.reads.take() else {
+            return;
+        };
+        let read = match reads.thread {
+            ReadsThread::Done(r) => r,
+            ReadsThread::Running(t) => t.join().unwrap_or_else(|_| {
+                (0..reads.loads.len())
+                    .map(|_| Err("the page-reading thread panicked".to_string()))
+                    .collect()
+            }),
+        };
         let mut failed_meshes: Vec<usize> = Vec::new();
-        for (&(mi, p, _), r) in loads.iter().zip(&read) {
+        for (&(mi, p, s), r) in reads.loads.iter().zip(&read) {
             if let Err(e) = r {
                 let m = &mut self.meshes[mi];
                 self.errors.push(format!(
@@ -479,32 +557,31 @@ impl Streamer {
                     m.head.name
                 ));
                 m.state[p as usize] = PageState::Failed;
+                self.free.push(s);
                 stats.failed += 1;
                 failed_meshes.push(mi);
             }
         }
-        for ((mi, p, s), r) in loads.into_iter().zip(read) {
+        for ((mi, p, s), r) in reads.loads.into_iter().zip(read) {
             let Ok(bytes) = r else { continue };
+            let m = &mut self.meshes[mi];
             if failed_meshes.contains(&mi) {
-                // Keep the residency closed: a mesh with a failed page this frame loads nothing.
-                self.meshes[mi].state[p as usize] = PageState::Absent;
+                // Keep the residency closed: a mesh with a failed page loads nothing of these.
+                m.state[p as usize] = PageState::Absent;
                 self.free.push(s);
                 continue;
             }
+            m.state[p as usize] = PageState::Slot(s);
+            m.last_used[p as usize] = frame;
             stats.uploads += 1;
             stats.upload_bytes += bytes.len() as u64;
             let word = self.slot_word + s * (self.slot_bytes / 4) as u32;
             changes.push(PageChange {
-                mesh: self.meshes[mi].handle,
+                mesh: m.handle,
                 page: p,
                 load: Some((word, bytes)),
             });
         }
-        scene.update_pages(&changes)?;
-        let (pages, bytes) = self.residency_stats();
-        stats.resident_pages = pages;
-        stats.resident_bytes = bytes;
-        Ok(stats)
     }
 }
 

@@ -82,6 +82,9 @@ fn options(host_draws: bool, vgeo_draws: bool) -> example::Options {
         vgeo_draws,
         validate: true,
         out: None,
+        geometry_budget: None,
+        still_from: None,
+        orbit: 1.0,
     }
 }
 
@@ -144,6 +147,79 @@ fn the_hosts_image_equals_vgeo_render_where_the_host_draws_nothing() {
         depth.len(),
         "exported depth equals the visibility buffer's"
     );
+}
+
+/// Issue 13 item 4: streaming inside a host's frame loop with 2 frames in flight. The host steps
+/// the streamer after each fence wait; the step reads the page feedback the finished frames left
+/// in host memory and stages its loads and evictions for the next frame's `update_scene`, without
+/// submitting or waiting. Under three quarters of the scene's page bytes, once the camera stops,
+/// the image settles to the one with every page resident, bit for bit. (Eviction under a tight
+/// budget is tests/streaming.rs's.)
+#[test]
+fn a_streamed_scene_in_the_hosts_frames_settles_to_the_all_resident_image() {
+    let mut opts = options(false, true);
+    opts.meshes = vec![
+        assets().join("bunny.ply").to_string_lossy().into_owned(),
+        assets().join("spot.obj").to_string_lossy().into_owned(),
+    ];
+    // Close to a few instances while the camera moves over 12 frames, so that the view wants
+    // detail beyond the always-resident pages.
+    opts.instances = 12;
+    opts.orbit = 0.3;
+    (opts.width, opts.height) = (320, 192);
+    opts.frames = 40;
+    opts.still_from = Some(12);
+    let built = example::build_meshes(&opts.meshes).expect("meshes build");
+    let pages: u64 = built
+        .iter()
+        .flat_map(|m| m.pages.iter().map(|p| p.bytes as u64))
+        .sum();
+    let resident_prefix: u64 = built
+        .iter()
+        .flat_map(|m| {
+            m.pages[..m.resident_pages as usize]
+                .iter()
+                .map(|p| p.bytes as u64)
+        })
+        .sum();
+    assert!(
+        pages > 4 * resident_prefix,
+        "most pages stream: {pages} B of pages, {resident_prefix} B always resident"
+    );
+    let streamed = {
+        let mut o = opts.clone();
+        o.geometry_budget = Some(pages * 3 / 4);
+        example::run(&o).expect("the streamed host runs")
+    };
+    assert!(
+        streamed.validation_errors.is_empty(),
+        "{} validation error(s):\n{}",
+        streamed.validation_errors.len(),
+        streamed.validation_errors.join("\n")
+    );
+    let st = streamed.stream.clone().expect("streaming summary");
+    eprintln!("{st:?}, pages {pages} B, always resident {resident_prefix} B");
+    assert_eq!(st.waits, 0, "a streaming step waited for the GPU");
+    assert!(st.uploads > 0, "pages were streamed in");
+    assert!(st.peak_resident_bytes <= pages * 3 / 4, "{st:?}");
+    assert!(
+        st.last_requests == 0 && st.last_settled,
+        "settled: nothing asked, staged or read any more"
+    );
+    // The same scene, every page resident.
+    let full = example::run(&opts).expect("the all-resident host runs");
+    assert!(full.validation_errors.is_empty());
+    assert_eq!(streamed.camera.position, full.camera.position);
+    let same_depth = streamed
+        .depth
+        .iter()
+        .zip(&full.depth)
+        .all(|(a, b)| a.to_bits() == b.to_bits());
+    assert!(
+        same_depth,
+        "settled depth differs from the all-resident one"
+    );
+    assert_eq!(streamed.color, full.color, "settled colour differs");
 }
 
 #[test]

@@ -233,7 +233,15 @@ fn streamed_frames_are_crack_free_within_budget_and_settle_to_the_all_resident_i
                 assert!(residency[i][page], "frame {k}: mesh {i} cluster {c} absent");
             }
         }
+        let waits = ctx.waited_submissions();
         let stats = streamer.update(&mut r.scene).expect("streaming step");
+        // The step reads the feedback copy the frame left in host memory and stages its
+        // uploads for the next frame: it submits nothing and waits for nothing.
+        assert_eq!(
+            ctx.waited_submissions(),
+            waits,
+            "frame {k}: the streaming step waited for the GPU"
+        );
         assert!(
             stats.resident_bytes <= budget,
             "frame {k}: {stats:?} over {budget}"
@@ -254,7 +262,7 @@ fn streamed_frames_are_crack_free_within_budget_and_settle_to_the_all_resident_i
                 "frame {k}: mesh {i}'s residency is not closed"
             );
         }
-        if k >= frames && stats.requests == 0 {
+        if k >= frames && stats.requests == 0 && stats.settled() {
             settled_at = Some(k - frames);
             break;
         }
@@ -318,7 +326,7 @@ fn streamed_frames_are_crack_free_within_budget_and_settle_to_the_all_resident_i
         let stats = streamer.update(&mut r.scene).expect("streaming step");
         assert!(stats.resident_bytes <= budget, "{stats:?} over {budget}");
         cut_uploads += stats.uploads;
-        if stats.requests == 0 {
+        if stats.requests == 0 && stats.settled() {
             frames_to_settle = Some(k + 1);
             break;
         }
@@ -454,7 +462,7 @@ fn meshes_stream_from_vgeo_files_and_corrupt_pages_are_reported() {
             let _ = render(&mut r, &camera);
             let st = streamer.update(&mut r.scene).expect("streaming step");
             errors.extend(streamer.take_errors());
-            if st.requests == 0 {
+            if st.requests == 0 && st.settled() {
                 settled = true;
                 break;
             }
@@ -504,7 +512,7 @@ fn a_per_frame_cap_below_every_load_set_still_streams_one_set_per_frame() {
         let st = streamer.update(&mut r.scene).expect("streaming step");
         assert!(st.load_sets <= 1, "{st:?}");
         sets += st.load_sets;
-        if st.requests == 0 {
+        if st.requests == 0 && st.settled() {
             settled = true;
             break;
         }
@@ -730,7 +738,7 @@ fn residency_view_shows_missing_detail_until_it_streams_in() {
         }
         let st = streamer.update(&mut r.scene).expect("streaming step");
         assert!(st.resident_bytes <= budget, "{st:?} over {budget}");
-        if st.requests == 0 {
+        if st.requests == 0 && st.settled() {
             last = Some(counts);
             break;
         }

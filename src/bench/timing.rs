@@ -464,7 +464,7 @@ fn run_streamed(
             }
             r.render_path_timed(one, w, h, fs, ViewMode::Lit, light)?;
             settle += 1;
-            if stream_step(r, streamer, &mut rec)?.uploads == 0 {
+            if stream_step(r, streamer, &mut rec)?.settled() {
                 break;
             }
         }

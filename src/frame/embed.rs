@@ -219,6 +219,9 @@ impl VgeoRenderer {
         height: u32,
         frames_in_flight: u32,
     ) -> GpuResult<View> {
+        // Meshes added since the renderer was made (an empty one filled by a streamer) bring
+        // their materials.
+        self.follow_scene()?;
         self.prepare_materials()?;
         let m = self
             .materials
@@ -307,6 +310,7 @@ impl VgeoRenderer {
             .map(|v| v.slots.len() as u32)
             .max()
             .unwrap_or(1);
+        self.scene.set_frames_in_flight(in_flight as usize);
         self.retire_age = if self.scene.has_retired() {
             self.retire_age + 1
         } else {
@@ -317,6 +321,10 @@ impl VgeoRenderer {
             self.retire_age = 0;
         }
         self.scene.prepare_updates()?;
+        // The page feedback the previous frames' culls wrote, copied for the streamer (it reads
+        // it once this frame is done, without waiting), then the staged instance and page
+        // changes.
+        self.scene.record_feedback(cmd);
         self.scene.record_updates(cmd);
         self.scene.updates_submitted();
         Ok(())

@@ -157,6 +157,8 @@ pub(crate) struct Inner {
     pool: Mutex<vk::CommandPool>,
     /// Shaders compiled from a folder (`--shader-dir`), set once before pipelines are made.
     shaders: std::sync::OnceLock<super::shader_dir::ShaderOverrides>,
+    /// Submissions vgeo made and waited for ([`Context::submit_and_wait`]).
+    waits: std::sync::atomic::AtomicU64,
 }
 
 /// `VGEO_SHADER_DIR`, when set and not empty.
@@ -829,6 +831,7 @@ impl Context {
             }),
             pool: Mutex::new(pool),
             shaders: std::sync::OnceLock::new(),
+            waits: Default::default(),
         };
         let ctx = Context {
             inner: Arc::new(inner),
@@ -928,12 +931,21 @@ impl Context {
         &self.inner.device
     }
 
+    /// How many submissions vgeo has made and waited for ([`Context::submit_and_wait`]) on this
+    /// context: a way to check that a step (a frame, a streaming update) waited for nothing.
+    pub fn waited_submissions(&self) -> u64 {
+        self.inner.waits.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     /// Records commands with `record`, submits them and waits for completion.
     pub fn submit_and_wait<R>(
         &self,
         name: &str,
         record: impl FnOnce(&mut Cmd) -> R,
     ) -> GpuResult<R> {
+        self.inner
+            .waits
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let dev = &self.inner.device;
         let pool = self
             .inner
