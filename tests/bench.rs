@@ -290,7 +290,15 @@ fn bench_streams_under_a_geometry_budget_and_reports_the_residency() {
         );
         assert!(s.settled && s.settle_frames_max >= 1, "{s:?}");
         assert!(s.upload_bytes >= s.uploads, "{s:?}");
+        // Timed settled, and the same cameras all resident beside it (the demo fits).
+        assert!(s.gpu_ms_mean > 0.0 && s.settle_seconds > 0.0, "{s:?}");
+        assert!(s.resident_gpu_ms_mean.is_some_and(|t| t > 0.0), "{s:?}");
     }
+    let md = bench::report::markdown(&report);
+    assert!(
+        md.contains("| px | GPU ms streamed | GPU ms all resident |"),
+        "{md}"
+    );
     // Full detail: pages were asked for and loaded until the view had them all or the budget
     // was full.
     let full = &report.streaming[1];

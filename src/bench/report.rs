@@ -212,6 +212,17 @@ pub struct StreamRecord {
     pub settled: bool,
     /// Pages that could not be read, one line each.
     pub errors: Vec<String>,
+    /// Mean GPU ms of the path's frames, each timed once its camera settled.
+    #[serde(default)]
+    pub gpu_ms_mean: f64,
+    /// The same cameras with every page resident (timed the same way, by a renderer of its own),
+    /// when the scene fits the device that way (`None`: it does not, or it failed).
+    #[serde(default)]
+    pub resident_gpu_ms_mean: Option<f64>,
+    /// Wall seconds of the settling (frames and streaming steps until each camera settled): the
+    /// uploaded bytes over them are the rate the views were served at.
+    #[serde(default)]
+    pub settle_seconds: f64,
 }
 
 pub(super) fn git_commit() -> Option<String> {
@@ -718,21 +729,28 @@ pub fn markdown(report: &BenchReport) -> String {
         if let Some(first) = streamed.first() {
             let _ = writeln!(
                 md,
-                "vgeo streamed under a geometry budget of {:.2} MiB (slots of {:.1} KiB; each camera settled before its frame was timed; counts over the path, settling included):\n\n| px | resident MiB | peak resident MiB | used by the last frame MiB | requests | uploads | uploaded MiB | evictions | failed | still requested | frames to settle (most) |\n|---|---|---|---|---|---|---|---|---|---|---|",
+                "vgeo streamed under a geometry budget of {:.2} MiB (slots of {:.1} KiB; each camera settled before its frame was timed; counts over the path, settling included; GPU ms all resident: the same cameras, every page resident, timed the same way; upload MiB/s: uploaded MiB over the settling's wall time):\n\n| px | GPU ms streamed | GPU ms all resident | resident MiB | peak resident MiB | used by the last frame MiB | requests | uploads | uploaded MiB | upload MiB/s | evictions | failed | still requested | frames to settle (most) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
                 mib(first.budget_bytes),
                 first.slot_bytes as f64 / 1024.0
             );
             for r in streamed {
                 let _ = writeln!(
                     md,
-                    "| {} | {:.2} | {:.2} | {:.2} | {} | {} | {:.2} | {} | {} | {} | {}{} |",
+                    "| {} | {:.3} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {:.2} | {} | {} | {} | {} | {}{} |",
                     r.error_px,
+                    r.gpu_ms_mean,
+                    fmt_opt(r.resident_gpu_ms_mean, |x| format!("{x:.3}")),
                     mib(r.resident_bytes),
                     mib(r.peak_resident_bytes),
                     mib(r.used_bytes_last_frame),
                     r.requests,
                     r.uploads,
                     mib(r.upload_bytes),
+                    if r.settle_seconds > 0.0 {
+                        format!("{:.0}", mib(r.upload_bytes) / r.settle_seconds)
+                    } else {
+                        "-".into()
+                    },
                     r.evictions,
                     r.failed,
                     r.requests_last_frame,

@@ -296,6 +296,18 @@ pub(super) fn run_scene(
                     report,
                     bar,
                 )?;
+                // The same cameras with every page resident, where the scene fits that way.
+                if let Some(built) = &built {
+                    let resident = new_vgeo(ctx, built, &scene.placements, None)
+                        .and_then(|(mut full, _)| {
+                            full.set_emit_path(settings.emit);
+                            resident_gpu_ms(settings, scene, &mut full, &fs)
+                        })
+                        .ok();
+                    if let Some(last) = report.streaming.last_mut() {
+                        last.resident_gpu_ms_mean = resident;
+                    }
+                }
                 continue;
             }
             // Timed along the path (history flows frame to frame as in an application), then
@@ -451,12 +463,17 @@ fn run_streamed(
         settle_frames_max: 0,
         settled: true,
         errors: Vec::new(),
+        gpu_ms_mean: 0.0,
+        resident_gpu_ms_mean: None,
+        settle_seconds: 0.0,
     };
+    let mut gpu_ms = Vec::new();
     r.reset_history();
     let light = &scene.light;
     for (f, cam) in scene.cameras.iter().enumerate() {
         let one = std::slice::from_ref(cam);
         let mut settle = 0;
+        let settling = Instant::now();
         loop {
             if settle == SETTLE_FRAMES {
                 rec.settled = false;
@@ -468,6 +485,7 @@ fn run_streamed(
                 break;
             }
         }
+        rec.settle_seconds += settling.elapsed().as_secs_f64();
         rec.settle_frames_max = rec.settle_frames_max.max(settle);
         let timed = time_path(settings.warmup, one, |_, cams| {
             Ok(r.render_path_timed(cams, w, h, fs, ViewMode::Lit, light)?)
@@ -475,6 +493,7 @@ fn run_streamed(
         let Some((passes, cpu_ms)) = timed.into_iter().next() else {
             bail!("{name}: frame {f} was not timed");
         };
+        gpu_ms.push(passes.iter().map(|p| p.1).sum::<f64>());
         let vf = r.render(cam, w, h, fs, ViewMode::Lit, light)?;
         if let Err(msg) = vf.check() {
             report.skipped.push(Skipped {
@@ -501,8 +520,33 @@ fn run_streamed(
         rec.requests_last_frame = st.requests;
         bar.inc(1);
     }
+    rec.gpu_ms_mean = gpu_ms.iter().sum::<f64>() / gpu_ms.len().max(1) as f64;
     report.streaming.push(rec);
     Ok(())
+}
+
+/// The mean GPU ms of `scene`'s cameras at `fs` with every page resident, each camera rendered
+/// once (its occlusion history) and then timed alone as [`run_streamed`] times a settled one.
+fn resident_gpu_ms(
+    settings: &BenchSettings,
+    scene: &BenchScene,
+    r: &mut VgeoRenderer,
+    fs: &FrameSettings,
+) -> Result<f64> {
+    let (w, h) = (settings.width, settings.height);
+    let mut sum = 0.0;
+    r.reset_history();
+    for cam in &scene.cameras {
+        let one = std::slice::from_ref(cam);
+        r.render_path_timed(one, w, h, fs, ViewMode::Lit, &scene.light)?;
+        let timed = time_path(settings.warmup, one, |_, cams| {
+            Ok(r.render_path_timed(cams, w, h, fs, ViewMode::Lit, &scene.light)?)
+        })?;
+        sum += timed
+            .first()
+            .map_or(0.0, |(p, _)| p.iter().map(|x| x.1).sum::<f64>());
+    }
+    Ok(sum / scene.cameras.len().max(1) as f64)
 }
 
 /// Keeps the middle frame's images for the output folder: brute's and its reference, lod's and
