@@ -42,7 +42,7 @@ fn len(a: [f32; 3]) -> f32 {
 }
 
 /// One 1:4 split of every triangle with displaced midpoints.
-fn subdivide(p: &mut Vec<[f32; 3]>, idx: &[u32], seed: u64) -> Vec<u32> {
+pub fn subdivide(p: &mut Vec<[f32; 3]>, idx: &[u32], seed: u64) -> Vec<u32> {
     let mut normal = vec![[0f32; 3]; p.len()];
     for t in idx.chunks_exact(3) {
         let n = cross(
@@ -101,13 +101,33 @@ fn main() -> anyhow::Result<()> {
     let [input, output] = files.as_slice() else {
         anyhow::bail!(usage);
     };
+    let (v, t) = write_subdivided(
+        std::path::Path::new(input),
+        std::path::Path::new(output),
+        levels,
+        copies,
+        seed,
+    )?;
+    eprintln!("{output}: {v} vertices, {t} triangles");
+    Ok(())
+}
+
+/// `input` subdivided `levels` times with `seed`, `copies` times side by side, written to
+/// `output` as binary PLY; its vertex and triangle counts.
+pub fn write_subdivided(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    levels: u32,
+    copies: u32,
+    seed: u64,
+) -> anyhow::Result<(usize, usize)> {
     // No crease splitting (180 degrees): a vertex split at a crease would get two different
     // midpoints on its edges, opening cracks.
     let import = vgeo::ImportOptions {
         crease_deg: 180.0,
         ..Default::default()
     };
-    let meshes = vgeo::load_meshes(std::path::Path::new(input), &import)?;
+    let meshes = vgeo::load_meshes(input, &import)?;
     let mesh = vgeo::merge_meshes(meshes);
     let mut p = mesh.positions.clone();
     let mut idx = mesh.indices.clone();
@@ -116,7 +136,7 @@ fn main() -> anyhow::Result<()> {
     }
     let (lo, hi) = mesh
         .bounds()
-        .ok_or_else(|| anyhow::anyhow!("{input}: empty mesh"))?;
+        .ok_or_else(|| anyhow::anyhow!("{}: empty mesh", input.display()))?;
     let step = (hi[0] - lo[0]) * 1.1;
     let nv = p.len();
     let mut f = std::io::BufWriter::new(std::fs::File::create(output)?);
@@ -143,10 +163,5 @@ fn main() -> anyhow::Result<()> {
         }
     }
     f.flush()?;
-    eprintln!(
-        "{output}: {} vertices, {} triangles",
-        nv * copies as usize,
-        idx.len() / 3 * copies as usize
-    );
-    Ok(())
+    Ok((nv * copies as usize, idx.len() / 3 * copies as usize))
 }

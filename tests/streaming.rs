@@ -8,6 +8,10 @@
 
 mod common;
 
+#[allow(dead_code)]
+#[path = "../examples/stream_sizes.rs"]
+mod stream_sizes;
+
 use std::collections::BTreeSet;
 
 use common::{assert_no_validation_errors, gpu, shared_assets};
@@ -778,4 +782,60 @@ fn residency_view_shows_missing_detail_until_it_streams_in() {
         );
     }
     assert_no_validation_errors(&ctx);
+}
+
+/// Issue 13 acceptance 3 at a test's scale (the benchmark is examples/stream_sizes.rs): scenes of
+/// 2, 4 and 8 unique meshes streamed from `.vgeo` files under one budget. The scene on disk grows
+/// past several budgets; the page pool and the resident pages stay within the budget at every
+/// size, and the plot and tables are written.
+#[test]
+fn resident_bytes_follow_the_budget_not_the_scene_size() {
+    let ctx = gpu();
+    let dir = std::env::temp_dir().join(format!("vgeo-stream-sizes-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let budget = 2u64 << 20;
+    let opts = stream_sizes::Options {
+        mesh: common::assets().join("spot.obj"),
+        work: dir.join("work"),
+        out: dir.join("out"),
+        sizes: vec![2, 4, 8],
+        budget_bytes: budget,
+        upload_bytes_per_frame: 1 << 20,
+        levels: 2,
+        copies: 1,
+        frames: 24,
+        width: 160,
+        height: 96,
+    };
+    let recs = stream_sizes::run_on(&ctx, &opts).expect("the sizes run");
+    assert_no_validation_errors(&ctx);
+    for r in &recs {
+        eprintln!("{r:?}");
+    }
+    assert_eq!(recs.len(), 3);
+    assert!(
+        recs.windows(2).all(|w| w[1].vgeo_bytes > w[0].vgeo_bytes),
+        "the scenes grow"
+    );
+    let last = recs.last().unwrap();
+    assert!(
+        last.vgeo_bytes > 3 * budget,
+        "the largest scene is several budgets on disk: {last:?}"
+    );
+    for r in &recs {
+        assert!(
+            r.peak_resident_bytes <= budget && r.pool_bytes <= budget,
+            "{r:?}"
+        );
+        assert!(r.uploads > 0 && r.used_bytes_last_frame > 0, "{r:?}");
+    }
+    // The largest scene wants more than the budget along the path: it fills it and evicts.
+    assert!(
+        last.evictions > 0 && last.peak_resident_bytes * 4 > budget * 3,
+        "{last:?}"
+    );
+    let svg = std::fs::read_to_string(opts.out.join("sizes.svg")).expect("the plot");
+    assert_eq!(svg.matches("<polyline").count(), 4, "{svg}");
+    assert!(opts.out.join("sizes.md").exists() && opts.out.join("sizes.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
 }

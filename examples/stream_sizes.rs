@@ -1,0 +1,432 @@
+//! Streaming at several scene sizes under one budget (issue 13, acceptance 3): what stays on the
+//! GPU follows the budget, not the scene.
+//!
+//! ```text
+//! cargo run --release --example stream_sizes -- --work /tmp/big --sizes 4,8,16 --budget-mib 256 --out results/
+//! ```
+//!
+//! Makes (once, kept in `--work`) unique meshes: the scan `--mesh` (default the bunny of
+//! `../shared/assets`) subdivided `--levels` times with its own seed per mesh, `--copies` copies
+//! side by side (`subdivide_mesh.rs`), built into `.vgeo` files. For each size N it writes a scene
+//! of the first N meshes on a grid with a camera path, streams it from the files under the
+//! budget along `--frames` frames (a streaming step after each), and records the `.vgeo` bytes,
+//! every scene GPU buffer (allocated), the page pool, the hierarchy (cluster locators, groups,
+//! BVH), the resident page bytes (end and peak) and the bytes the last frame used. Writes
+//! `sizes.json`, `sizes.md` and `sizes.svg` (MiB against the scene's `.vgeo` GiB) into `--out`.
+//!
+//! tests/streaming.rs runs `run` at a tiny scale.
+
+#[allow(dead_code)]
+#[path = "subdivide_mesh.rs"]
+mod subdivide_mesh;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context as _, Result, bail};
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub mesh: PathBuf,
+    pub work: PathBuf,
+    pub out: PathBuf,
+    pub sizes: Vec<usize>,
+    pub budget_bytes: u64,
+    pub upload_bytes_per_frame: u64,
+    pub levels: u32,
+    pub copies: u32,
+    pub frames: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            mesh: Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets/scanned/bunny.ply"),
+            work: std::env::temp_dir().join("vgeo-stream-sizes"),
+            out: PathBuf::from("."),
+            sizes: vec![4, 8, 16],
+            budget_bytes: 256 << 20,
+            upload_bytes_per_frame: 64 << 20,
+            levels: 3,
+            copies: 4,
+            frames: 120,
+            width: 1920,
+            height: 1080,
+        }
+    }
+}
+
+/// One scene size's figures (bytes).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SizeRecord {
+    pub meshes: usize,
+    pub vgeo_bytes: u64,
+    pub triangles: u64,
+    pub budget_bytes: u64,
+    /// Every scene GPU buffer, allocated.
+    pub gpu_bytes: u64,
+    pub pool_bytes: u64,
+    /// Cluster locators, groups and BVH nodes, allocated.
+    pub hierarchy_bytes: u64,
+    pub resident_bytes: u64,
+    pub peak_resident_bytes: u64,
+    pub used_bytes_last_frame: u64,
+    pub uploads: u64,
+    pub evictions: u64,
+    /// (name, allocated bytes) per scene buffer.
+    pub buffers: Vec<(String, u64)>,
+}
+
+/// Mesh `i`'s `.vgeo` in `work`, made if absent.
+fn unique_mesh(opts: &Options, i: usize) -> Result<PathBuf> {
+    let vgeo = opts.work.join(format!("m{i}.vgeo"));
+    if vgeo.exists() {
+        return Ok(vgeo);
+    }
+    let ply = opts.work.join(format!("m{i}.ply"));
+    subdivide_mesh::write_subdivided(&opts.mesh, &ply, opts.levels, opts.copies, i as u64)?;
+    let mesh = vgeo::merge_meshes(vgeo::load_meshes(&ply, &vgeo::ImportOptions::default())?);
+    let built = vgeo::build(&mesh, &vgeo::BuildOptions::default())
+        .map_err(|e| anyhow::anyhow!("building mesh {i}: {e}"))?;
+    let tmp = opts.work.join(format!("m{i}.vgeo.part"));
+    std::fs::write(&tmp, vgeo::save_vgeo(&built))?;
+    std::fs::rename(&tmp, &vgeo)?;
+    std::fs::remove_file(&ply)?;
+    Ok(vgeo)
+}
+
+/// A scene of the first `n` meshes on a grid, with a path from above into a close-up and along.
+fn scene_file(
+    opts: &Options,
+    n: usize,
+    spacing: f32,
+    scan: ([f32; 3], [f32; 3]),
+) -> Result<PathBuf> {
+    let mut s = String::new();
+    for i in 0..n {
+        let _ = writeln!(s, "[[mesh]]\nname = \"m{i}\"\npath = \"m{i}.vgeo\"\n");
+    }
+    let cols = 4usize;
+    for i in 0..n {
+        let (x, z) = (
+            (i % cols) as f32 * spacing,
+            (i / cols) as f32 * spacing * 0.5,
+        );
+        let _ = writeln!(
+            s,
+            "[[instance]]\nmesh = \"m{i}\"\ntranslation = [{x}, 0, {z}]\n"
+        );
+    }
+    // From above the grid into a close-up of the first mesh's first copy, then along the row.
+    let (lo, hi) = scan;
+    let c: [f32; 3] = std::array::from_fn(|k| (lo[k] + hi[k]) * 0.5);
+    let d = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f32, f32::max);
+    let far = spacing * 1.5;
+    let _ = writeln!(
+        s,
+        "[[path]]\neye = [{far}, {fy}, {fz}]\ntarget = [{far}, {cy}, {tz}]\n\n[[path]]\neye = [{cx}, {ey}, {ez}]\ntarget = [{cx}, {cy}, {cz}]\n\n[[path]]\neye = [{ax}, {ey}, {ez}]\ntarget = [{ax}, {cy}, {cz}]\n",
+        fy = far * 0.7,
+        fz = far * 2.5,
+        tz = far * 0.5,
+        cx = c[0],
+        cy = c[1],
+        cz = c[2],
+        ey = c[1] + 0.3 * d,
+        ez = c[2] + 1.5 * d,
+        ax = c[0] + 2.0 * spacing,
+    );
+    let path = opts.work.join(format!("s{n}.toml"));
+    std::fs::write(&path, s)?;
+    Ok(path)
+}
+
+/// Streams scene size `n` along its path; its record.
+fn run_size(
+    ctx: &vgeo::Context,
+    opts: &Options,
+    n: usize,
+    spacing: f32,
+    scan: ([f32; 3], [f32; 3]),
+) -> Result<SizeRecord> {
+    let file = scene_file(opts, n, spacing, scan)?;
+    let streamed = vgeo::StreamedScene::load(&file, &|_| {})?;
+    let vgeo_bytes: u64 = (0..n)
+        .map(|i| std::fs::metadata(opts.work.join(format!("m{i}.vgeo"))).map(|m| m.len()))
+        .sum::<std::io::Result<u64>>()?;
+    let triangles = streamed.scene_triangles();
+    let aspect = opts.width as f32 / opts.height as f32;
+    let cameras = streamed
+        .scene
+        .path_cameras(&streamed.mesh_bounds(), aspect, opts.frames);
+    let light = streamed.light;
+    let mut r = vgeo::Renderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
+    let (mut streamer, handles) = vgeo::Streamer::new(
+        &mut r.scene,
+        streamed.meshes,
+        vgeo::StreamOptions {
+            budget_bytes: opts.budget_bytes,
+            upload_bytes_per_frame: opts.upload_bytes_per_frame,
+        },
+    )?;
+    r.scene
+        .add_instances(&vgeo::InstanceDesc::placed(&streamed.placements, &handles))?;
+    let (mut peak, mut uploads, mut evictions, mut last) = (0, 0, 0, None);
+    for cam in &cameras {
+        let f = r.render(
+            cam,
+            opts.width,
+            opts.height,
+            &vgeo::FrameSettings::default(),
+            vgeo::ViewMode::Lit,
+            &light,
+        )?;
+        f.check().map_err(|e| anyhow::anyhow!("size {n}: {e}"))?;
+        let st = streamer.update(&mut r.scene)?;
+        if let Some(e) = streamer.take_errors().first() {
+            bail!("size {n}: {e}");
+        }
+        peak = peak.max(st.resident_bytes);
+        uploads += st.uploads;
+        evictions += st.evictions;
+        last = Some(st);
+    }
+    let last = last.context("no frame")?;
+    let memory = r.scene.memory();
+    let cap = |name: &str| {
+        memory
+            .buffers
+            .iter()
+            .filter(|b| b.name == name)
+            .map(|b| b.capacity_bytes)
+            .sum::<u64>()
+    };
+    Ok(SizeRecord {
+        meshes: n,
+        vgeo_bytes,
+        triangles,
+        budget_bytes: opts.budget_bytes,
+        gpu_bytes: memory.capacity_bytes(),
+        pool_bytes: cap("scene geometry pool"),
+        hierarchy_bytes: cap("scene cluster locators") + cap("scene groups") + cap("scene bvh"),
+        resident_bytes: last.resident_bytes,
+        peak_resident_bytes: peak,
+        used_bytes_last_frame: last.used_bytes,
+        uploads,
+        evictions,
+        buffers: memory
+            .buffers
+            .iter()
+            .map(|b| (b.name.to_string(), b.capacity_bytes))
+            .collect(),
+    })
+}
+
+/// MiB against the scene's `.vgeo` GiB: GPU geometry allocated, page pool, resident pages,
+/// hierarchy, and the budget.
+fn svg(records: &[SizeRecord]) -> String {
+    let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+    // The x axis in GiB, or MiB for small scenes.
+    let big = records.iter().any(|r| r.vgeo_bytes >= 1 << 30);
+    let (unit, scale) = if big { ("GiB", 30) } else { ("MiB", 20) };
+    let gib = |b: u64| b as f64 / (1u64 << scale) as f64;
+    let (w, h, m) = (640.0, 400.0, 60.0);
+    let xmax = records
+        .iter()
+        .map(|r| gib(r.vgeo_bytes))
+        .fold(0.0, f64::max)
+        * 1.1;
+    let ymax = records
+        .iter()
+        .map(|r| mib(r.gpu_bytes.max(r.budget_bytes)))
+        .fold(0.0, f64::max)
+        * 1.15;
+    let px = |x: f64| m + x / xmax.max(1e-9) * (w - 2.0 * m);
+    let py = |y: f64| h - m - y / ymax.max(1e-9) * (h - 2.0 * m);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n<line x1=\"{m}\" y1=\"{b}\" x2=\"{r}\" y2=\"{b}\" stroke=\"black\"/>\n<line x1=\"{m}\" y1=\"{m}\" x2=\"{m}\" y2=\"{b}\" stroke=\"black\"/>\n<text x=\"{cx}\" y=\"{t}\" text-anchor=\"middle\">scene geometry on disk (.vgeo {unit})</text>\n<text x=\"14\" y=\"{cy}\" transform=\"rotate(-90 14 {cy})\" text-anchor=\"middle\">GPU MiB</text>\n",
+        b = h - m,
+        r = w - m,
+        cx = w / 2.0,
+        t = h - 15.0,
+        cy = h / 2.0
+    );
+    for k in 0..=4 {
+        let (x, y) = (xmax / 1.1 * k as f64 / 4.0, ymax / 1.15 * k as f64 / 4.0);
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{x:.2}</text>\n<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{y:.0}</text>",
+            px(x),
+            h - m + 16.0,
+            m - 6.0,
+            py(y) + 4.0
+        );
+    }
+    let budget = mib(records.first().map_or(0, |r| r.budget_bytes));
+    let _ = writeln!(
+        s,
+        "<line x1=\"{m}\" y1=\"{y:.1}\" x2=\"{r}\" y2=\"{y:.1}\" stroke=\"gray\" stroke-dasharray=\"6 4\"/><text x=\"{r}\" y=\"{t:.1}\" text-anchor=\"end\" fill=\"gray\">budget {budget:.0} MiB</text>",
+        y = py(budget),
+        r = w - m,
+        t = py(budget) - 4.0
+    );
+    type Series = (&'static str, &'static str, fn(&SizeRecord) -> u64);
+    let series: [Series; 4] = [
+        ("GPU geometry allocated", "#c0392b", |r| r.gpu_bytes),
+        ("page pool", "#2471a3", |r| r.pool_bytes),
+        ("pages resident (end)", "#229954", |r| r.resident_bytes),
+        ("hierarchy (locators, groups, BVH)", "#7d3c98", |r| {
+            r.hierarchy_bytes
+        }),
+    ];
+    for (k, (name, color, get)) in series.iter().enumerate() {
+        let pts: Vec<String> = records
+            .iter()
+            .map(|r| format!("{:.1},{:.1}", px(gib(r.vgeo_bytes)), py(mib(get(r)))))
+            .collect();
+        let _ = writeln!(
+            s,
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"{color}\" stroke-width=\"2\"/>",
+            pts.join(" ")
+        );
+        for p in &pts {
+            let (x, y) = p.split_once(',').unwrap_or(("0", "0"));
+            let _ = writeln!(
+                s,
+                "<circle cx=\"{x}\" cy=\"{y}\" r=\"3\" fill=\"{color}\"/>"
+            );
+        }
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"{color}\">{name}</text>",
+            m + 10.0,
+            m + 14.0 + 16.0 * k as f64
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// Makes the meshes, streams every size, writes `sizes.json`, `sizes.md` and `sizes.svg`.
+pub fn run(opts: &Options) -> Result<Vec<SizeRecord>> {
+    let ctx = vgeo::Context::new(&vgeo::ContextOptions::from_env())?;
+    run_on(&ctx, opts)
+}
+
+/// [`run`] on a context of the caller's.
+pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
+    let most = opts.sizes.iter().copied().max().unwrap_or(0);
+    if most == 0 {
+        bail!("--sizes needs at least one size above 0");
+    }
+    std::fs::create_dir_all(&opts.work)?;
+    std::fs::create_dir_all(&opts.out)?;
+    for i in 0..most {
+        eprintln!("mesh {} of {most}", i + 1);
+        unique_mesh(opts, i)?;
+    }
+    // The grid's spacing: a little more than one mesh's width (its copies side by side in x).
+    let scan = vgeo::merge_meshes(vgeo::load_meshes(
+        &opts.mesh,
+        &vgeo::ImportOptions::default(),
+    )?);
+    let (lo, hi) = scan.bounds().context("empty scan")?;
+    let spacing = ((hi[0] - lo[0]) * 1.1 * opts.copies as f32).max(hi[2] - lo[2]) * 1.1;
+    let mut records = Vec::new();
+    for &n in &opts.sizes {
+        eprintln!("scene of {n} meshes");
+        records.push(run_size(ctx, opts, n, spacing, (lo, hi))?);
+    }
+    let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+    let mut md = format!(
+        "# Streaming at {} scene sizes under {:.0} MiB\n\n{}x{}, {} frames along the path, {:.0} MiB per frame at most.\n\n| meshes | .vgeo GiB | triangles | GPU geometry MiB (allocated) | page pool MiB | hierarchy MiB | resident MiB (end) | peak resident MiB | used by the last frame MiB | uploads | evictions |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+        records.len(),
+        mib(opts.budget_bytes),
+        opts.width,
+        opts.height,
+        opts.frames,
+        mib(opts.upload_bytes_per_frame)
+    );
+    for r in &records {
+        let _ = writeln!(
+            md,
+            "| {} | {:.2} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {} |",
+            r.meshes,
+            r.vgeo_bytes as f64 / (1u64 << 30) as f64,
+            r.triangles,
+            mib(r.gpu_bytes),
+            mib(r.pool_bytes),
+            mib(r.hierarchy_bytes),
+            mib(r.resident_bytes),
+            mib(r.peak_resident_bytes),
+            mib(r.used_bytes_last_frame),
+            r.uploads,
+            r.evictions
+        );
+    }
+    std::fs::write(opts.out.join("sizes.md"), md)?;
+    std::fs::write(
+        opts.out.join("sizes.json"),
+        serde_json::to_string_pretty(&records)?,
+    )?;
+    std::fs::write(opts.out.join("sizes.svg"), svg(&records))?;
+    Ok(records)
+}
+
+fn parse_args() -> Result<Options> {
+    let mut o = Options::default();
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = || args.next().with_context(|| format!("{a} needs a value"));
+        match a.as_str() {
+            "--mesh" => o.mesh = value()?.into(),
+            "--work" => o.work = value()?.into(),
+            "--out" => o.out = value()?.into(),
+            "--sizes" => {
+                o.sizes = value()?
+                    .split(',')
+                    .map(|s| s.trim().parse())
+                    .collect::<Result<_, _>>()?
+            }
+            "--budget-mib" => o.budget_bytes = value()?.parse::<u64>()? << 20,
+            "--mib-per-frame" => o.upload_bytes_per_frame = value()?.parse::<u64>()? << 20,
+            "--levels" => o.levels = value()?.parse()?,
+            "--copies" => o.copies = value()?.parse()?,
+            "--frames" => o.frames = value()?.parse()?,
+            "--size" => {
+                let v = value()?;
+                let (x, y) = v.split_once('x').context("--size WxH")?;
+                (o.width, o.height) = (x.parse()?, y.parse()?);
+            }
+            "--help" | "-h" => {
+                println!(
+                    "stream_sizes [--mesh SCAN] [--work DIR] [--out DIR] [--sizes 4,8,16] [--budget-mib 256] [--mib-per-frame 64] [--levels 3] [--copies 4] [--frames 120] [--size 1920x1080]\n\nStreams scenes of 4, 8, 16 unique meshes (made once in --work) under one budget and plots what stays on the GPU against the scene's size (sizes.md, sizes.json, sizes.svg in --out)."
+                );
+                std::process::exit(0);
+            }
+            other => bail!("unknown argument {other} (--help)"),
+        }
+    }
+    Ok(o)
+}
+
+#[allow(dead_code)]
+fn main() -> Result<()> {
+    let opts = parse_args()?;
+    for r in run(&opts)? {
+        println!(
+            "{} meshes, {:.2} GiB of .vgeo: GPU geometry {:.1} MiB, pool {:.1}, hierarchy {:.1}, resident {:.1} (peak {:.1})",
+            r.meshes,
+            r.vgeo_bytes as f64 / (1u64 << 30) as f64,
+            r.gpu_bytes as f64 / (1u64 << 20) as f64,
+            r.pool_bytes as f64 / (1u64 << 20) as f64,
+            r.hierarchy_bytes as f64 / (1u64 << 20) as f64,
+            r.resident_bytes as f64 / (1u64 << 20) as f64,
+            r.peak_resident_bytes as f64 / (1u64 << 20) as f64
+        );
+    }
+    println!("wrote {}", opts.out.join("sizes.svg").display());
+    Ok(())
+}
