@@ -207,7 +207,14 @@ pub(super) fn run_scene(
                 Ok(lod.render_path_timed(&scene.placements, cams, &scene.light, (w, h), e)?)
             })?;
             for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
-                let frame = lod.render(&scene.placements, cam, &scene.light, w, h, e)?;
+                let (frame, stats) = lod.render_with_stats(
+                    &scene.placements,
+                    cam,
+                    &scene.light,
+                    (w, h),
+                    e,
+                    crate::material::ShadeMode::Lit,
+                )?;
                 let error = match &reference[f] {
                     Some(r) => Some(image_error(r, &frame)?),
                     None => None,
@@ -222,7 +229,7 @@ pub(super) fn run_scene(
                     cpu_ms,
                     triangles: frame.triangles,
                     clusters: None,
-                    instances_visible: None,
+                    instances_visible: Some(stats.drawn() as u64),
                     error,
                 });
                 save_example(report, name, "lod", Some(e), f, &frame, None);

@@ -66,7 +66,35 @@ impl DepthPyramid {
             &[vis_desc, vk::DescriptorType::STORAGE_BUFFER],
             size_of::<Push>() as u32,
         )?;
-        let levels = hzb_levels(fb.width, fb.height);
+        Self::with_pipeline(ctx, pipeline, fb.width, fb.height)
+    }
+
+    /// The pipeline (variant `depth`) and HZB of a `width` x `height` frame whose source is a
+    /// depth attachment copied into a buffer of `width * height` f32 (the `lod` baseline,
+    /// [`DepthPyramid::record_depth`]).
+    pub fn for_depth(ctx: &Context, width: u32, height: u32) -> GpuResult<Self> {
+        let pipeline = ComputePipeline::new(
+            ctx,
+            ShaderStage {
+                name: "depth_pyramid",
+                spirv: crate::shaders::DEPTH_PYRAMID_COMP_DEPTH,
+            },
+            &[
+                vk::DescriptorType::STORAGE_BUFFER,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ],
+            size_of::<Push>() as u32,
+        )?;
+        Self::with_pipeline(ctx, pipeline, width, height)
+    }
+
+    fn with_pipeline(
+        ctx: &Context,
+        pipeline: ComputePipeline,
+        width: u32,
+        height: u32,
+    ) -> GpuResult<Self> {
+        let levels = hzb_levels(width, height);
         let texels: u64 = levels.iter().map(|l| (l.0 * l.1) as u64).sum();
         let hzb = Buffer::new(
             ctx,
@@ -81,17 +109,27 @@ impl DepthPyramid {
             pipeline,
             hzb,
             levels,
-            width: fb.width,
-            height: fb.height,
+            width,
+            height,
         })
     }
 
     /// Records the pass (the visibility buffer must be visible to compute shaders).
     pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, fb: &FrameBuffers) {
+        let vis = fb.visbuffer_desc(cmd);
+        self.record_from(cmd, timer, vis);
+    }
+
+    /// Records the pass of a pyramid made by [`DepthPyramid::for_depth`] from `depth` (the
+    /// frame's depth as f32, row by row; written before, visible to compute shaders).
+    pub fn record_depth(&self, cmd: &mut Cmd, timer: &mut Timer, depth: &Buffer) {
+        self.record_from(cmd, timer, Desc::Storage(depth));
+    }
+
+    fn record_from(&self, cmd: &mut Cmd, timer: &mut Timer, source: Desc<'_>) {
         timer.begin(cmd, "depth_pyramid");
         cmd.bind_compute(&self.pipeline);
-        let vis = fb.visbuffer_desc(cmd);
-        cmd.push_compute_descriptors(&self.pipeline, &[vis, Desc::Storage(&self.hzb)]);
+        cmd.push_compute_descriptors(&self.pipeline, &[source, Desc::Storage(&self.hzb)]);
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
         let levels = self.levels.len() as u32;
         let tile = 2 * HZB_GROUP;
