@@ -1008,12 +1008,7 @@ impl Lod {
                 if let Some(o) = occ {
                     // This frame's HZB from what the main phase drew, then the deferred instances
                     // against it.
-                    cmd.copy_image_to_buffer(&depth, &o.depth);
-                    cmd.barrier(
-                        (S::ALL_TRANSFER, A::TRANSFER_WRITE),
-                        (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
-                    );
-                    o.pyramid.record_depth(cmd, &mut timer, &o.depth);
+                    o.pyramid.record_depth(cmd, &mut timer, &depth, &o.depth);
                     g.cull
                         .record(cmd, &mut timer, &cull, true, f as u32, n, mesh_count);
                     draw(cmd, &mut timer, true);

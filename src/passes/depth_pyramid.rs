@@ -4,12 +4,14 @@
 //! `ceil(w / 2^(k+1)) x ceil(h / 2^(k+1))`. Two dispatches whatever the size: `head` reduces tiles
 //! of level 0 through the first [`HZB_HEAD_LEVELS`] levels in shared memory, `tail` (one
 //! workgroup, only when there are more levels) the rest; a dispatch per level cost the CPU three
-//! commands a level to record, and the GPU a drain between levels.
+//! commands a level to record, and the GPU a drain between levels. The `lod` baseline builds the
+//! same pyramid from its depth attachment (variant `depth`, [`DepthPyramid::for_depth`]).
 
 use bytemuck::{Pod, Zeroable};
 
 use crate::gpu::{
-    Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, MemoryKind, ShaderStage, Timer, vk,
+    Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, Image, MemoryKind, ShaderStage, Timer,
+    vk,
 };
 use crate::passes::{FrameBuffers, VisPath};
 use crate::shared::{HZB_GROUP, HZB_HEAD_LEVELS};
@@ -116,18 +118,32 @@ impl DepthPyramid {
 
     /// Records the pass (the visibility buffer must be visible to compute shaders).
     pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, fb: &FrameBuffers) {
-        let vis = fb.visbuffer_desc(cmd);
-        self.record_from(cmd, timer, vis);
-    }
-
-    /// Records the pass of a pyramid made by [`DepthPyramid::for_depth`] from `depth` (the
-    /// frame's depth as f32, row by row; written before, visible to compute shaders).
-    pub fn record_depth(&self, cmd: &mut Cmd, timer: &mut Timer, depth: &Buffer) {
-        self.record_from(cmd, timer, Desc::Storage(depth));
-    }
-
-    fn record_from(&self, cmd: &mut Cmd, timer: &mut Timer, source: Desc<'_>) {
         timer.begin(cmd, "depth_pyramid");
+        let vis = fb.visbuffer_desc(cmd);
+        self.record_from(cmd, vis);
+        timer.end(cmd);
+    }
+
+    /// Records the pass of a pyramid made by [`DepthPyramid::for_depth`] from the depth
+    /// attachment `depth` (D32, written before), copied first into `copy` (`width * height` f32).
+    pub fn record_depth(&self, cmd: &mut Cmd, timer: &mut Timer, depth: &Image, copy: &Buffer) {
+        timer.begin(cmd, "depth_pyramid");
+        cmd.copy_image_to_buffer(depth, copy);
+        cmd.barrier(
+            (
+                vk::PipelineStageFlags2::ALL_TRANSFER,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_READ,
+            ),
+        );
+        self.record_from(cmd, Desc::Storage(copy));
+        timer.end(cmd);
+    }
+
+    fn record_from(&self, cmd: &mut Cmd, source: Desc<'_>) {
         cmd.bind_compute(&self.pipeline);
         cmd.push_compute_descriptors(&self.pipeline, &[source, Desc::Storage(&self.hzb)]);
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
@@ -155,7 +171,6 @@ impl DepthPyramid {
                 (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
             );
         }
-        timer.end(cmd);
     }
 }
 
