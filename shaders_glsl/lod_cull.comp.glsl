@@ -19,7 +19,8 @@
 
 layout(local_size_x = LOD_CULL_WORKGROUP_SIZE) in;
 
-struct LodStats {
+// src/shared.rs LodStatsGpu (here, not in shared.glsl: it needs the int64 extensions).
+struct LodStatsGpu {
     uint frustum_culled;
     uint drawn_main;
     uint post_count;
@@ -39,7 +40,7 @@ layout(set = 0, binding = 6, scalar) writeonly buffer InstanceList { uint instan
 layout(set = 0, binding = 7, scalar) buffer PostList { uint post_list[]; };
 layout(set = 0, binding = 8, scalar) writeonly buffer Commands { LodDrawGpu commands[]; };
 layout(set = 0, binding = 9, scalar) writeonly buffer DrawCounts { uint draw_counts[]; };
-layout(set = 0, binding = 10, scalar) buffer Stats { LodStats stats[]; };
+layout(set = 0, binding = 10, scalar) buffer Stats { LodStatsGpu stats[]; };
 layout(set = 0, binding = 11, scalar) buffer Levels { uint levels[]; };
 layout(set = 0, binding = 12, scalar) readonly buffer Hzb { float hzb[]; };
 

@@ -162,7 +162,8 @@ struct PackedVertex {
     uint normal;     // octahedral, 2 x 16 bits
 };
 
-// The GPU-driven `lod` baseline (src/shared.rs LodMeshGpu, LodViewGpu, LodDrawGpu, LodStatsGpu).
+// The GPU-driven `lod` baseline (src/shared.rs LodMeshGpu, LodViewGpu, LodDrawGpu; LodStatsGpu,
+// which holds a uint64_t, is declared in lod_cull.comp.glsl, the one shader with int64 types).
 struct LodMeshGpu {
     vec4 sphere;
     float errors[LOD_LEVELS];

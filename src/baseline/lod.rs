@@ -468,6 +468,18 @@ impl Lod {
         self.classic.geometry_bytes()
     }
 
+    /// GPU bytes per frame for `instances` instances: their records, and with GPU selection the
+    /// mesh index, instance-list regions (one per level), post list and level of each.
+    pub fn instance_bytes(&self, instances: usize) -> u64 {
+        let per = size_of::<InstanceGpu>()
+            + if self.gpu.is_some() {
+                4 * (LOD_COUNT + 3)
+            } else {
+                0
+            };
+        (instances * per) as u64
+    }
+
     /// Warnings about the materials (unreadable textures), each naming its file and material.
     pub fn warnings(&self) -> &[String] {
         self.classic.warnings()
@@ -627,8 +639,9 @@ impl Lod {
     }
 
     /// The frames of `cameras` (a camera path) at threshold `error_px` in one submission, back
-    /// to back, without read-back: the GPU times per pass of each frame (selection on the CPU
-    /// before; the benchmark times paths this way).
+    /// to back, without read-back: the GPU times per pass of each frame (the benchmark times
+    /// paths this way). With GPU selection and occlusion culling each frame tests against the
+    /// previous one's HZB; with CPU selection all frames are selected before the submission.
     pub fn render_path_timed(
         &self,
         placements: &[Placement],

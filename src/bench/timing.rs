@@ -174,8 +174,7 @@ pub(super) fn run_scene(
         None
     };
     if let Some(lod) = lod.as_ref() {
-        let lod_instance_bytes =
-            scene.placements.len() as u64 * size_of::<crate::shared::InstanceGpu>() as u64;
+        let lod_instance_bytes = lod.instance_bytes(scene.placements.len());
         memory.insert("lod", (lod.geometry_bytes(), lod_instance_bytes));
         for &e in sweep {
             // Triangles the selection would draw at the frame with the most (frustum culling aside).
