@@ -856,3 +856,64 @@ fn gpu_frustum_culls_instances_outside_the_view() {
     assert!(f.covered() > 20);
     assert_no_validation_errors(&ctx);
 }
+
+#[test]
+fn the_depth_variant_hzb_equals_the_cpu_pyramid() {
+    use vgeo::gpu::{Buffer, Image, MemoryKind, Timer, vk};
+    use vgeo::passes::depth_pyramid::{DepthPyramid, hzb_levels, hzb_reference};
+    let ctx = gpu();
+    let mut seed = 0x9e3779b97f4a7c15u64;
+    for (w, h) in [(1, 1), (3, 2), (63, 65), (130, 67), (517, 301)] {
+        // Depths in [0, 1] (a D32 copy's range), a quarter of them empty (0).
+        let depth: Vec<f32> = (0..w * h)
+            .map(|_| {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                let u = (seed >> 40) as f32 / (1u64 << 24) as f32;
+                if u < 0.25 { 0.0 } else { u }
+            })
+            .collect();
+        let staging = Buffer::staging(&ctx, "test depth", bytemuck::cast_slice(&depth)).unwrap();
+        let image = Image::new(
+            &ctx,
+            "test depth image",
+            w,
+            h,
+            vk::Format::D32_SFLOAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST,
+        )
+        .unwrap();
+        let copy = Buffer::new(
+            &ctx,
+            "test depth copy",
+            4 * (w * h) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryKind::Gpu,
+        )
+        .unwrap();
+        let pyramid = DepthPyramid::for_depth(&ctx, w, h).unwrap();
+        let mut timer = Timer::new(&ctx, 1).unwrap();
+        ctx.submit_and_wait("test hzb", |cmd| {
+            timer.reset(cmd);
+            cmd.copy_buffer_to_image(&staging, &image, &[(0, w, h)]);
+            pyramid.record_depth(cmd, &mut timer, &image, &copy);
+        })
+        .unwrap();
+        let gpu_hzb: Vec<f32> = bytemuck::pod_collect_to_vec(&pyramid.hzb.download().unwrap());
+        let cpu_hzb = hzb_reference(&depth, w, h);
+        assert_eq!(gpu_hzb.len(), cpu_hzb.len(), "{w}x{h}: HZB size");
+        for (k, &(lw, lh, offset)) in hzb_levels(w, h).iter().enumerate() {
+            let range = offset as usize..(offset + lw * lh) as usize;
+            let differ = gpu_hzb[range.clone()]
+                .iter()
+                .zip(&cpu_hzb[range])
+                .filter(|(a, b)| a.to_bits() != b.to_bits())
+                .count();
+            assert_eq!(differ, 0, "{w}x{h}: level {k} ({lw}x{lh}) differs");
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}
