@@ -8,15 +8,22 @@
 // (64x64 pixels) reduces them through levels 0..5 (HZB_HEAD_LEVELS) in registers and shared memory.
 // Dispatch `tail` (pc.tail == 1, only when there are more levels): one workgroup makes the rest
 // from level HZB_HEAD_LEVELS-1, level by level through the buffer.
+// Variant `depth` (the GPU-driven `lod` baseline): the source is a depth attachment copied into a
+// float buffer (reverse-Z, cleared to 0) instead of the visibility buffer.
 //! variant image VISBUFFER_IMAGE
+//! variant depth DEPTH_PYRAMID_FROM_DEPTH
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
 
 layout(local_size_x = HZB_GROUP, local_size_y = HZB_GROUP) in;
 
+#ifdef DEPTH_PYRAMID_FROM_DEPTH
+layout(set = 0, binding = 0) readonly buffer Depth { float depth_texels[]; };
+#else
 #define VISBUFFER_BINDING 0
 #define VISBUFFER_READONLY
 #include "visbuffer.glsl"
+#endif
 layout(set = 0, binding = 1) coherent buffer Hzb { float hzb[]; };
 
 layout(push_constant) uniform Push {
@@ -45,7 +52,11 @@ float pixel_depth(uint x, uint y) {
     if (x >= pc.width || y >= pc.height) {
         return 1.0;  // neutral for min
     }
+#ifdef DEPTH_PYRAMID_FROM_DEPTH
+    return depth_texels[y * pc.width + x];
+#else
     return vis_depth(vis_read(ivec2(x, y), pc.width));
+#endif
 }
 
 // Level 0 texel (x, y): the farthest of its 2x2 pixels.

@@ -132,7 +132,7 @@ pub mod streaming;
 pub use ash::vk;
 
 pub use baseline::brute::Brute as BruteRenderer;
-pub use baseline::lod::{Lod as LodRenderer, LodOptions};
+pub use baseline::lod::{Lod as LodRenderer, LodOptions, LodSelection, LodStats};
 pub use build_files::load_input as load_meshes;
 pub use builder::{BuildOptions, BuiltMesh, Partitioner, VerifyOptions, build};
 pub use camera::Camera;

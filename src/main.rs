@@ -65,11 +65,13 @@ struct RenderArgs {
     #[arg(long, default_value_t = 720)]
     height: u32,
     /// Rendering path: `brute` (every triangle, classic draws), `lod` (discrete LODs per mesh,
-    /// one per instance chosen by projected error) or `vgeo` (the cluster DAG, GPU-driven culling
-    /// and LOD cut, visibility buffer).
+    /// one per instance chosen by projected error on the GPU, with frustum and HZB culling and
+    /// multi-draw-indirect-count), `lod-cpu` (the same levels chosen on the CPU, one instanced
+    /// draw per mesh and level) or `vgeo` (the cluster DAG, GPU-driven culling and LOD cut,
+    /// visibility buffer).
     #[arg(long, default_value = "vgeo")]
     mode: String,
-    /// Pixel error threshold of `--mode lod` and `--mode vgeo` (0 = full detail).
+    /// Pixel error threshold of `--mode lod`, `lod-cpu` and `vgeo` (0 = full detail).
     #[arg(long, default_value_t = 1.0)]
     error_px: f32,
     /// What to show. Every mode: lit (the image: materials, textures, normal maps, one light plus
@@ -316,8 +318,11 @@ fn render(a: &RenderArgs) -> Result<()> {
     if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
         anyhow::bail!("--width and --height must be between 1 and 16384");
     }
-    if !["brute", "lod", "vgeo"].contains(&a.mode.as_str()) {
-        anyhow::bail!("unknown --mode `{}` (available: brute, lod, vgeo)", a.mode);
+    if !["brute", "lod", "lod-cpu", "vgeo"].contains(&a.mode.as_str()) {
+        anyhow::bail!(
+            "unknown --mode `{}` (available: brute, lod, lod-cpu, vgeo)",
+            a.mode
+        );
     }
     let view = ViewMode::parse(&a.view).with_context(|| {
         let names: Vec<_> = ViewMode::ALL
@@ -447,8 +452,8 @@ fn render(a: &RenderArgs) -> Result<()> {
     })?;
     let (l, c) = (&loaded, &camera);
     let frame = match a.mode.as_str() {
-        "lod" => {
-            let opts = vgeo::LodOptions::default();
+        "lod" | "lod-cpu" => {
+            let opts = vgeo::LodOptions::for_mode(&a.mode).unwrap_or_default();
             let lod = vgeo::LodRenderer::new(&ctx, &l.meshes(), &opts)?;
             lod.warnings()
                 .iter()

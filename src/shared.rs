@@ -116,6 +116,27 @@ pub const RESIDENCY_COLOR_REQUESTED: u32 = 0xff1ebef0;
 /// the finer pages are not resident (the cull asked for them this frame): the pixel is coarser
 /// than the all-resident image. Red.
 pub const RESIDENCY_COLOR_MISSING: u32 = 0xff2828dc;
+/// Threads of one `lod_cull` workgroup (one instance, or one mesh in the commands phase, each).
+pub const LOD_CULL_WORKGROUP_SIZE: u32 = 64;
+/// Levels of a discrete-LOD chain (`baseline::lod::LOD_COUNT`): buckets per mesh in `lod_cull`.
+pub const LOD_LEVELS: u32 = 8;
+/// `lod_cull` push constant `phase`: test every instance (frustum, LOD, previous frame's HZB).
+pub const LOD_PHASE_MAIN: u32 = 0;
+/// `lod_cull` phase: re-test the instances the main phase deferred against this frame's HZB.
+pub const LOD_PHASE_POST: u32 = 1;
+/// `lod_cull` phase: one thread per mesh writes its draw commands and draw count from the buckets.
+pub const LOD_PHASE_COMMANDS: u32 = 2;
+/// `LodViewGpu::flags`: cull instances outside the view frustum.
+pub const LOD_FLAG_FRUSTUM: u32 = 1;
+/// `LodViewGpu::flags`: HZB occlusion culling (two phases).
+pub const LOD_FLAG_OCCLUSION: u32 = 2;
+/// `LodViewGpu::flags`: the HZB holds an earlier frame of the same size (`prev_view_proj`):
+/// the main phase tests against it; without it every instance in the frustum is drawn first.
+pub const LOD_FLAG_HISTORY: u32 = 4;
+/// `lod_cull`'s per-instance level readback: the instance is outside the frustum.
+pub const LOD_LEVEL_CULLED: u32 = 0xffffffff;
+/// `lod_cull`'s per-instance level readback: bit set when the post phase found it occluded.
+pub const LOD_LEVEL_OCCLUDED: u32 = 256;
 // END SHADER CONSTANTS
 const _: () = assert!(2 * HZB_GROUP == 1 << (HZB_HEAD_LEVELS - 1));
 
@@ -336,3 +357,77 @@ pub struct OcclusionGpu {
     pub _pad: u32,
 }
 const _: () = assert!(size_of::<OcclusionGpu>() == 128);
+
+/// One mesh of the GPU-driven `lod` baseline: what `lod_cull` needs to pick and draw a level.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct LodMeshGpu {
+    /// Object-space bounding sphere: centre xyz, radius w.
+    pub sphere: [f32; 4],
+    /// Object-space error per level (non-decreasing, 0 for level 0).
+    pub errors: [f32; LOD_LEVELS as usize],
+    /// Per level, (first index, index count) in the mesh's index buffer.
+    pub ranges: [[u32; 2]; LOD_LEVELS as usize],
+}
+const _: () = assert!(size_of::<LodMeshGpu>() == 112);
+
+/// Per-frame view of `lod_cull`. Positions are camera-relative (the instances' model matrices are).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct LodViewGpu {
+    /// This frame's projection * view rotation (the post phase's HZB test).
+    pub view_proj: [[f32; 4]; 4],
+    /// Frustum planes (left, right, bottom, top, near; inside: `dot(n, p) + d >= 0`).
+    pub frustum: [[f32; 4]; 5],
+    /// The view the HZB was built with (main phase, with [`LOD_FLAG_HISTORY`]).
+    pub prev_view_proj: [[f32; 4]; 4],
+    /// This camera's position minus that view's (xyz; w unused): a camera-relative point of this
+    /// frame plus it is relative to the earlier camera.
+    pub prev_delta: [f32; 4],
+    /// Width, height, 1/width, 1/height (of the frame and of the HZB's source).
+    pub viewport: [f32; 4],
+    /// `height / (2 tan(fov_y / 2))`.
+    pub proj_scale: f32,
+    /// LOD threshold in pixels (`error_px * lod_bias`; 0: level 0 everywhere).
+    pub tau: f32,
+    pub near: f32,
+    pub instance_count: u32,
+    pub mesh_count: u32,
+    /// `LOD_FLAG_*`.
+    pub flags: u32,
+    /// Levels in the HZB buffer.
+    pub hzb_levels: u32,
+    pub _pad: u32,
+}
+const _: () = assert!(size_of::<LodViewGpu>() == 272);
+
+/// `VkDrawIndexedIndirectCommand`, as `lod_cull` writes it per (mesh, level) bucket.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct LodDrawGpu {
+    pub index_count: u32,
+    pub instance_count: u32,
+    pub first_index: u32,
+    pub vertex_offset: i32,
+    pub first_instance: u32,
+}
+const _: () = assert!(size_of::<LodDrawGpu>() == 20);
+
+/// Counters of one `lod` frame (read back: `LodStats`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct LodStatsGpu {
+    /// Instances outside the frustum.
+    pub frustum_culled: u32,
+    /// Instances drawn by the main phase.
+    pub drawn_main: u32,
+    /// Instances the previous frame's HZB rejected in the main phase (the post phase's list).
+    pub post_count: u32,
+    /// Of those, drawn by the post phase, and occluded for good.
+    pub drawn_post: u32,
+    pub occluded: u32,
+    pub _pad: u32,
+    /// Triangles drawn (both phases).
+    pub triangles: u64,
+}
+const _: () = assert!(size_of::<LodStatsGpu>() == 32);

@@ -67,6 +67,29 @@ fn render_mesh_writes_png() {
 }
 
 #[test]
+fn render_lod_on_the_gpu_and_the_cpu_gives_one_image() {
+    let dir = std::env::temp_dir().join(format!("vgeo-cli-lod-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let spot = assets().join("spot.obj");
+    let mut images = Vec::new();
+    for mode in ["lod", "lod-cpu"] {
+        let png = dir.join(format!("{mode}.png"));
+        let (ok, out, err) = run(vgeo()
+            .args(["render", "--mode", mode, "--width", "64", "--height", "48"])
+            .arg("--out")
+            .arg(&png)
+            .arg(&spot));
+        assert!(ok, "{mode} failed: {err}");
+        assert!(out.contains("triangles:"), "{mode}: {out}");
+        assert!(!err.contains("validation error"), "{mode}: {err}");
+        images.push(image::open(&png).expect("a readable PNG").to_rgba8());
+    }
+    assert!(images[0] == images[1], "lod and lod-cpu images differ");
+    let bg = images[0].get_pixel(0, 0);
+    assert!(images[0].pixels().filter(|p| *p != bg).count() > 200);
+}
+
+#[test]
 fn bad_input_is_a_clear_error_not_a_panic() {
     let invalid = shared_assets().join("invalid/BoxWithInfinites.glb");
     let cases: Vec<(Vec<std::ffi::OsString>, &str)> = vec![

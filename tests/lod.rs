@@ -10,6 +10,7 @@ use vgeo::baseline::lod::{
     LOD_COUNT, LOD_FRACTIONS, LOD_MIN_TRIANGLES, Lod, LodChain, LodOptions, select_lod,
 };
 use vgeo::camera::Camera;
+use vgeo::material::ShadeMode;
 use vgeo::mesh::Mesh;
 use vgeo::render::{Frame, Light, Placement};
 use vgeo::scene::load::LoadedScene;
@@ -374,11 +375,17 @@ fn zero_threshold_matches_brute_exactly() {
     assert!(l0.color == b.color, "colour differs from brute at 0 px");
     assert!(l0.depth == b.depth, "depth differs from brute at 0 px");
 
-    let l1 = lod
-        .render(&placements, &cam, &light, w, h, 1.0)
+    // The second frame has the first one's HZB: an instance it hides is not drawn.
+    let (l1, stats) = lod
+        .render_with_stats(&placements, &cam, &light, (w, h), 1.0, ShadeMode::Lit)
         .expect("lod");
+    let gpu_sel: Vec<u8> = stats.levels.iter().map(|l| l.expect("in view")).collect();
+    assert_eq!(gpu_sel, sel, "the GPU picks the CPU's levels");
     let counts = lod.lod_triangle_counts(0);
-    let expect: u64 = sel.iter().map(|&l| counts[l as usize] as u64).sum();
+    let expect: u64 = (sel.iter().zip(&stats.occluded_instances))
+        .filter(|(_, o)| !**o)
+        .map(|(&l, _)| counts[l as usize] as u64)
+        .sum();
     assert_eq!(l1.triangles, expect, "triangles drawn = selected levels");
     assert!(l1.triangles < b.triangles);
     assert_no_validation_errors(&ctx);
@@ -531,5 +538,382 @@ fn frustum_culling_skips_only_invisible_instances() {
         a.color == b.color && a.depth == b.depth,
         "culling changed the image"
     );
+    assert_no_validation_errors(&ctx);
+}
+
+/// A small bumpy sphere (radius 0.5, ~1,000 triangles: levels down to 64 triangles).
+fn small_sphere() -> Mesh {
+    let (p, i) = common::shapes::sphere(32, 16, [0.0; 3], 0.5);
+    common::shapes::mesh_from("sphere", p, i)
+}
+
+/// A flat 10 x 10 wall centred on the origin (a few triangles at every level).
+fn wall() -> Mesh {
+    let p = vec![
+        [-5.0, -5.0, 0.0],
+        [5.0, -5.0, 0.0],
+        [5.0, 5.0, 0.0],
+        [-5.0, 5.0, 0.0],
+    ];
+    common::shapes::mesh_from("wall", p, vec![0, 1, 2, 0, 2, 3])
+}
+
+fn gpu_lod(ctx: &vgeo::gpu::Context, meshes: &[Mesh], occlusion: bool) -> Lod {
+    let opts = LodOptions {
+        occlusion_cull: occlusion,
+        ..Default::default()
+    };
+    Lod::new(ctx, meshes, &opts).expect("gpu lod")
+}
+
+fn cpu_lod(ctx: &vgeo::gpu::Context, meshes: &[Mesh]) -> Lod {
+    Lod::new(ctx, meshes, &LodOptions::for_mode("lod-cpu").expect("mode")).expect("cpu lod")
+}
+
+/// Spheres on a jittered grid in front of the camera at 0.6 to ~12 units, some scaled
+/// (non-uniformly), a few outside the view (behind, far to the side).
+fn sphere_field() -> Vec<Placement> {
+    let mut out = Vec::new();
+    for i in 0..6 {
+        for j in 0..5 {
+            let z = -0.6 * 1.6f64.powi(i) - 0.05 * j as f64;
+            let x = (j as f64 - 2.0) * 0.25 * -z;
+            let y = ((i + j) % 3) as f64 * 0.1 * -z - 0.1 * -z;
+            let s = DVec3::new(1.0 + 0.3 * (j % 2) as f64, 1.0, 1.0 + 0.5 * (i % 2) as f64);
+            out.push(Placement {
+                mesh: 0,
+                transform: DMat4::from_translation(DVec3::new(x, y, z)) * DMat4::from_scale(s),
+                color: [0.3 + 0.1 * j as f32, 0.6, 0.8 - 0.1 * i as f32],
+            });
+        }
+    }
+    out.push(placement_at(DVec3::new(0.0, 0.0, 3.0)));
+    out.push(placement_at(DVec3::new(40.0, 0.0, -2.0)));
+    out
+}
+
+fn views() -> Vec<Camera> {
+    let at =
+        |eye: DVec3, target: DVec3| Camera::look_at(eye, target, Vec3::Y, 50f32.to_radians(), 0.01);
+    vec![
+        camera(),
+        at(DVec3::new(0.4, 0.3, 0.5), DVec3::new(-0.2, 0.0, -4.0)),
+        at(
+            DVec3::new(1.0e5, -2.0e4, 3.0e5),
+            DVec3::new(1.0e5 - 1.0, -2.0e4, 3.0e5 - 3.0),
+        ),
+    ]
+}
+
+/// Moves every placement by `offset` (the far-from-origin view sees the same field).
+fn shifted(placements: &[Placement], offset: DVec3) -> Vec<Placement> {
+    placements
+        .iter()
+        .map(|p| Placement {
+            transform: DMat4::from_translation(offset) * p.transform,
+            ..*p
+        })
+        .collect()
+}
+
+#[test]
+fn gpu_selection_matches_the_cpu() {
+    let ctx = gpu();
+    let meshes = vec![small_sphere()];
+    let chain = LodChain::build(&meshes[0]);
+    let counts = chain.triangle_counts();
+    assert!(
+        counts[4] < counts[0] / 8,
+        "the sphere has a chain: {counts:?}"
+    );
+    let gpu_lod = gpu_lod(&ctx, &meshes, false);
+    let cpu_lod = cpu_lod(&ctx, &meshes);
+    let light = Light::default();
+    let (w, h) = (64, 48);
+    let mut levels_seen = [0u32; LOD_COUNT];
+    for (v, cam) in views().iter().enumerate() {
+        let placements = if v == 2 {
+            shifted(
+                &sphere_field(),
+                DVec3::new(1.0e5, -2.0e4, 3.0e5) - DVec3::new(0.4, 0.3, 0.5),
+            )
+        } else {
+            sphere_field()
+        };
+        for tau in [0.5f32, 1.0, 3.0] {
+            let (gf, g) = gpu_lod
+                .render_with_stats(&placements, cam, &light, (w, h), tau, ShadeMode::Lit)
+                .expect("gpu frame");
+            let (cf, c) = cpu_lod
+                .render_with_stats(&placements, cam, &light, (w, h), tau, ShadeMode::Lit)
+                .expect("cpu frame");
+            assert_eq!(g.levels.len(), placements.len());
+            let ps = vgeo::builder::cut::proj_scale(h as f32, cam.fov_y);
+            let mut ties = 0;
+            for (i, (gl, cl)) in g.levels.iter().zip(&c.levels).enumerate() {
+                let msg = format!("view {v}, {tau} px, instance {i}: gpu {gl:?}, cpu {cl:?}");
+                assert_eq!(gl.is_none(), cl.is_none(), "frustum: {msg}");
+                let (Some(gl), Some(cl)) = (*gl, *cl) else {
+                    continue;
+                };
+                levels_seen[cl as usize] += 1;
+                if gl == cl {
+                    continue;
+                }
+                // A tie: the level between them projects within a hair of the threshold.
+                let t = &placements[i].transform;
+                let s = vgeo::render::max_axis_scale(t);
+                let centre = DVec3::from(Vec3::from_slice(&chain.sphere[..3]));
+                let rel = (t.transform_point3(centre) - cam.position).as_vec3();
+                let k = gl.max(cl) as usize;
+                let px = vgeo::builder::cut::lod_error_px(
+                    chain.errors[k] * s,
+                    rel,
+                    chain.sphere[3] * s,
+                    Vec3::ZERO,
+                    ps,
+                );
+                assert!(
+                    (px - tau).abs() <= 1e-4 * tau,
+                    "{msg}: level {k} at {px} px"
+                );
+                ties += 1;
+            }
+            assert!(ties <= 1, "view {v}, {tau} px: {ties} ties");
+            assert_eq!(g.frustum_culled, c.frustum_culled);
+            assert_eq!((g.post_tested, g.occluded), (0, 0), "occlusion is off");
+            if ties == 0 {
+                assert_eq!(gf.triangles, cf.triangles, "view {v}, {tau} px");
+            }
+        }
+    }
+    eprintln!("levels picked (cpu) over the views: {levels_seen:?}");
+    assert!(
+        levels_seen.iter().filter(|&&n| n > 0).count() >= 3,
+        "{levels_seen:?}"
+    );
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn gpu_image_equals_the_cpu_selection() {
+    let ctx = gpu();
+    let meshes = vec![small_sphere(), wall()];
+    let gpu_lod = gpu_lod(&ctx, &meshes, false);
+    let cpu_lod = cpu_lod(&ctx, &meshes);
+    let mut placements = sphere_field();
+    placements.push(Placement {
+        mesh: 1,
+        transform: DMat4::from_translation(DVec3::new(0.0, 0.0, -30.0)),
+        color: [0.5, 0.5, 0.5],
+    });
+    let light = Light::default();
+    let (w, h) = (80, 60);
+    for cam in &views()[..2] {
+        for tau in [0.0f32, 1.0, 2.0] {
+            let g = gpu_lod
+                .render(&placements, cam, &light, w, h, tau)
+                .expect("gpu frame");
+            let c = cpu_lod
+                .render(&placements, cam, &light, w, h, tau)
+                .expect("cpu frame");
+            assert!(g.covered() > 300, "the field is visible: {}", g.covered());
+            assert_eq!(g.triangles, c.triangles, "{tau} px");
+            assert!(g.color == c.color, "colour differs at {tau} px");
+            assert!(g.depth == c.depth, "depth differs at {tau} px");
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn hzb_occlusion_keeps_the_image_and_draws_less() {
+    let ctx = gpu();
+    let meshes = vec![small_sphere(), wall()];
+    // A wall filling the view 2 units ahead, eight spheres behind it, two in front.
+    let mut placements = vec![Placement {
+        mesh: 1,
+        transform: DMat4::from_translation(DVec3::new(0.0, 0.0, -2.0)),
+        color: [0.6, 0.6, 0.6],
+    }];
+    for i in 0..8 {
+        let x = (i % 4) as f64 - 1.5;
+        let y = (i / 4) as f64 - 0.5;
+        placements.push(placement_at(DVec3::new(x, y, -4.0 - i as f64)));
+    }
+    placements.push(placement_at(DVec3::new(-0.4, 0.0, -1.2)));
+    placements.push(placement_at(DVec3::new(0.5, 0.2, -1.0)));
+    let light = Light::default();
+    let (w, h) = (64, 64);
+    let occ = gpu_lod(&ctx, &meshes, true);
+    let open = gpu_lod(&ctx, &meshes, false);
+    let cam = camera();
+    let moved = Camera::look_at(
+        DVec3::new(0.1, 0.05, 0.0),
+        DVec3::new(0.1, 0.0, -1.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.01,
+    );
+    let shade = ShadeMode::Lit;
+    let reference = |c: &Camera| {
+        open.render_with_stats(&placements, c, &light, (w, h), 1.0, shade)
+            .expect("frame without occlusion")
+    };
+    let (all, all_stats) = reference(&cam);
+    assert_eq!(all_stats.drawn(), placements.len() as u32);
+    // First frame: no history, everything in the frustum is drawn in the main phase.
+    let (f1, s1) = occ
+        .render_with_stats(&placements, &cam, &light, (w, h), 1.0, shade)
+        .expect("first frame");
+    assert_eq!((s1.post_tested, s1.drawn()), (0, placements.len() as u32));
+    assert!(f1.color == all.color && f1.depth == all.depth);
+    // Second frame (same view), and a third from a moved camera: the previous frame's HZB
+    // defers the hidden spheres, this frame's rejects them.
+    for (c, name) in [(&cam, "same view"), (&moved, "moved camera")] {
+        let (f, s) = occ
+            .render_with_stats(&placements, c, &light, (w, h), 1.0, shade)
+            .expect("frame with history");
+        let (r, _) = reference(c);
+        eprintln!("{name}: {s:?}");
+        assert_eq!(s.occluded, 8, "{name}: the spheres behind the wall");
+        assert_eq!(s.post_tested, 8, "{name}");
+        assert_eq!(
+            s.drawn(),
+            3,
+            "{name}: the wall and the two spheres in front"
+        );
+        assert!(s.occluded_instances[1..9].iter().all(|&o| o), "{name}");
+        assert!(f.triangles < r.triangles, "{name}");
+        assert!(
+            f.color == r.color,
+            "{name}: colour differs with occlusion culling"
+        );
+        assert!(
+            f.depth == r.depth,
+            "{name}: depth differs with occlusion culling"
+        );
+    }
+    // A sphere that steps out from behind the wall is deferred by the old HZB but drawn by the
+    // post phase: the image still matches.
+    let mut out = placements.clone();
+    out[3] = placement_at(DVec3::new(0.0, 0.0, -1.5));
+    let (f, s) = occ
+        .render_with_stats(&out, &moved, &light, (w, h), 1.0, shade)
+        .expect("frame with a revealed sphere");
+    let (r, _) = open
+        .render_with_stats(&out, &moved, &light, (w, h), 1.0, shade)
+        .expect("reference");
+    assert_eq!((s.drawn(), s.occluded), (4, 7), "{s:?}");
+    assert!(f.color == r.color && f.depth == r.depth);
+    // The same frames back to back in one submission (the benchmark's path timing).
+    let times = occ
+        .render_path_timed(&placements, &[cam, moved, cam], &light, (w, h), 1.0)
+        .expect("path");
+    let names: Vec<&str> = times[1].iter().map(|p| p.0.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "lod_cull",
+            "lod",
+            "depth_pyramid",
+            "lod_cull (post)",
+            "lod (post)",
+            "shade"
+        ]
+    );
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn gpu_frustum_culls_instances_outside_the_view() {
+    let ctx = gpu();
+    let meshes = vec![small_sphere()];
+    let lod = gpu_lod(&ctx, &meshes, true);
+    let placements = vec![
+        placement_at(DVec3::new(0.0, 0.0, -2.0)),
+        placement_at(DVec3::new(0.0, 0.0, 2.0)),
+        placement_at(DVec3::new(30.0, 0.0, -2.0)),
+        placement_at(DVec3::new(0.0, -30.0, -2.0)),
+    ];
+    let (f, s) = lod
+        .render_with_stats(
+            &placements,
+            &camera(),
+            &Light::default(),
+            (32, 32),
+            0.0,
+            ShadeMode::Lit,
+        )
+        .expect("frame");
+    assert_eq!(s.frustum_culled, 3);
+    assert_eq!(s.drawn(), 1);
+    assert!(
+        s.levels[0] == Some(0) && s.levels[1..].iter().all(|l| l.is_none()),
+        "{s:?}"
+    );
+    assert_eq!(f.triangles, meshes[0].triangle_count() as u64);
+    assert!(f.covered() > 20);
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn the_depth_variant_hzb_equals_the_cpu_pyramid() {
+    use vgeo::gpu::{Buffer, Image, MemoryKind, Timer, vk};
+    use vgeo::passes::depth_pyramid::{DepthPyramid, hzb_levels, hzb_reference};
+    let ctx = gpu();
+    let mut seed = 0x9e3779b97f4a7c15u64;
+    for (w, h) in [(1, 1), (3, 2), (63, 65), (130, 67), (517, 301)] {
+        // Depths in [0, 1] (a D32 copy's range), a quarter of them empty (0).
+        let depth: Vec<f32> = (0..w * h)
+            .map(|_| {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                let u = (seed >> 40) as f32 / (1u64 << 24) as f32;
+                if u < 0.25 { 0.0 } else { u }
+            })
+            .collect();
+        let staging = Buffer::staging(&ctx, "test depth", bytemuck::cast_slice(&depth)).unwrap();
+        let image = Image::new(
+            &ctx,
+            "test depth image",
+            w,
+            h,
+            vk::Format::D32_SFLOAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST,
+        )
+        .unwrap();
+        let copy = Buffer::new(
+            &ctx,
+            "test depth copy",
+            4 * (w * h) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryKind::Gpu,
+        )
+        .unwrap();
+        let pyramid = DepthPyramid::for_depth(&ctx, w, h).unwrap();
+        let mut timer = Timer::new(&ctx, 1).unwrap();
+        ctx.submit_and_wait("test hzb", |cmd| {
+            timer.reset(cmd);
+            cmd.copy_buffer_to_image(&staging, &image, &[(0, w, h)]);
+            pyramid.record_depth(cmd, &mut timer, &image, &copy);
+        })
+        .unwrap();
+        let gpu_hzb: Vec<f32> = bytemuck::pod_collect_to_vec(&pyramid.hzb.download().unwrap());
+        let cpu_hzb = hzb_reference(&depth, w, h);
+        assert_eq!(gpu_hzb.len(), cpu_hzb.len(), "{w}x{h}: HZB size");
+        for (k, &(lw, lh, offset)) in hzb_levels(w, h).iter().enumerate() {
+            let range = offset as usize..(offset + lw * lh) as usize;
+            let differ = gpu_hzb[range.clone()]
+                .iter()
+                .zip(&cpu_hzb[range])
+                .filter(|(a, b)| a.to_bits() != b.to_bits())
+                .count();
+            assert_eq!(differ, 0, "{w}x{h}: level {k} ({lw}x{lh}) differs");
+        }
+    }
     assert_no_validation_errors(&ctx);
 }

@@ -7,6 +7,7 @@
 #define VGEO_CULL_GLSL
 
 #include "lod.glsl"
+#include "hzb.glsl"
 
 // Whether a camera-relative sphere touches the frustum (far plane at infinity).
 bool sphere_in_frustum(ViewGpu v, vec3 c, float r) {
@@ -39,34 +40,7 @@ bool hzb_occluded(InstanceVgeo inst, vec3 bmin, vec3 bmax) {
         hi = max(hi, px);
         nearest = max(nearest, n.z);
     }
-    lo = max(lo, vec2(0.0));
-    hi = min(hi, occ.viewport.xy - 1.0);
-    if (hi.x < lo.x || hi.y < lo.y) {
-        return false;
-    }
-    float size = max(hi.x - lo.x, hi.y - lo.y);
-    // Level k texels cover 2^(k+1) pixels: pick the level where the box spans at most 2x2 texels.
-    uint k = uint(max(0, int(ceil(log2(max(size, 1.0)))) - 1));
-    k = min(k, occ.levels - 1u);
-    uint w = (uint(occ.viewport.x) + 1u) / 2u;
-    uint h = (uint(occ.viewport.y) + 1u) / 2u;
-    uint offset = 0u;
-    for (uint l = 0u; l < k; l++) {
-        offset += w * h;
-        w = (w + 1u) / 2u;
-        h = (h + 1u) / 2u;
-    }
-    float texel = float(1u << (k + 1u));
-    uvec2 t0 = min(uvec2(floor(lo / texel)), uvec2(w - 1u, h - 1u));
-    uvec2 t1 = min(uvec2(floor(hi / texel)), uvec2(w - 1u, h - 1u));
-    t1 = min(t1, t0 + 1u);
-    float farthest = 1.0;
-    for (uint y = t0.y; y <= t1.y; y++) {
-        for (uint x = t0.x; x <= t1.x; x++) {
-            farthest = min(farthest, hzb[offset + y * w + x]);
-        }
-    }
-    return nearest < farthest;
+    return hzb_rect_occluded(lo, hi, nearest, occ.viewport.xy, occ.levels);
 }
 
 // Pushes an (instance, BVH node) item; a full queue counts an overflow (reported) instead.

@@ -162,4 +162,36 @@ struct PackedVertex {
     uint normal;     // octahedral, 2 x 16 bits
 };
 
+// The GPU-driven `lod` baseline (src/shared.rs LodMeshGpu, LodViewGpu, LodDrawGpu; LodStatsGpu,
+// which holds a uint64_t, is declared in lod_cull.comp.glsl, the one shader with int64 types).
+struct LodMeshGpu {
+    vec4 sphere;
+    float errors[LOD_LEVELS];
+    uvec2 ranges[LOD_LEVELS];
+};
+
+struct LodViewGpu {
+    mat4 view_proj;
+    vec4 frustum[5];
+    mat4 prev_view_proj;
+    vec4 prev_delta;
+    vec4 viewport;
+    float proj_scale;
+    float tau;
+    float near;
+    uint instance_count;
+    uint mesh_count;
+    uint flags;
+    uint hzb_levels;
+    uint _pad;
+};
+
+struct LodDrawGpu {
+    uint index_count;
+    uint instance_count;
+    uint first_index;
+    int vertex_offset;
+    uint first_instance;
+};
+
 #endif

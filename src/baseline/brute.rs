@@ -22,7 +22,7 @@ use crate::passes::shade::{ALBEDO_FORMAT, GbufferTargets, NORMAL_FORMAT, PARAMS_
 use crate::render::{Frame, Light, Placement};
 use crate::shared::{FrameUniforms, InstanceGpu, VertexGpu};
 
-const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+pub(crate) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// A mesh as the classic paths draw it: vertices split so that each belongs to one material (a
 /// vertex shared by triangles of two materials is duplicated), with each vertex's local material.
@@ -95,11 +95,11 @@ fn push_vertex(src: &Mesh, v: u32, out: &mut Mesh, materials: &mut Vec<u32>, m: 
 
 /// A mesh's vertex and index buffers on the GPU.
 pub struct GpuMesh {
-    vertices: Buffer,
-    indices: Buffer,
+    pub(crate) vertices: Buffer,
+    pub(crate) indices: Buffer,
     index_count: u32,
     /// `MESH_HAS_UVS | MESH_HAS_NORMALS` (the GBuffer shader's push constant).
-    flags: u32,
+    pub(crate) flags: u32,
 }
 
 impl GpuMesh {
@@ -171,12 +171,32 @@ pub(crate) struct Draw {
 
 /// The classic pipeline (vertex position, normal, UV, material; writes the GBuffer through the
 /// shared material model; reverse-Z depth) shared by the `brute` and `lod` passes so their images
-/// compare; `pass` names the pipeline, `materials`' textures are set 1.
+/// compare; `pass` names the pipeline, `materials`' textures are set 1. With `instance_list`, the
+/// vertex shader's `list` variant: binding 3 is the instance list `gl_InstanceIndex` indexes (the
+/// GPU-driven `lod`, whose draws come from `lod_cull`).
 fn classic_pipeline(
     ctx: &Context,
     pass: &str,
     materials: &GpuMaterials,
+    instance_list: bool,
 ) -> GpuResult<GraphicsPipeline> {
+    use vk::DescriptorType as D;
+    let (vertex, bindings): (&[u8], &[D]) = if instance_list {
+        (
+            crate::shaders::BRUTE_VERT_LIST,
+            &[
+                D::UNIFORM_BUFFER,
+                D::STORAGE_BUFFER,
+                D::STORAGE_BUFFER,
+                D::STORAGE_BUFFER,
+            ],
+        )
+    } else {
+        (
+            crate::shaders::BRUTE_VERT,
+            &[D::UNIFORM_BUFFER, D::STORAGE_BUFFER, D::STORAGE_BUFFER],
+        )
+    };
     let attrs = [
         (0, vk::Format::R32G32B32_SFLOAT, 0),
         (1, vk::Format::R32G32B32_SFLOAT, 12),
@@ -189,17 +209,13 @@ fn classic_pipeline(
             name: pass,
             vertex: ShaderStage {
                 name: "brute.vert",
-                spirv: crate::shaders::BRUTE_VERT,
+                spirv: vertex,
             },
             fragment: ShaderStage {
                 name: "brute.frag",
                 spirv: crate::shaders::BRUTE_FRAG,
             },
-            bindings: &[
-                vk::DescriptorType::UNIFORM_BUFFER,
-                vk::DescriptorType::STORAGE_BUFFER,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ],
+            bindings,
             push_constant_size: 4,
             vertex_layout: Some((size_of::<VertexGpu>() as u32, &attrs)),
             color_formats: &[ALBEDO_FORMAT, NORMAL_FORMAT, PARAMS_FORMAT],
@@ -210,6 +226,25 @@ fn classic_pipeline(
         },
         &materials.textures,
     )
+}
+
+/// The classic pipeline's uniforms for `view_proj` (camera-relative), `light` and a
+/// `width` x `height` target.
+pub(crate) fn frame_uniforms(
+    view_proj: &glam::Mat4,
+    light: &Light,
+    (width, height): (u32, u32),
+) -> FrameUniforms {
+    FrameUniforms {
+        view_proj: view_proj.to_cols_array_2d(),
+        light_dir: light.direction.normalize_or_zero().extend(0.0).into(),
+        viewport: [
+            width as f32,
+            height as f32,
+            1.0 / width as f32,
+            1.0 / height as f32,
+        ],
+    }
 }
 
 /// The GPU instance record of `p` seen from `camera` (camera-relative model, normal matrix).
@@ -266,22 +301,27 @@ fn instances_by_mesh(
 /// What `brute` and `lod` share: the scene's materials and meshes on the GPU, the GBuffer pipeline
 /// and `shade`.
 pub(crate) struct Classic {
-    ctx: Context,
+    pub(crate) ctx: Context,
     pass: &'static str,
-    pipeline: GraphicsPipeline,
-    shade: Shade,
-    materials: GpuMaterials,
+    /// The classic pipeline, or its `list` variant when made with `instance_list` (then only
+    /// the GPU-driven `lod` records with it; [`Classic::render_frames`] refuses).
+    pub(crate) pipeline: GraphicsPipeline,
+    instance_list: bool,
+    pub(crate) shade: Shade,
+    pub(crate) materials: GpuMaterials,
     pub(crate) meshes: Vec<GpuMesh>,
 }
 
 impl Classic {
     /// Uploads `meshes` (split per material) with `indices[i]` as mesh i's index buffer (`None`:
-    /// its own triangles) and the scene's materials; `pass` names everything.
+    /// its own triangles) and the scene's materials; `pass` names everything. `instance_list`:
+    /// the pipeline reads instances through a list (see [`Classic::pipeline`]).
     pub(crate) fn new(
         ctx: &Context,
         pass: &'static str,
         meshes: &[ClassicMesh<'_>],
         indices: &[Option<&[u32]>],
+        instance_list: bool,
     ) -> GpuResult<Self> {
         let table = SceneMaterials::from_meshes(meshes.iter().map(|m| m.mesh.as_ref()))
             .map_err(crate::gpu::GpuError::Other)?;
@@ -298,7 +338,8 @@ impl Classic {
         Ok(Self {
             ctx: ctx.clone(),
             pass,
-            pipeline: classic_pipeline(ctx, pass, &materials)?,
+            pipeline: classic_pipeline(ctx, pass, &materials, instance_list)?,
+            instance_list,
             shade: Shade::new(ctx)?,
             materials,
             meshes: gpu,
@@ -360,6 +401,12 @@ impl Classic {
         readback: bool,
     ) -> GpuResult<Vec<Frame>> {
         use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        if self.instance_list {
+            return Err(crate::gpu::GpuError::Other(format!(
+                "`{}` draws through lod_cull's instance list, not CPU draws",
+                self.pass
+            )));
+        }
         let (ctx, pass) = (&self.ctx, self.pass);
         let ubo = Buffer::new(
             ctx,
@@ -405,16 +452,7 @@ impl Classic {
                 let view_proj = f
                     .view_proj
                     .unwrap_or_else(|| f.camera.view_proj(width, height));
-                let uniforms = FrameUniforms {
-                    view_proj: view_proj.to_cols_array_2d(),
-                    light_dir: light.direction.normalize_or_zero().extend(0.0).into(),
-                    viewport: [
-                        width as f32,
-                        height as f32,
-                        1.0 / width as f32,
-                        1.0 / height as f32,
-                    ],
-                };
+                let uniforms = frame_uniforms(&view_proj, light, (width, height));
                 let view = targets.view_for_matrix(&view_proj, light.direction, mode);
                 // The previous frame is done with this frame's inputs before they are rewritten.
                 cmd.barrier(
@@ -547,7 +585,7 @@ impl Brute {
             .collect();
         let indices = vec![None; split.len()];
         Ok(Self {
-            classic: Classic::new(ctx, "brute", &split, &indices)?,
+            classic: Classic::new(ctx, "brute", &split, &indices, false)?,
         })
     }
 

@@ -4,11 +4,20 @@
 //! [`LOD_FRACTIONS`] of the triangles, each simplified from the full mesh, with the object-space
 //! error meshoptimizer reports (absolute; position and attributes with the builder's weights, so
 //! a level's error is measured as a DAG cluster's is). All levels of a mesh share one vertex buffer and one index
-//! buffer (per-level index ranges). Per instance and frame, on the CPU, the coarsest level whose
-//! error projected at the instance's bounding sphere ([`lod_error_px`], the cut's formula) stays
-//! within `error_px * lod_bias` pixels is drawn (instances outside the frustum are skipped,
-//! [`LodOptions::frustum_cull`]); instances are grouped per (mesh, level) into one
-//! instanced draw each, with the `brute` pipeline and shading so images compare.
+//! buffer (per-level index ranges). Per instance and frame the coarsest level whose error
+//! projected at the instance's bounding sphere ([`lod_error_px`], the cut's formula) stays within
+//! `error_px * lod_bias` pixels is drawn, with the `brute` pipeline and shading so images compare.
+//!
+//! Two ways to pick and draw ([`LodSelection`]):
+//! - `lod` ([`LodSelection::Gpu`], the default), GPU-driven as engines without virtual geometry
+//!   do: pass `lod_cull` ([`super::lod_cull`]) tests each instance against the frustum and, with
+//!   [`LodOptions::occlusion_cull`], the HZB in two phases (main: the previous frame's HZB,
+//!   reprojected; draw; `depth_pyramid` from this frame's depth; post: the rejected ones against
+//!   it; draw those), picks its level and appends it to its (mesh, level) bucket; then per mesh one
+//!   `vkCmdDrawIndexedIndirectCount` draws the non-empty buckets. The HZB history lives in the
+//!   renderer: a frame tests against the last frame it rendered at the same size.
+//! - `lod-cpu` ([`LodSelection::Cpu`]): the same selection and frustum test on the CPU, one
+//!   instanced `vkCmdDrawIndexed` per non-empty (mesh, level): what selection costs the CPU.
 
 use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
@@ -16,18 +25,22 @@ use rayon::prelude::*;
 use super::brute::{Classic, ClassicFrame, ClassicMesh, Draw, check_placements, instance_gpu};
 use crate::builder::cut::{lod_error_px, proj_scale};
 use crate::camera::Camera;
-use crate::gpu::{Context, GpuResult};
+use crate::gpu::{Context, GpuError, GpuResult};
 use crate::material::ShadeMode;
 use crate::mesh::Mesh;
 use crate::render::{Frame, Light, Placement};
-use crate::shared::InstanceGpu;
+use crate::shared::{InstanceGpu, LOD_LEVELS};
+
+mod gpu;
+
+use gpu::GpuLod;
 
 /// Bucket of an instance culled by the frustum.
 const CULLED: u32 = u32::MAX;
 
 /// Levels per mesh: a full chain, each level half the previous one, down to 1/128 (0.8 %) of the
 /// triangles, as engines build LOD chains (a level is not made below [`LOD_MIN_TRIANGLES`]).
-pub const LOD_COUNT: usize = 8;
+pub const LOD_COUNT: usize = LOD_LEVELS as usize;
 
 /// Share of the full mesh's triangles each level aims for: halving.
 pub const LOD_FRACTIONS: [f32; LOD_COUNT] =
@@ -36,6 +49,16 @@ pub const LOD_FRACTIONS: [f32; LOD_COUNT] =
 /// A level is not simplified further once the previous one has this many triangles or fewer
 /// (the rest of the chain shares it): smaller levels save nothing a draw call would notice.
 pub const LOD_MIN_TRIANGLES: usize = 64;
+
+/// Where the discrete-LOD path picks levels and culls.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LodSelection {
+    /// Mode `lod`: on the GPU (`lod_cull`), drawn with multi-draw-indirect-count.
+    #[default]
+    Gpu,
+    /// Mode `lod-cpu`: on the CPU, one instanced draw per non-empty (mesh, level).
+    Cpu,
+}
 
 /// Options of the discrete-LOD path.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,6 +70,12 @@ pub struct LodOptions {
     /// as engines do. Culled instances are not drawn and not counted in `Frame::triangles`; the
     /// image is the same either way.
     pub frustum_cull: bool,
+    /// GPU selection only: skip instances whose bounding box lies behind the HZB (two phases, see
+    /// the module's documentation). Occluded instances are not drawn and not counted in
+    /// `Frame::triangles`; the image is the same either way.
+    pub occlusion_cull: bool,
+    /// GPU (`lod`) or CPU (`lod-cpu`) selection.
+    pub selection: LodSelection,
 }
 
 impl Default for LodOptions {
@@ -54,7 +83,48 @@ impl Default for LodOptions {
         Self {
             lod_bias: 1.0,
             frustum_cull: true,
+            occlusion_cull: true,
+            selection: LodSelection::Gpu,
         }
+    }
+}
+
+impl LodOptions {
+    /// The options of a mode name: `lod` (the defaults) or `lod-cpu`; `None` for another name.
+    pub fn for_mode(mode: &str) -> Option<Self> {
+        match mode {
+            "lod" => Some(Self::default()),
+            "lod-cpu" => Some(Self {
+                selection: LodSelection::Cpu,
+                ..Self::default()
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// What a frame of the discrete-LOD path culled and drew (last frame of a call).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LodStats {
+    /// Instances outside the frustum.
+    pub frustum_culled: u32,
+    /// Instances drawn by the main phase (all drawn ones with CPU selection).
+    pub drawn_main: u32,
+    /// Instances the previous frame's HZB rejected in the main phase, re-tested in the post phase.
+    pub post_tested: u32,
+    /// Of those, drawn by the post phase, and occluded for good.
+    pub drawn_post: u32,
+    pub occluded: u32,
+    /// Per placement: its level, `None` when outside the frustum (also for occluded ones).
+    pub levels: Vec<Option<u8>>,
+    /// Per placement: whether the post phase found it occluded (not drawn).
+    pub occluded_instances: Vec<bool>,
+}
+
+impl LodStats {
+    /// Instances drawn (both phases).
+    pub fn drawn(&self) -> u32 {
+        self.drawn_main + self.drawn_post
     }
 }
 
@@ -276,6 +346,7 @@ pub struct Lod {
     classic: Classic,
     infos: Vec<LodInfo>,
     opts: LodOptions,
+    gpu: Option<GpuLod>,
 }
 
 impl Lod {
@@ -294,8 +365,9 @@ impl Lod {
             .collect();
         let chains: Vec<LodChain> = split.par_iter().map(|m| LodChain::build(&m.mesh)).collect();
         let indices: Vec<Option<&[u32]>> = chains.iter().map(|c| Some(&c.indices[..])).collect();
-        let classic = Classic::new(ctx, "lod", &split, &indices)?;
-        let infos = chains
+        let on_gpu = opts.selection == LodSelection::Gpu;
+        let classic = Classic::new(ctx, "lod", &split, &indices, on_gpu)?;
+        let infos: Vec<LodInfo> = chains
             .iter()
             .map(|c| LodInfo {
                 ranges: c.ranges,
@@ -303,11 +375,25 @@ impl Lod {
                 sphere: c.sphere,
             })
             .collect();
+        let gpu = if on_gpu {
+            Some(GpuLod::new(ctx, &infos)?)
+        } else {
+            None
+        };
         Ok(Self {
             classic,
             infos,
             opts: *opts,
+            gpu,
         })
+    }
+
+    /// Forgets the HZB of the frames rendered so far (GPU selection): the next frame draws every
+    /// instance in the frustum in its main phase.
+    pub fn reset_history(&self) {
+        if let Some(g) = &self.gpu {
+            g.reset_history();
+        }
     }
 
     /// The options this renderer was made with.
@@ -330,6 +416,18 @@ impl Lod {
     /// GPU bytes of geometry (all levels).
     pub fn geometry_bytes(&self) -> u64 {
         self.classic.geometry_bytes()
+    }
+
+    /// GPU bytes per frame for `instances` instances: their records, and with GPU selection the
+    /// mesh index, instance-list regions (one per level), post list and level of each.
+    pub fn instance_bytes(&self, instances: usize) -> u64 {
+        let per = size_of::<InstanceGpu>()
+            + if self.gpu.is_some() {
+                4 * (LOD_COUNT + 3)
+            } else {
+                0
+            };
+        (instances * per) as u64
     }
 
     /// Warnings about the materials (unreadable textures), each naming its file and material.
@@ -356,9 +454,10 @@ impl Lod {
     }
 
     fn threshold(&self, camera: &Camera, height: u32, error_px: f32) -> (f32, f32) {
+        let tau = error_px * self.opts.lod_bias;
         (
             proj_scale(height as f32, camera.fov_y),
-            error_px * self.opts.lod_bias,
+            if tau.is_nan() { 0.0 } else { tau },
         )
     }
 
@@ -420,8 +519,63 @@ impl Lod {
         mode: ShadeMode,
         readback: bool,
     ) -> GpuResult<Frame> {
-        let f = self.frame_input(placements, camera, (width, height), error_px)?;
-        self.classic.render_draws(
+        Ok(self
+            .frame_stats(
+                placements,
+                camera,
+                light,
+                (width, height),
+                error_px,
+                mode,
+                readback,
+            )?
+            .0)
+    }
+
+    /// [`Lod::render_view`] with what the frame culled and drew.
+    pub fn render_with_stats(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        size: (u32, u32),
+        error_px: f32,
+        mode: ShadeMode,
+    ) -> GpuResult<(Frame, LodStats)> {
+        self.frame_stats(placements, camera, light, size, error_px, mode, true)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn frame_stats(
+        &self,
+        placements: &[Placement],
+        camera: &Camera,
+        light: &Light,
+        (width, height): (u32, u32),
+        error_px: f32,
+        mode: ShadeMode,
+        readback: bool,
+    ) -> GpuResult<(Frame, LodStats)> {
+        if let Some(g) = &self.gpu {
+            let mut out = self.gpu_frames(
+                g,
+                placements,
+                std::slice::from_ref(camera),
+                light,
+                (width, height),
+                error_px,
+                mode,
+                readback,
+            )?;
+            let stats = out.1.take().unwrap_or_default();
+            return out
+                .0
+                .pop()
+                .map(|f| (f, stats))
+                .ok_or_else(|| GpuError::Other("no frame rendered".into()));
+        }
+        let (f, stats) = self.frame_input(placements, camera, (width, height), error_px)?;
+        let frame = self.classic.render_draws(
             &f.instances,
             &f.draws,
             camera,
@@ -430,12 +584,14 @@ impl Lod {
             height,
             mode,
             readback,
-        )
+        )?;
+        Ok((frame, stats))
     }
 
     /// The frames of `cameras` (a camera path) at threshold `error_px` in one submission, back
-    /// to back, without read-back: the GPU times per pass of each frame (selection on the CPU
-    /// before; the benchmark times paths this way).
+    /// to back, without read-back: the GPU times per pass of each frame (the benchmark times
+    /// paths this way). With GPU selection and occlusion culling each frame tests against the
+    /// previous one's HZB; with CPU selection all frames are selected before the submission.
     pub fn render_path_timed(
         &self,
         placements: &[Placement],
@@ -444,22 +600,35 @@ impl Lod {
         size: (u32, u32),
         error_px: f32,
     ) -> GpuResult<Vec<Vec<(String, f64)>>> {
+        if let Some(g) = &self.gpu {
+            let (frames, _) = self.gpu_frames(
+                g,
+                placements,
+                cameras,
+                light,
+                size,
+                error_px,
+                ShadeMode::Lit,
+                false,
+            )?;
+            return Ok(frames.into_iter().map(|f| f.gpu_ms).collect());
+        }
         let frames = cameras
             .iter()
-            .map(|c| self.frame_input(placements, c, size, error_px))
+            .map(|c| Ok(self.frame_input(placements, c, size, error_px)?.0))
             .collect::<GpuResult<Vec<_>>>()?;
         self.classic.path_times(&frames, light, size)
     }
 
-    /// Per-instance level selection and frustum culling for `camera`: instances grouped per
-    /// (mesh, level), one instanced draw each.
+    /// Per-instance level selection and frustum culling for `camera` on the CPU: instances
+    /// grouped per (mesh, level), one instanced draw each; with the levels picked.
     fn frame_input(
         &self,
         placements: &[Placement],
         camera: &Camera,
         (width, height): (u32, u32),
         error_px: f32,
-    ) -> GpuResult<ClassicFrame> {
+    ) -> GpuResult<(ClassicFrame, LodStats)> {
         check_placements(placements, self.infos.len())?;
         let (ps, tau) = self.threshold(camera, height, error_px);
         // Counting sort by (mesh, level): O(instances + meshes), allocations per frame only.
@@ -507,11 +676,25 @@ impl Lod {
             *slot += 1;
         }
         let instances: Vec<InstanceGpu> = instances;
-        Ok(ClassicFrame {
-            instances,
-            draws,
-            camera: *camera,
-            view_proj: None,
-        })
+        let levels: Vec<Option<u8>> = selected
+            .iter()
+            .map(|&b| (b != CULLED).then_some((b as usize % LOD_COUNT) as u8))
+            .collect();
+        let stats = LodStats {
+            frustum_culled: levels.iter().filter(|l| l.is_none()).count() as u32,
+            drawn_main: instances.len() as u32,
+            occluded_instances: vec![false; levels.len()],
+            levels,
+            ..Default::default()
+        };
+        Ok((
+            ClassicFrame {
+                instances,
+                draws,
+                camera: *camera,
+                view_proj: None,
+            },
+            stats,
+        ))
     }
 }

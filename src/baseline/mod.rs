@@ -3,3 +3,4 @@
 
 pub mod brute;
 pub mod lod;
+pub mod lod_cull;

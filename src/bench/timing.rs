@@ -174,8 +174,7 @@ pub(super) fn run_scene(
         None
     };
     if let Some(lod) = lod.as_ref() {
-        let lod_instance_bytes =
-            scene.placements.len() as u64 * size_of::<crate::shared::InstanceGpu>() as u64;
+        let lod_instance_bytes = lod.instance_bytes(scene.placements.len());
         memory.insert("lod", (lod.geometry_bytes(), lod_instance_bytes));
         for &e in sweep {
             // Triangles the selection would draw at the frame with the most (frustum culling aside).
@@ -207,7 +206,14 @@ pub(super) fn run_scene(
                 Ok(lod.render_path_timed(&scene.placements, cams, &scene.light, (w, h), e)?)
             })?;
             for ((f, cam), (passes, cpu_ms)) in scene.cameras.iter().enumerate().zip(timed) {
-                let frame = lod.render(&scene.placements, cam, &scene.light, w, h, e)?;
+                let (frame, stats) = lod.render_with_stats(
+                    &scene.placements,
+                    cam,
+                    &scene.light,
+                    (w, h),
+                    e,
+                    crate::material::ShadeMode::Lit,
+                )?;
                 let error = match &reference[f] {
                     Some(r) => Some(image_error(r, &frame)?),
                     None => None,
@@ -222,7 +228,7 @@ pub(super) fn run_scene(
                     cpu_ms,
                     triangles: frame.triangles,
                     clusters: None,
-                    instances_visible: None,
+                    instances_visible: Some(stats.drawn() as u64),
                     error,
                 });
                 save_example(report, name, "lod", Some(e), f, &frame, None);

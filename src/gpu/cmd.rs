@@ -688,6 +688,33 @@ impl Cmd {
         };
     }
 
+    /// `vkCmdDrawIndexedIndirectCount`: up to `max_draws` `VkDrawIndexedIndirectCommand`s of
+    /// `stride` bytes from `offset` in `args`, as many as the u32 at `count_offset` in `count` says.
+    pub fn draw_indexed_indirect_count(
+        &mut self,
+        args: &Buffer,
+        offset: u64,
+        count: &Buffer,
+        count_offset: u64,
+        max_draws: u32,
+        stride: u32,
+    ) {
+        self.counts.draws += 1;
+        // SAFETY: a graphics pipeline, vertex and index buffers are bound inside a rendering pass;
+        // `args` and `count` have INDIRECT usage and hold the ranges named (callers).
+        unsafe {
+            self.dev().cmd_draw_indexed_indirect_count(
+                self.cb,
+                args.raw,
+                offset,
+                count.raw,
+                count_offset,
+                max_draws,
+                stride,
+            )
+        };
+    }
+
     /// `vkCmdDraw`.
     pub fn draw(&mut self, vertex_count: u32, instance_count: u32) {
         self.counts.draws += 1;

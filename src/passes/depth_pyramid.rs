@@ -4,12 +4,14 @@
 //! `ceil(w / 2^(k+1)) x ceil(h / 2^(k+1))`. Two dispatches whatever the size: `head` reduces tiles
 //! of level 0 through the first [`HZB_HEAD_LEVELS`] levels in shared memory, `tail` (one
 //! workgroup, only when there are more levels) the rest; a dispatch per level cost the CPU three
-//! commands a level to record, and the GPU a drain between levels.
+//! commands a level to record, and the GPU a drain between levels. The `lod` baseline builds the
+//! same pyramid from its depth attachment (variant `depth`, [`DepthPyramid::for_depth`]).
 
 use bytemuck::{Pod, Zeroable};
 
 use crate::gpu::{
-    Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, MemoryKind, ShaderStage, Timer, vk,
+    Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, Image, MemoryKind, ShaderStage, Timer,
+    vk,
 };
 use crate::passes::{FrameBuffers, VisPath};
 use crate::shared::{HZB_GROUP, HZB_HEAD_LEVELS};
@@ -66,7 +68,35 @@ impl DepthPyramid {
             &[vis_desc, vk::DescriptorType::STORAGE_BUFFER],
             size_of::<Push>() as u32,
         )?;
-        let levels = hzb_levels(fb.width, fb.height);
+        Self::with_pipeline(ctx, pipeline, fb.width, fb.height)
+    }
+
+    /// The pipeline (variant `depth`) and HZB of a `width` x `height` frame whose source is a
+    /// depth attachment copied into a buffer of `width * height` f32 (the `lod` baseline,
+    /// [`DepthPyramid::record_depth`]).
+    pub fn for_depth(ctx: &Context, width: u32, height: u32) -> GpuResult<Self> {
+        let pipeline = ComputePipeline::new(
+            ctx,
+            ShaderStage {
+                name: "depth_pyramid",
+                spirv: crate::shaders::DEPTH_PYRAMID_COMP_DEPTH,
+            },
+            &[
+                vk::DescriptorType::STORAGE_BUFFER,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ],
+            size_of::<Push>() as u32,
+        )?;
+        Self::with_pipeline(ctx, pipeline, width, height)
+    }
+
+    fn with_pipeline(
+        ctx: &Context,
+        pipeline: ComputePipeline,
+        width: u32,
+        height: u32,
+    ) -> GpuResult<Self> {
+        let levels = hzb_levels(width, height);
         let texels: u64 = levels.iter().map(|l| (l.0 * l.1) as u64).sum();
         let hzb = Buffer::new(
             ctx,
@@ -81,17 +111,41 @@ impl DepthPyramid {
             pipeline,
             hzb,
             levels,
-            width: fb.width,
-            height: fb.height,
+            width,
+            height,
         })
     }
 
     /// Records the pass (the visibility buffer must be visible to compute shaders).
     pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, fb: &FrameBuffers) {
         timer.begin(cmd, "depth_pyramid");
-        cmd.bind_compute(&self.pipeline);
         let vis = fb.visbuffer_desc(cmd);
-        cmd.push_compute_descriptors(&self.pipeline, &[vis, Desc::Storage(&self.hzb)]);
+        self.record_from(cmd, vis);
+        timer.end(cmd);
+    }
+
+    /// Records the pass of a pyramid made by [`DepthPyramid::for_depth`] from the depth
+    /// attachment `depth` (D32, written before), copied first into `copy` (`width * height` f32).
+    pub fn record_depth(&self, cmd: &mut Cmd, timer: &mut Timer, depth: &Image, copy: &Buffer) {
+        timer.begin(cmd, "depth_pyramid");
+        cmd.copy_image_to_buffer(depth, copy);
+        cmd.barrier(
+            (
+                vk::PipelineStageFlags2::ALL_TRANSFER,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_READ,
+            ),
+        );
+        self.record_from(cmd, Desc::Storage(copy));
+        timer.end(cmd);
+    }
+
+    fn record_from(&self, cmd: &mut Cmd, source: Desc<'_>) {
+        cmd.bind_compute(&self.pipeline);
+        cmd.push_compute_descriptors(&self.pipeline, &[source, Desc::Storage(&self.hzb)]);
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
         let levels = self.levels.len() as u32;
         let tile = 2 * HZB_GROUP;
@@ -117,7 +171,6 @@ impl DepthPyramid {
                 (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
             );
         }
-        timer.end(cmd);
     }
 }
 

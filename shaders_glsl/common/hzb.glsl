@@ -1,0 +1,40 @@
+// The HZB test of a screen rectangle (shared by cull.glsl's hzb_occluded and lod_cull): whether
+// pixels `lo`..`hi` (corners of a projected box, unclamped) at nearest depth `nearest` (reverse-Z:
+// the largest) lie behind the farthest depth the HZB holds there. The HZB is built from a
+// `viewport`-sized frame with `levels` levels (depth_pyramid); the including shader declares
+// `hzb` (float[]). Conservative: a rectangle wholly off screen is never called occluded.
+#ifndef VGEO_HZB_GLSL
+#define VGEO_HZB_GLSL
+
+bool hzb_rect_occluded(vec2 lo, vec2 hi, float nearest, vec2 viewport, uint levels) {
+    lo = max(lo, vec2(0.0));
+    hi = min(hi, viewport - 1.0);
+    if (hi.x < lo.x || hi.y < lo.y) {
+        return false;
+    }
+    float size = max(hi.x - lo.x, hi.y - lo.y);
+    // Level k texels cover 2^(k+1) pixels: pick the level where the box spans at most 2x2 texels.
+    uint k = uint(max(0, int(ceil(log2(max(size, 1.0)))) - 1));
+    k = min(k, levels - 1u);
+    uint w = (uint(viewport.x) + 1u) / 2u;
+    uint h = (uint(viewport.y) + 1u) / 2u;
+    uint offset = 0u;
+    for (uint l = 0u; l < k; l++) {
+        offset += w * h;
+        w = (w + 1u) / 2u;
+        h = (h + 1u) / 2u;
+    }
+    float texel = float(1u << (k + 1u));
+    uvec2 t0 = min(uvec2(floor(lo / texel)), uvec2(w - 1u, h - 1u));
+    uvec2 t1 = min(uvec2(floor(hi / texel)), uvec2(w - 1u, h - 1u));
+    t1 = min(t1, t0 + 1u);
+    float farthest = 1.0;
+    for (uint y = t0.y; y <= t1.y; y++) {
+        for (uint x = t0.x; x <= t1.x; x++) {
+            farthest = min(farthest, hzb[offset + y * w + x]);
+        }
+    }
+    return nearest < farthest;
+}
+
+#endif
