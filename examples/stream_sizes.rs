@@ -323,10 +323,30 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
     }
     std::fs::create_dir_all(&opts.work)?;
     std::fs::create_dir_all(&opts.out)?;
-    for i in 0..most {
-        eprintln!("mesh {} of {most}", i + 1);
-        unique_mesh(opts, i)?;
-    }
+    // A few meshes at once: subdividing is serial, and one build does not keep many cores busy.
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get().div_ceil(4));
+    std::thread::scope(|s| -> Result<()> {
+        let handles: Vec<_> = (0..workers.min(most))
+            .map(|_| {
+                s.spawn(|| -> Result<()> {
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        if i >= most {
+                            return Ok(());
+                        }
+                        eprintln!("mesh {} of {most}", i + 1);
+                        unique_mesh(opts, i)?;
+                    }
+                })
+            })
+            .collect();
+        for h in handles {
+            h.join()
+                .map_err(|_| anyhow::anyhow!("a mesh-making thread panicked"))??;
+        }
+        Ok(())
+    })?;
     // The grid's spacing: a little more than one mesh's width (its copies side by side in x).
     let scan = vgeo::merge_meshes(vgeo::load_meshes(
         &opts.mesh,
