@@ -505,30 +505,8 @@ impl Lod {
         error_px: f32,
         mode: ShadeMode,
     ) -> GpuResult<Frame> {
-        self.frame(placements, camera, light, size, error_px, mode, true)
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn frame(
-        &self,
-        placements: &[Placement],
-        camera: &Camera,
-        light: &Light,
-        (width, height): (u32, u32),
-        error_px: f32,
-        mode: ShadeMode,
-        readback: bool,
-    ) -> GpuResult<Frame> {
         Ok(self
-            .frame_stats(
-                placements,
-                camera,
-                light,
-                (width, height),
-                error_px,
-                mode,
-                readback,
-            )?
+            .frame_stats(placements, camera, light, size, error_px, mode, true)?
             .0)
     }
 
