@@ -11,7 +11,9 @@
 //! of the first N meshes on a grid with a camera path, streams it from the files under the
 //! budget along `--frames` frames (a streaming step after each), and records the `.vgeo` bytes,
 //! every scene GPU buffer (allocated), the page pool, the hierarchy (cluster locators, groups,
-//! BVH), the resident page bytes (end and peak) and the bytes the last frame used. Writes
+//! BVH), the resident page bytes (end and peak) and the bytes the last frame used; then a cold
+//! camera cut (a new streamer, the path's close-up until settled: frames, resident against used
+//! bytes). Writes
 //! `sizes.json`, `sizes.md` and `sizes.svg` (MiB against the scene's `.vgeo` GiB) into `--out`.
 //!
 //! tests/streaming.rs runs `run` at a tiny scale.
@@ -78,6 +80,14 @@ pub struct SizeRecord {
     pub evictions: u64,
     /// (name, allocated bytes) per scene buffer.
     pub buffers: Vec<(String, u64)>,
+    /// A cold camera cut: a new streamer with only the always-resident pages, the path's
+    /// close-up rendered until a step stages, reads and evicts nothing (`None`: not within 64
+    /// frames); then the resident page bytes, the bytes that frame used, and the pages it still
+    /// asked for (more than the budget holds).
+    pub cold_frames_to_settle: Option<u32>,
+    pub cold_resident_bytes: u64,
+    pub cold_used_bytes: u64,
+    pub cold_requests_left: u64,
 }
 
 /// Mesh `i`'s `.vgeo` in `work`, made if absent.
@@ -195,6 +205,9 @@ fn run_size(
     }
     let last = last.context("no frame")?;
     let memory = r.scene.memory();
+    drop(streamer);
+    drop(r);
+    let cold = cold_cut(ctx, opts, &file)?;
     let cap = |name: &str| {
         memory
             .buffers
@@ -221,7 +234,55 @@ fn run_size(
             .iter()
             .map(|b| (b.name.to_string(), b.capacity_bytes))
             .collect(),
+        cold_frames_to_settle: cold.0,
+        cold_resident_bytes: cold.1,
+        cold_used_bytes: cold.2,
+        cold_requests_left: cold.3,
     })
+}
+
+/// The scene in `file` streamed from scratch at its path's close-up (the middle keyframe):
+/// frames until settled, then the resident page bytes, the bytes the settled frame used and the
+/// pages it still asked for.
+fn cold_cut(
+    ctx: &vgeo::Context,
+    opts: &Options,
+    file: &Path,
+) -> Result<(Option<u32>, u64, u64, u64)> {
+    let streamed = vgeo::StreamedScene::load(file, &|_| {})?;
+    let aspect = opts.width as f32 / opts.height as f32;
+    let keys = streamed
+        .scene
+        .path_cameras(&streamed.mesh_bounds(), aspect, 3);
+    let camera = *keys.get(1).context("the path has three keyframes")?;
+    let light = streamed.light;
+    let mut r = vgeo::Renderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
+    let (mut streamer, handles) = vgeo::Streamer::new(
+        &mut r.scene,
+        streamed.meshes,
+        vgeo::StreamOptions {
+            budget_bytes: opts.budget_bytes,
+            upload_bytes_per_frame: opts.upload_bytes_per_frame,
+        },
+    )?;
+    r.scene
+        .add_instances(&vgeo::InstanceDesc::placed(&streamed.placements, &handles))?;
+    for k in 1..=64u32 {
+        let f = r.render(
+            &camera,
+            opts.width,
+            opts.height,
+            &vgeo::FrameSettings::default(),
+            vgeo::ViewMode::Lit,
+            &light,
+        )?;
+        f.check().map_err(|e| anyhow::anyhow!("cold cut: {e}"))?;
+        let st = streamer.update(&mut r.scene)?;
+        if st.settled() {
+            return Ok((Some(k), st.resident_bytes, st.used_bytes, st.requests));
+        }
+    }
+    Ok((None, 0, 0, 0))
 }
 
 /// MiB against the scene's `.vgeo` GiB: GPU geometry allocated, page pool, resident pages,
@@ -361,7 +422,7 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
     }
     let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
     let mut md = format!(
-        "# Streaming at {} scene sizes under {:.0} MiB\n\n{}x{}, {} frames along the path, {:.0} MiB per frame at most.\n\n| meshes | .vgeo GiB | triangles | GPU geometry MiB (allocated) | page pool MiB | hierarchy MiB | resident MiB (end) | peak resident MiB | used by the last frame MiB | uploads | evictions |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "# Streaming at {} scene sizes under {:.0} MiB\n\n{}x{}, {} frames along the path, {:.0} MiB per frame at most.\n\n| meshes | .vgeo GiB | triangles | GPU geometry MiB (allocated) | page pool MiB | hierarchy MiB | resident MiB (end) | peak resident MiB | used by the last frame MiB | uploads | evictions | cold cut: frames to settle | cold cut: resident / used MiB | cold cut: still asked |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
         records.len(),
         mib(opts.budget_bytes),
         opts.width,
@@ -372,7 +433,7 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
     for r in &records {
         let _ = writeln!(
             md,
-            "| {} | {:.2} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {} |",
+            "| {} | {:.2} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {} | {} | {:.1} / {:.1} ({:.2}x) | {} |",
             r.meshes,
             r.vgeo_bytes as f64 / (1u64 << 30) as f64,
             r.triangles,
@@ -383,7 +444,13 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
             mib(r.peak_resident_bytes),
             mib(r.used_bytes_last_frame),
             r.uploads,
-            r.evictions
+            r.evictions,
+            r.cold_frames_to_settle
+                .map_or("not within 64".to_string(), |k| k.to_string()),
+            mib(r.cold_resident_bytes),
+            mib(r.cold_used_bytes),
+            r.cold_resident_bytes as f64 / r.cold_used_bytes.max(1) as f64,
+            r.cold_requests_left
         );
     }
     std::fs::write(opts.out.join("sizes.md"), md)?;

@@ -828,6 +828,14 @@ fn resident_bytes_follow_the_budget_not_the_scene_size() {
             "{r:?}"
         );
         assert!(r.uploads > 0 && r.used_bytes_last_frame > 0, "{r:?}");
+        // The cold cut settles, within the budget, holding at least what its frame uses.
+        assert!(r.cold_frames_to_settle.is_some(), "{r:?}");
+        assert!(
+            r.cold_used_bytes > 0
+                && r.cold_used_bytes <= r.cold_resident_bytes
+                && r.cold_resident_bytes <= budget,
+            "{r:?}"
+        );
     }
     // The largest scene wants more than the budget along the path: it fills it and evicts.
     assert!(

@@ -355,7 +355,7 @@ fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
     // Exact duplicates (same three points, same winding) are dropped, the first one kept: they
     // add nothing to the surface and make coincident layers that simplification cannot keep
     // consistent.
-    keys.par_sort_unstable();
+    sort_total(&mut keys, |k| (k.0[0], k.0[1], k.0[2], k.1));
     let mut keep = vec![true; tris.len()];
     for w in keys.windows(2) {
         if w[0].0 == w[1].0 {
@@ -495,7 +495,7 @@ fn weld_by_sort(mesh: &Mesh, encoded: &[PackedVertex]) -> Option<Welded> {
             (c != u32::MAX).then_some((c as u64) << 32 | v as u64)
         })
         .collect();
-    by_first.par_sort_unstable();
+    sort_total(&mut by_first, |&k| k);
     let first: Vec<u32> = by_first.par_iter().map(|&k| k as u32).collect();
     drop(by_first);
     // Rank = order of first use; equal keys take the smallest rank's id.
@@ -533,7 +533,7 @@ fn weld_by_sort(mesh: &Mesh, encoded: &[PackedVertex]) -> Option<Welded> {
         .enumerate()
         .map(|(i, v)| (v.position, i as u32))
         .collect();
-    by_pos.par_sort_unstable();
+    sort_total(&mut by_pos, |k| (k.0[0], k.0[1], k.1));
     let mut first_of = vec![0u32; vertices.len()];
     let mut i = 0;
     while i < by_pos.len() {
@@ -916,6 +916,18 @@ fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
     })
 }
 
+/// Sorts `v` by `key`, which orders it totally (or equal keys are equal elements): a radix sort
+/// on one or two threads (a fraction of a comparison sort's instructions), rayon's parallel sort on
+/// more (less wall time on large meshes). The same order either way, so the build does not depend
+/// on the thread count.
+fn sort_total<T: Send + Copy, K: radsort::Key + Ord>(v: &mut [T], key: impl Fn(&T) -> K + Sync) {
+    if rayon::current_num_threads() <= 2 {
+        radsort::sort_by_key(v, key);
+    } else {
+        v.par_sort_unstable_by_key(key);
+    }
+}
+
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
     tris.retain(|t| {
         let p = [pid[t[0] as usize], pid[t[1] as usize], pid[t[2] as usize]];
@@ -1058,7 +1070,7 @@ fn build_inner(
                 .map(|(i, &c)| (c, i as u32))
                 .collect();
             drop(codes);
-            keyed.par_sort_unstable();
+            sort_total(&mut keyed, |&k| k);
             let order: Vec<u32> = keyed.par_iter().map(|k| k.1).collect();
             drop(keyed);
             let n = order.len().div_ceil(LEVEL0_CHUNK);
@@ -1188,7 +1200,7 @@ fn build_inner(
                     })
                 })
                 .collect();
-            keys.par_sort_unstable();
+            sort_total(&mut keys, |&k| k);
             Edges::from_sorted(&keys)
         };
         let ctx = GroupCtx {
