@@ -260,8 +260,12 @@ impl VgeoRenderer {
 
     /// Brings the GPU scene up to date for the next frame, once per frame before its views are
     /// recorded: the instances changed since the last frame ([`crate::scene_gpu::GpuScene`]'s
-    /// `set_transform`, `set_color`, adds and removes) are staged in the scene's ring and their
-    /// copy recorded into `cb`, O(changed) and without heap allocation once warm. When the scene
+    /// `set_transform`, `set_color`, adds and removes) and the page loads and evictions a
+    /// streamer staged (`GpuScene::update_pages`) are written into the scene's staging ring and
+    /// their copies recorded into `cb`, O(changed) and without heap allocation once warm; before
+    /// them, the page feedback the earlier frames' culls wrote is copied for the streamer to read
+    /// once this frame is done (`GpuScene::record_feedback`). The ring has a slot per frame in
+    /// flight (the views' slot counts). When the scene
     /// outgrew the cull capacities, the material table or a view's per-instance buffers (meshes or
     /// instances added), the renderer and `views` are resized first: that allocates and waits, and
     /// only then. Buffers a growth replaced are freed `frames_in_flight` calls later, when the
