@@ -790,7 +790,6 @@ pub fn run(opts: &Options) -> Result<Output> {
         None => (VgeoRenderer::new(&ctx, &built, &placements)?, None),
         Some(budget_bytes) => {
             // Only the always-resident pages at first; the rest comes at the GPU's request.
-            let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[])?;
             let sources: Vec<(BuiltMesh, Box<dyn vgeo::PageSource>)> = built
                 .iter()
                 .map(|m| (m.clone(), Box::new(m.clone()) as Box<dyn vgeo::PageSource>))
@@ -799,9 +798,7 @@ pub fn run(opts: &Options) -> Result<Output> {
                 budget_bytes,
                 upload_bytes_per_frame: 4 << 20,
             };
-            let (s, meshes) = vgeo::Streamer::new(&mut r.scene, sources, stream_opts)?;
-            r.scene
-                .add_instances(&vgeo::InstanceDesc::placed(&placements, &meshes))?;
+            let (r, s) = VgeoRenderer::streamed(&ctx, sources, &placements, stream_opts)?;
             (r, Some(s))
         }
     };

@@ -153,6 +153,20 @@ fn scene_file(
     Ok(path)
 }
 
+/// A renderer streaming `meshes` under the options' budget, with `placements`' instances.
+fn streamed_renderer(
+    ctx: &vgeo::Context,
+    opts: &Options,
+    meshes: Vec<(vgeo::BuiltMesh, Box<dyn vgeo::PageSource>)>,
+    placements: &[vgeo::Placement],
+) -> Result<(vgeo::Renderer, vgeo::Streamer)> {
+    let stream = vgeo::StreamOptions {
+        budget_bytes: opts.budget_bytes,
+        upload_bytes_per_frame: opts.upload_bytes_per_frame,
+    };
+    Ok(vgeo::Renderer::streamed(ctx, meshes, placements, stream)?)
+}
+
 /// Streams scene size `n` along its path; its record.
 fn run_size(
     ctx: &vgeo::Context,
@@ -172,17 +186,8 @@ fn run_size(
         .scene
         .path_cameras(&streamed.mesh_bounds(), aspect, opts.frames);
     let light = streamed.light;
-    let mut r = vgeo::Renderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
-    let (mut streamer, handles) = vgeo::Streamer::new(
-        &mut r.scene,
-        streamed.meshes,
-        vgeo::StreamOptions {
-            budget_bytes: opts.budget_bytes,
-            upload_bytes_per_frame: opts.upload_bytes_per_frame,
-        },
-    )?;
-    r.scene
-        .add_instances(&vgeo::InstanceDesc::placed(&streamed.placements, &handles))?;
+    let (mut r, mut streamer) =
+        streamed_renderer(ctx, opts, streamed.meshes, &streamed.placements)?;
     let (mut peak, mut uploads, mut evictions, mut last) = (0, 0, 0, None);
     for cam in &cameras {
         let f = r.render(
@@ -256,17 +261,8 @@ fn cold_cut(
         .path_cameras(&streamed.mesh_bounds(), aspect, 3);
     let camera = *keys.get(1).context("the path has three keyframes")?;
     let light = streamed.light;
-    let mut r = vgeo::Renderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
-    let (mut streamer, handles) = vgeo::Streamer::new(
-        &mut r.scene,
-        streamed.meshes,
-        vgeo::StreamOptions {
-            budget_bytes: opts.budget_bytes,
-            upload_bytes_per_frame: opts.upload_bytes_per_frame,
-        },
-    )?;
-    r.scene
-        .add_instances(&vgeo::InstanceDesc::placed(&streamed.placements, &handles))?;
+    let (mut r, mut streamer) =
+        streamed_renderer(ctx, opts, streamed.meshes, &streamed.placements)?;
     for k in 1..=64u32 {
         let f = r.render(
             &camera,

@@ -132,6 +132,33 @@ impl VgeoRenderer {
         Self::with_path(ctx, built, placements, vis_path)
     }
 
+    /// A renderer whose meshes stream under `opts`' budget: the meshes are added with only their
+    /// always-resident pages by a [`crate::Streamer`] (which serves the rest on the cull's
+    /// requests, [`crate::Streamer::update`] between frames), then the instances of
+    /// `placements` (whose `mesh` indexes `meshes`). What `vgeo render` and `vgeo bench` do
+    /// under `--geometry-budget`.
+    pub fn streamed(
+        ctx: &Context,
+        meshes: Vec<(BuiltMesh, Box<dyn crate::streaming::PageSource>)>,
+        placements: &[Placement],
+        opts: crate::streaming::StreamOptions,
+    ) -> GpuResult<(Self, crate::streaming::Streamer)> {
+        if let Some(p) = placements.iter().find(|p| p.mesh as usize >= meshes.len()) {
+            return Err(GpuError::Other(format!(
+                "placement refers to mesh {} of {}",
+                p.mesh,
+                meshes.len()
+            )));
+        }
+        let mut r = Self::new(ctx, &[] as &[BuiltMesh], &[])?;
+        let (streamer, handles) = crate::streaming::Streamer::new(&mut r.scene, meshes, opts)?;
+        r.scene
+            .add_instances(&crate::scene_gpu::InstanceDesc::placed(
+                placements, &handles,
+            ))?;
+        Ok((r, streamer))
+    }
+
     /// Like [`VgeoRenderer::new`] with an explicit visibility-buffer path (the image path needs
     /// `VK_EXT_shader_image_atomic_int64`).
     pub fn with_path<B: Borrow<BuiltMesh>>(

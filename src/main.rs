@@ -657,11 +657,12 @@ fn streamed_renderer(
         budget_bytes,
         upload_bytes_per_frame: (x * (1u64 << 20) as f64) as u64,
     };
-    let mut r = VgeoRenderer::new(ctx, &[] as &[vgeo::BuiltMesh], &[])?;
-    let (streamer, handles) = vgeo::Streamer::new(&mut r.scene, streamed.meshes, opts)?;
-    r.scene
-        .add_instances(&vgeo::InstanceDesc::placed(&streamed.placements, &handles))?;
-    Ok((r, streamer))
+    Ok(VgeoRenderer::streamed(
+        ctx,
+        streamed.meshes,
+        &streamed.placements,
+        opts,
+    )?)
 }
 
 /// `render --lod-strip`: the strip PNG and one line per panel.

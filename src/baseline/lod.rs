@@ -505,9 +505,8 @@ impl Lod {
         error_px: f32,
         mode: ShadeMode,
     ) -> GpuResult<Frame> {
-        Ok(self
-            .frame_stats(placements, camera, light, size, error_px, mode, true)?
-            .0)
+        self.render_with_stats(placements, camera, light, size, error_px, mode)
+            .map(|(frame, _)| frame)
     }
 
     /// [`Lod::render_view`] with what the frame culled and drew.
@@ -516,23 +515,9 @@ impl Lod {
         placements: &[Placement],
         camera: &Camera,
         light: &Light,
-        size: (u32, u32),
-        error_px: f32,
-        mode: ShadeMode,
-    ) -> GpuResult<(Frame, LodStats)> {
-        self.frame_stats(placements, camera, light, size, error_px, mode, true)
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn frame_stats(
-        &self,
-        placements: &[Placement],
-        camera: &Camera,
-        light: &Light,
         (width, height): (u32, u32),
         error_px: f32,
         mode: ShadeMode,
-        readback: bool,
     ) -> GpuResult<(Frame, LodStats)> {
         if let Some(g) = &self.gpu {
             let mut out = self.gpu_frames(
@@ -543,7 +528,7 @@ impl Lod {
                 (width, height),
                 error_px,
                 mode,
-                readback,
+                true,
             )?;
             let stats = out.1.take().unwrap_or_default();
             return out
@@ -561,7 +546,7 @@ impl Lod {
             width,
             height,
             mode,
-            readback,
+            true,
         )?;
         Ok((frame, stats))
     }

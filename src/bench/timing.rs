@@ -19,7 +19,7 @@ use crate::FrameSettings;
 use crate::Renderer as VgeoRenderer;
 use crate::ViewMode;
 use crate::imgerr::{Reference, image_error};
-use crate::{BuiltMesh, InstanceDesc, PageSource, Placement, StreamOptions, StreamStats, Streamer};
+use crate::{BuiltMesh, PageSource, Placement, StreamOptions, StreamStats, Streamer};
 use crate::{LodOptions, LodRenderer as Lod};
 
 /// The memory a mode holds for a scene: (geometry bytes, instance bytes).
@@ -369,17 +369,11 @@ fn new_vgeo(
     let Some(opts) = stream else {
         return Ok((VgeoRenderer::new(ctx, built, placements)?, None));
     };
-    let mut r = VgeoRenderer::new(ctx, &[] as &[BuiltMesh], &[])?;
     let sources: Vec<(BuiltMesh, Box<dyn PageSource>)> = built
         .iter()
         .map(|&b| (b.clone(), Box::new(b.clone()) as Box<dyn PageSource>))
         .collect();
-    let (streamer, handles) = Streamer::new(&mut r.scene, sources, opts)?;
-    if let Some(p) = placements.iter().find(|p| p.mesh as usize >= handles.len()) {
-        bail!("placement refers to mesh {} of {}", p.mesh, handles.len());
-    }
-    r.scene
-        .add_instances(&InstanceDesc::placed(placements, &handles))?;
+    let (r, streamer) = VgeoRenderer::streamed(ctx, sources, placements, opts)?;
     Ok((r, Some(streamer)))
 }
 
