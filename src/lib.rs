@@ -125,6 +125,7 @@ pub mod scene;
 pub mod scene_gpu;
 #[doc(hidden)]
 pub mod shared;
+mod sort;
 #[doc(hidden)]
 pub mod streaming;
 

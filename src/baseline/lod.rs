@@ -189,7 +189,7 @@ impl LodChain {
                     crate::builder::simplify::simplify(
                         &tris,
                         &mesh.positions,
-                        None,
+                        crate::builder::simplify::Pieces::ByPosition,
                         Some(&attrs),
                         &|_| false,
                         target,

@@ -69,15 +69,14 @@ fn vertex_count(tris: &[[u32; 3]], part: &[u32]) -> usize {
 
 /// Splits triangles (global vertex indices) into clusters of at most `max_tris` triangles and
 /// `max_verts` unique vertices; returns triangle indices per cluster, in a deterministic order.
-/// `spatial`: `meshopt_buildMeshletsSpatial` (SAH splits, ~1.5x faster) instead of
-/// `meshopt_buildMeshletsFlex` (adjacency-driven growth).
+/// `clustering` picks meshoptimizer's clusterizer (see [`Clustering`]).
 pub(crate) fn cluster_triangles(
     tris: &[[u32; 3]],
     pid: &[u32],
     pid_pos: &[[f32; 3]],
     max_tris: usize,
     max_verts: usize,
-    spatial: bool,
+    clustering: Clustering,
 ) -> Vec<Vec<u32>> {
     if tris.is_empty() {
         return Vec::new();
@@ -87,7 +86,7 @@ pub(crate) fn cluster_triangles(
         return vec![all];
     }
     let (idx, pos) = local_pid_mesh(tris, pid, pid_pos);
-    let parts = meshlets(&idx, &pos, max_tris, max_verts.min(256), spatial);
+    let parts = meshlets(&idx, &pos, max_tris, max_verts.min(256), clustering);
     let mut out = Vec::with_capacity(parts.len());
     for part in parts {
         if vertex_count(tris, &part) <= max_verts {
@@ -134,6 +133,18 @@ fn split_real(
     }
 }
 
+/// Which meshoptimizer clusterizer [`cluster_triangles`] uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Clustering {
+    /// `meshopt_buildMeshletsSpatial`: SAH splits, ~1.5x faster than `Flex`. `full`: only
+    /// clusters of exactly the maximum size (but the last, and vertex-bound ones), which lets
+    /// meshoptimizer test one split position per cluster instead of one per triangle; otherwise
+    /// a cluster may hold down to a third of the maximum.
+    Spatial { full: bool },
+    /// `meshopt_buildMeshletsFlex`: adjacency-driven growth.
+    Flex,
+}
+
 /// `meshopt_buildMeshletsFlex` (or `Spatial`) over a compact index buffer; triangle indices per
 /// meshlet.
 fn meshlets(
@@ -141,9 +152,12 @@ fn meshlets(
     pos: &[[f32; 3]],
     max_tris: usize,
     max_verts: usize,
-    spatial: bool,
+    clustering: Clustering,
 ) -> Vec<Vec<u32>> {
-    let min_tris = (max_tris / 3).max(1);
+    let min_tris = match clustering {
+        Clustering::Spatial { full: true } => max_tris,
+        _ => (max_tris / 3).max(1),
+    };
     // SAFETY: pure function of its arguments.
     let bound = unsafe { ffi::meshopt_buildMeshletsBound(idx.len(), max_verts, min_tris) };
     let mut ml = vec![
@@ -161,7 +175,7 @@ fn meshlets(
     // `idx.len()` elements (the documented worst case), `pos` holds `pos.len()` float3 (stride 12)
     // and every index is < pos.len(); the limits are within 3..=256 / 1..=512, min <= max.
     let n = unsafe {
-        if spatial {
+        if let Clustering::Spatial { .. } = clustering {
             ffi::meshopt_buildMeshletsSpatial(
                 ml.as_mut_ptr(),
                 mv.as_mut_ptr(),

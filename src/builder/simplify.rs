@@ -109,13 +109,25 @@ pub(crate) fn attribute_values(
     if weights.is_empty() {
         return (Vec::new(), Vec::new());
     }
-    let values = (0..count)
-        .into_par_iter()
-        .flat_map_iter(|v| {
-            let n = normals.then(|| normal(v)).into_iter().flatten();
-            n.chain(uv.map(|f| f(v)).into_iter().flatten())
-        })
-        .collect();
+    let stride = weights.len();
+    let mut values = vec![0.0f32; count * stride];
+    // Chunks of vertices per task: a task per vertex cost more than the copy on one thread.
+    values
+        .par_chunks_mut(stride * 4096)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            for (i, out) in chunk.chunks_exact_mut(stride).enumerate() {
+                let v = c * 4096 + i;
+                let mut k = 0;
+                if normals {
+                    out[..3].copy_from_slice(&normal(v));
+                    k = 3;
+                }
+                if let Some(f) = uv {
+                    out[k..k + 2].copy_from_slice(&f(v));
+                }
+            }
+        });
     (values, weights)
 }
 
@@ -152,16 +164,28 @@ impl Simplified {
     }
 }
 
+/// How [`simplify`]'s coverage error finds the connected pieces of its input.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Pieces<'a> {
+    /// Triangles join at shared vertices and at vertices with equal positions (compared).
+    ByPosition,
+    /// Triangles join at shared position ids (`pid[v]`, equal for the vertices that share a
+    /// position).
+    ByPid(&'a [u32]),
+    /// The caller knows the input is one piece by that rule (the builder's groups learn it from
+    /// their shape): the coverage error compares total areas, no union-find.
+    One,
+}
+
 /// Simplifies `tris` (global vertex indices into `positions`) towards `target_tris` triangles.
 /// `locked(v)` says whether global vertex `v` must keep its place; `attrs` (indexed like
-/// `positions`) adds attribute deviation to the error (see [`Attributes`]). `pid`, when given,
-/// is each vertex's position id (equal for the vertices that share a position): the coverage
-/// error then joins pieces by it instead of comparing positions.
+/// `positions`) adds attribute deviation to the error (see [`Attributes`]); `pieces` says how the
+/// coverage error finds the input's connected pieces.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simplify(
     tris: &[[u32; 3]],
     positions: &[[f32; 3]],
-    pid: Option<&[u32]>,
+    pieces: Pieces,
     attrs: Option<&Attributes>,
     locked: &dyn Fn(u32) -> bool,
     target_tris: usize,
@@ -261,8 +285,14 @@ pub(crate) fn simplify(
         }
     };
     let count = count.min(dest.len());
-    let first = pid.map(|p| first_of_position(&verts, p));
-    let coverage = coverage_error(&indices, &dest[..count], &pos, first.as_deref());
+    let coverage = match pieces {
+        Pieces::One => one_piece_coverage_error(&indices, &dest[..count], &pos),
+        Pieces::ByPid(p) => {
+            let first = first_of_position(&verts, p);
+            coverage_error(&indices, &dest[..count], &pos, Some(&first))
+        }
+        Pieces::ByPosition => coverage_error(&indices, &dest[..count], &pos, None),
+    };
     let tris: Vec<[u32; 3]> = dest[..count]
         .chunks_exact(3)
         .map(|t| {
@@ -329,10 +359,7 @@ pub(crate) fn coverage_error(
         uf_union(&mut parent, t[0], t[1]);
         uf_union(&mut parent, t[0], t[2]);
     }
-    let area = |t: &[u32]| {
-        let p = |k: usize| glam::DVec3::from(positions[t[k] as usize].map(f64::from));
-        (p(1) - p(0)).cross(p(2) - p(0)).length() * 0.5
-    };
+    let area = |t: &[u32]| triangle_area(positions, t);
     // Area per piece before and after (indexed by the piece's root vertex).
     let mut before = vec![0.0f64; n];
     let mut after = vec![0.0f64; n];
@@ -352,6 +379,29 @@ pub(crate) fn coverage_error(
         }
     }
     lost_total.sqrt() as f32
+}
+
+/// The area of triangle `t` (three indices into `positions`), in f64.
+fn triangle_area(positions: &[[f32; 3]], t: &[u32]) -> f64 {
+    let p = |k: usize| glam::DVec3::from(positions[t[k] as usize].map(f64::from));
+    (p(1) - p(0)).cross(p(2) - p(0)).length() * 0.5
+}
+
+/// [`coverage_error`] of an input known to be one piece: the same value (one piece's loss),
+/// without the union-find (most groups of a closed surface are one piece).
+pub(crate) fn one_piece_coverage_error(
+    input: &[u32],
+    output: &[u32],
+    positions: &[[f32; 3]],
+) -> f32 {
+    let total = |t: &[u32]| -> f64 { t.chunks_exact(3).map(|t| triangle_area(positions, t)).sum() };
+    let (before, after) = (total(input), total(output));
+    let lost = before - after;
+    if before > 0.0 && lost > COVERAGE_LOSS_SHARE * before {
+        lost.sqrt() as f32
+    } else {
+        0.0
+    }
 }
 
 #[cfg(test)]
@@ -393,6 +443,22 @@ mod tests {
         assert!((coverage_error(&idx, &one, &p, None) - 0.5f32.sqrt()).abs() < 1e-6);
         // Everything gone.
         assert!((coverage_error(&idx, &[], &p, None) - 2.0f32.sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn one_piece_coverage_error_equals_the_union_find_on_one_piece() {
+        let (p, idx) = squares();
+        // The second square alone (its split copies join it): one piece.
+        let one = &idx[6..];
+        let outs: [&[u32]; 4] = [one, &one[..3], &one[3..], &[]];
+        for out in outs {
+            assert_eq!(
+                one_piece_coverage_error(one, out, &p),
+                coverage_error(one, out, &p, None)
+            );
+        }
+        // Half of it lost counts (more than a quarter of the piece).
+        assert!((one_piece_coverage_error(one, &one[..3], &p) - 0.5f32.sqrt()).abs() < 1e-6);
     }
 
     #[test]

@@ -114,13 +114,8 @@ impl Mesh {
             ));
         }
         // The first offender of each kind (in parallel: meshes reach billions of indices).
-        use rayon::prelude::*;
-        if let Some((i, &v)) = self
-            .indices
-            .par_iter()
-            .enumerate()
-            .find_first(|(_, v)| **v as usize >= n)
-        {
+        if let Some(i) = first_where(&self.indices, |&v| v as usize >= n) {
+            let v = self.indices[i];
             return Err(format!("index {i} = {v} is out of range ({n} vertices)"));
         }
         if self.material_ids.len() != self.triangle_count() {
@@ -130,25 +125,28 @@ impl Mesh {
                 self.triangle_count()
             ));
         }
-        if let Some(m) = self
-            .material_ids
-            .par_iter()
-            .find_first(|m| **m as usize >= self.materials.len())
-        {
+        if let Some(i) = first_where(&self.material_ids, |&m| m as usize >= self.materials.len()) {
             return Err(format!(
-                "material id {m} out of range ({} materials)",
+                "material id {} out of range ({} materials)",
+                self.material_ids[i],
                 self.materials.len()
             ));
         }
-        if let Some(i) = self
-            .positions
-            .par_iter()
-            .position_first(|p| !p.iter().all(|c| c.is_finite()))
-        {
+        if let Some(i) = first_where(&self.positions, |p| !p.iter().all(|c| c.is_finite())) {
             return Err(format!("position {i} is not finite"));
         }
         Ok(())
     }
+}
+
+/// The index of the first element of `v` for which `bad` holds: chunks in parallel, each scanned
+/// sequentially (a per-element parallel search cost several times the scan on one thread).
+fn first_where<T: Sync>(v: &[T], bad: impl Fn(&T) -> bool + Sync) -> Option<usize> {
+    use rayon::prelude::*;
+    const CHUNK: usize = 1 << 16;
+    let c = v.par_chunks(CHUNK).position_first(|c| c.iter().any(&bad))?;
+    let at = c * CHUNK;
+    v[at..].iter().position(bad).map(|i| at + i)
 }
 
 /// Options for [`load`].

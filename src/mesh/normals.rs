@@ -21,16 +21,6 @@ use std::collections::HashMap;
 use super::Mesh;
 use crate::hash::FxBuild;
 
-/// A face around a position, as a corner's fan reads it: its normal, the angle of its corner at
-/// the position (the weight), the corner's index, and the two other positions of the face.
-#[derive(Clone, Copy, Default)]
-struct FanFace {
-    normal: [f64; 3],
-    weight: f64,
-    corner: u32,
-    others: [u32; 2],
-}
-
 /// Default crease angle in degrees (faces meeting at a sharper angle are shaded apart).
 pub const DEFAULT_CREASE_DEG: f32 = 60.0;
 
@@ -65,7 +55,7 @@ fn usable(n: [f32; 3]) -> bool {
     len.is_finite() && len > 1e-20
 }
 
-/// Root of `i` in a small union-find, halving paths as it goes.
+/// Root of `i` in a union-find, halving paths as it goes.
 fn find(parent: &mut [u32], mut i: u32) -> u32 {
     while parent[i as usize] != i {
         let up = parent[parent[i as usize] as usize];
@@ -75,64 +65,11 @@ fn find(parent: &mut [u32], mut i: u32) -> u32 {
     i
 }
 
-/// Splits one position's fan into smooth fans and writes each corner's normal (the
-/// angle-weighted average of its smooth fan; its own face's where that is degenerate).
-/// `parent` and `edges` are scratch.
-fn fan_normals(
-    fan: &[FanFace],
-    cos_crease: f64,
-    parent: &mut Vec<u32>,
-    edges: &mut Vec<(u32, u32)>,
-    acc: &mut Vec<[f64; 3]>,
-    out: &mut [[f32; 3]],
-) {
-    let k = fan.len();
-    parent.clear();
-    parent.extend(0..k as u32);
-    // Faces sharing an edge of this position share the edge's other position: sort the
-    // (other position, face) pairs and join the faces of one edge that meet smoothly.
-    edges.clear();
-    for (i, ff) in fan.iter().enumerate() {
-        edges.push((ff.others[0], i as u32));
-        if ff.others[1] != ff.others[0] {
-            edges.push((ff.others[1], i as u32));
-        }
-    }
-    edges.sort_unstable();
-    let mut run = 0;
-    while run < edges.len() {
-        let mut end = run + 1;
-        while end < edges.len() && edges[end].0 == edges[run].0 {
-            end += 1;
-        }
-        // Usually two faces per edge; a non-manifold edge joins every smooth pair.
-        for a in run..end {
-            for b in a + 1..end {
-                let (fa, fb) = (edges[a].1, edges[b].1);
-                if dot(fan[fa as usize].normal, fan[fb as usize].normal) >= cos_crease {
-                    let (ra, rb) = (find(parent, fa), find(parent, fb));
-                    if ra != rb {
-                        parent[ra.max(rb) as usize] = ra.min(rb);
-                    }
-                }
-            }
-        }
-        run = end;
-    }
-    acc.clear();
-    acc.resize(k, [0.0; 3]);
-    for (i, ff) in fan.iter().enumerate() {
-        let r = find(parent, i as u32) as usize;
-        for (a, n) in acc[r].iter_mut().zip(ff.normal) {
-            *a += n * ff.weight;
-        }
-    }
-    for (i, ff) in fan.iter().enumerate() {
-        let r = find(parent, i as u32) as usize;
-        let normal = normalized(acc[r])
-            .or(normalized(ff.normal))
-            .unwrap_or([0.0, 0.0, 1.0]);
-        out[ff.corner as usize] = normal.map(|x| x as f32);
+/// Joins the sets of `a` and `b` (the smaller root becomes the root).
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        parent[ra.max(rb) as usize] = ra.min(rb);
     }
 }
 
@@ -142,7 +79,7 @@ fn fan_normals(
 /// into smooth fans joined across edges that are not sharp, and each triangle corner gets the
 /// angle-weighted average normal of its fan. A vertex whose corners get different normals is split
 /// (new vertices appended, indices updated). `crease_deg >= 180` shades smoothly everywhere, `0`
-/// flat per face. Linear in the corners (a sort per position). Deterministic. Returns how many
+/// flat per face. Linear in the corners (one radix sort of the edges). Deterministic. Returns how many
 /// vertices were added.
 pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
     let n = mesh.positions.len();
@@ -179,71 +116,119 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
             .copied()
             .unwrap_or(npos as u32)
     };
-    // CSR: the faces around each position, in triangle order, each with its normal, the corner's
-    // angle (weight) and the face's other two positions, so that a fan is read contiguously.
-    let mut start = vec![0u32; npos + 2];
-    for c in 0..tri_count * 3 {
-        start[corner_pid(c) as usize + 1] += 1;
-    }
-    for i in 0..=npos {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut around = vec![FanFace::default(); tri_count * 3];
-    for t in 0..tri_count {
-        let idx = [
-            mesh.indices[3 * t] as usize,
-            mesh.indices[3 * t + 1] as usize,
-            mesh.indices[3 * t + 2] as usize,
-        ];
-        let p = idx.map(|i| mesh.positions.get(i).copied().unwrap_or([0.0; 3]));
-        let face_n = normalized(cross(sub(p[1], p[0]), sub(p[2], p[0]))).unwrap_or([0.0; 3]);
-        let q = [0, 1, 2].map(|k| corner_pid(3 * t + k));
-        for k in 0..3 {
-            let a = normalized(sub(p[(k + 1) % 3], p[k]));
-            let b = normalized(sub(p[(k + 2) % 3], p[k]));
-            let weight = match (a, b) {
-                (Some(a), Some(b)) => dot(a, b).clamp(-1.0, 1.0).acos(),
-                _ => 0.0,
-            };
-            let slot = &mut fill[q[k] as usize];
-            around[*slot as usize] = FanFace {
-                normal: face_n,
-                weight,
-                corner: (3 * t + k) as u32,
-                others: [q[(k + 1) % 3], q[(k + 2) % 3]],
-            };
-            *slot += 1;
-        }
-    }
-    drop(fill);
+    // Per corner its position id; per face its unit normal (zero where degenerate), per corner
+    // its angle (the weight). A corner's two edge directions are the face's unit edge vectors,
+    // one of them negated (exactly the normalized difference taken the other way).
+    use rayon::prelude::*;
+    let cpid: Vec<u32> = (0..tri_count * 3).into_par_iter().map(corner_pid).collect();
+    let mut face_normal = vec![[0.0f64; 3]; tri_count];
+    let mut weight = vec![0.0f64; tri_count * 3];
+    let (indices, positions) = (&mesh.indices, &mesh.positions);
+    face_normal
+        .par_iter_mut()
+        .zip(weight.par_chunks_mut(3))
+        .enumerate()
+        .with_min_len(4096)
+        .for_each(|(t, (normal, w))| {
+            let p: [[f32; 3]; 3] = std::array::from_fn(|k| {
+                let i = indices[3 * t + k] as usize;
+                positions.get(i).copied().unwrap_or([0.0; 3])
+            });
+            *normal = normalized(cross(sub(p[1], p[0]), sub(p[2], p[0]))).unwrap_or([0.0; 3]);
+            // Edge k runs from corner k to corner k + 1.
+            let e: [Option<[f64; 3]>; 3] =
+                std::array::from_fn(|k| normalized(sub(p[(k + 1) % 3], p[k])));
+            for k in 0..3 {
+                let (a, b) = (e[k], e[(k + 2) % 3].map(|v| v.map(|x| -x)));
+                w[k] = match (a, b) {
+                    (Some(a), Some(b)) => dot(a, b).clamp(-1.0, 1.0).acos(),
+                    _ => 0.0,
+                };
+            }
+        });
     let cos_crease = if crease_deg >= 180.0 {
         -2.0
     } else {
         (crease_deg.max(0.0) as f64).to_radians().cos() - 1e-9
     };
-    // Every corner's normal, fan by fan (only fans with a corner that needs one).
-    let mut corner_normal = vec![[0.0f32; 3]; tri_count * 3];
-    let (mut parent, mut edges, mut acc) = (Vec::new(), Vec::new(), Vec::new());
-    for p in 0..npos {
-        let fan = &around[start[p] as usize..start[p + 1] as usize];
-        let needed = fan.iter().any(|ff| {
-            need.get(mesh.indices[ff.corner as usize] as usize)
-                .copied()
-                .unwrap_or(false)
-        });
-        if needed {
-            fan_normals(
-                fan,
-                cos_crease,
-                &mut parent,
-                &mut edges,
-                &mut acc,
-                &mut corner_normal,
-            );
+    let smooth = |a: u32, b: u32| {
+        dot(face_normal[a as usize / 3], face_normal[b as usize / 3]) >= cos_crease
+    };
+    // The corner after `c` in its triangle: edge `c` runs from corner `c` to it.
+    let next = |c: u32| c - c % 3 + (c + 1) % 3;
+    // Every edge by its two positions (smaller first), each edge's entries in corner order.
+    let mut edges: Vec<(u64, u32)> = (0..tri_count * 3)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|c| {
+            let (a, b) = (cpid[c], cpid[next(c as u32) as usize]);
+            ((a.min(b) as u64) << 32 | a.max(b) as u64, c as u32)
+        })
+        .collect();
+    crate::sort::sort_total(&mut edges, |&e| e);
+    // Smooth fans: union-find over corners. Two faces that share an edge and meet smoothly join
+    // their corners at each end of it (a non-manifold edge joins every smooth pair). A
+    // degenerate face's edge between two corners at one position joins them, and the other such
+    // edges' corners there, as a fan around that position would (their normals are zero, so
+    // only at a crease of 90 degrees or more).
+    let mut parent: Vec<u32> = (0..tri_count as u32 * 3).collect();
+    let mut run = 0;
+    while run < edges.len() {
+        let key = edges[run].0;
+        let mut end = run + 1;
+        while end < edges.len() && edges[end].0 == key {
+            end += 1;
+        }
+        let lo = (key >> 32) as u32;
+        if lo == key as u32 {
+            if 0.0 >= cos_crease {
+                for &(_, c) in &edges[run..end] {
+                    union(&mut parent, c, next(c));
+                    union(&mut parent, c, edges[run].1);
+                }
+            }
+        } else {
+            // Each entry's corners at the edge's smaller and larger position.
+            let ends = |c: u32| {
+                if cpid[c as usize] == lo {
+                    (c, next(c))
+                } else {
+                    (next(c), c)
+                }
+            };
+            for i in run..end {
+                for j in i + 1..end {
+                    let (a, b) = (edges[i].1, edges[j].1);
+                    if smooth(a, b) {
+                        let ((a0, a1), (b0, b1)) = (ends(a), ends(b));
+                        union(&mut parent, a0, b0);
+                        union(&mut parent, a1, b1);
+                    }
+                }
+            }
+        }
+        run = end;
+    }
+    drop(edges);
+    // Each fan's angle-weighted normal, summed in corner order; each corner takes its fan's
+    // (its own face's where the sum vanishes).
+    let mut acc = vec![[0.0f64; 3]; tri_count * 3];
+    for c in 0..tri_count * 3 {
+        let r = find(&mut parent, c as u32) as usize;
+        let n = face_normal[c / 3];
+        for (a, n) in acc[r].iter_mut().zip(n) {
+            *a += n * weight[c];
         }
     }
-    drop(around);
+    let mut corner_normal = vec![[0.0f32; 3]; tri_count * 3];
+    for (c, out) in corner_normal.iter_mut().enumerate() {
+        let r = find(&mut parent, c as u32) as usize;
+        let normal = normalized(acc[r])
+            .or(normalized(face_normal[c / 3]))
+            .unwrap_or([0.0, 0.0, 1.0]);
+        *out = normal.map(|x| x as f32);
+    }
+    drop((acc, parent, face_normal, weight, cpid));
     // Vertices split per distinct normal, in corner order.
     let mut split: HashMap<(u32, [u32; 3]), u32, FxBuild> = HashMap::default();
     let mut first_normal: Vec<Option<[u32; 3]>> = vec![None; n];
