@@ -884,11 +884,21 @@ impl GpuScene {
         Ok(())
     }
 
-    /// Reserves `count` page slots of [`crate::shared::PAGE_BYTES`] each in the geometry pool
-    /// (for [`GpuScene::update_pages`]); the first slot's pool word. The pool grows as needed (a
+    /// Makes room for `words` more u32 words after the geometry pool's last allocation, in one
+    /// growth (a one-shot copy): a streamer that reserves its always-resident pages and its slots
+    /// at once gets a pool of that size, not the doubling of several growths.
+    pub fn reserve_pool_words(&mut self, words: u64) -> SceneResult<()> {
+        let ctx = self.ctx.clone();
+        let (arena, buf) = self.arena_buffer(POOL);
+        let old = arena.reserve(&ctx, buf, words)?;
+        self.retire(old);
+        self.check_pool()
+    }
+
+    /// Allocates `words` u32 words of page slots in the geometry pool (for
+    /// [`GpuScene::update_pages`]); the first slot's pool word. The pool grows as needed (a
     /// one-shot copy).
-    pub fn reserve_page_slots(&mut self, count: u32) -> SceneResult<u32> {
-        let words = count as u64 * (crate::shared::PAGE_BYTES / 4) as u64;
+    pub fn reserve_page_slots(&mut self, words: u64) -> SceneResult<u32> {
         let ctx = self.ctx.clone();
         let (arena, buf) = self.arena_buffer(POOL);
         let (start, old) = arena.alloc(&ctx, buf, words)?;

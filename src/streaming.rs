@@ -226,13 +226,20 @@ impl StreamedMesh {
         Some(set)
     }
 
-    /// Whether page `p` (in a slot) may be evicted: no wholly resident group (without a member
-    /// on it) needs it.
-    fn evictable(&self, p: u32) -> bool {
+    /// Whether page `p` (in a slot) may be evicted: no group (without a member on it) that is
+    /// resident, or will be once the pages being read and `coming` (a load set being chosen)
+    /// land, needs it. (Counting only resident groups let a page go while a group that needs it
+    /// was being read: the group landed with its need absent, and the residency was not closed.)
+    fn evictable(&self, p: u32, coming: &[u32]) -> bool {
         matches!(self.state[p as usize], PageState::Slot(_))
-            && self.needed_by[p as usize]
-                .iter()
-                .all(|&g| !self.group_resident(g, &[]))
+            && self.needed_by[p as usize].iter().all(|&g| {
+                let g = &self.head.groups[g as usize];
+                !(g.page_first..g.page_first + g.page_count).all(|q| {
+                    self.resident(q)
+                        || matches!(self.state[q as usize], PageState::Loading(_))
+                        || coming.contains(&q)
+                })
+            })
     }
 }
 
@@ -313,6 +320,10 @@ impl Streamer {
             u32::try_from(((opts.budget_bytes - fixed_bytes) / slot_bytes).min(streamable.max(1)))
                 .unwrap_or(u32::MAX)
                 .min(1 << 20);
+        // The pool takes the always-resident pages and the slots in one growth, so that it is
+        // no larger than the budget (several growths double it).
+        let slot_words = slot_count as u64 * (slot_bytes / 4);
+        scene.reserve_pool_words(fixed_bytes / 4 + slot_words)?;
         let mut handles = Vec::with_capacity(meshes.len());
         let mut streamed = Vec::with_capacity(meshes.len());
         for ((head, source), prefix) in meshes.into_iter().zip(prefixes) {
@@ -355,12 +366,7 @@ impl Streamer {
                 needed_by,
             });
         }
-        // Words per slot: a multiple of the slot bytes' words.
-        let words_per_slot = (slot_bytes / 4) as u32;
-        let pool_slots_words = slot_count as u64 * words_per_slot as u64;
-        let slots_of_page_bytes =
-            pool_slots_words.div_ceil((crate::shared::PAGE_BYTES / 4) as u64) as u32;
-        let slot_word = scene.reserve_page_slots(slots_of_page_bytes)?;
+        let slot_word = scene.reserve_page_slots(slot_words)?;
         Ok((
             Self {
                 opts,
@@ -469,8 +475,11 @@ impl Streamer {
                     .iter()
                     .enumerate()
                     .flat_map(|(vi, v)| {
+                        let coming: &[u32] = if vi == mi { &set } else { &[] };
                         (0..v.state.len() as u32)
-                            .filter(move |&p| v.last_used[p as usize] < frame && v.evictable(p))
+                            .filter(move |&p| {
+                                v.last_used[p as usize] < frame && v.evictable(p, coming)
+                            })
                             .map(move |p| (v.last_used[p as usize], vi, p))
                     })
                     .filter(|&(_, vi, p)| !(vi == mi && set.contains(&p)))
