@@ -89,16 +89,10 @@ bool occluded(InstanceGpu inst, LodMeshGpu mesh, mat4 vp, vec3 delta) {
     vec2 hi = vec2(-1e30);
     float nearest = 0.0;
     for (int i = 0; i < 8; i++) {
-        vec3 p = vec3((i & 1) != 0 ? bmax.x : bmin.x, (i & 2) != 0 ? bmax.y : bmin.y, (i & 4) != 0 ? bmax.z : bmin.z);
-        vec4 c = vp * vec4((inst.model * vec4(p, 1.0)).xyz + delta, 1.0);
-        if (c.w <= view.near) {
+        vec3 p = (inst.model * vec4(box_corner(bmin, bmax, i), 1.0)).xyz + delta;
+        if (!hzb_add_corner(vp * vec4(p, 1.0), view.near, view.viewport.xy, lo, hi, nearest)) {
             return false;
         }
-        vec3 n = c.xyz / c.w;
-        vec2 px = (n.xy * 0.5 + 0.5) * view.viewport.xy;
-        lo = min(lo, px);
-        hi = max(hi, px);
-        nearest = max(nearest, n.z);
     }
     return hzb_rect_occluded(lo, hi, nearest, view.viewport.xy, view.hzb_levels);
 }

@@ -29,16 +29,10 @@ bool hzb_occluded(InstanceVgeo inst, vec3 bmin, vec3 bmax) {
     vec2 hi = vec2(-1e30);
     float nearest = 0.0;
     for (int i = 0; i < 8; i++) {
-        vec3 p = vec3((i & 1) != 0 ? bmax.x : bmin.x, (i & 2) != 0 ? bmax.y : bmin.y, (i & 4) != 0 ? bmax.z : bmin.z);
-        vec4 c = occ.view_proj * vec4(relative_to(inst, occ.camera_hi.xyz, occ.camera_lo.xyz, p), 1.0);
-        if (c.w <= occ.near) {
+        vec3 p = relative_to(inst, occ.camera_hi.xyz, occ.camera_lo.xyz, box_corner(bmin, bmax, i));
+        if (!hzb_add_corner(occ.view_proj * vec4(p, 1.0), occ.near, occ.viewport.xy, lo, hi, nearest)) {
             return false;
         }
-        vec3 n = c.xyz / c.w;
-        vec2 px = (n.xy * 0.5 + 0.5) * occ.viewport.xy;
-        lo = min(lo, px);
-        hi = max(hi, px);
-        nearest = max(nearest, n.z);
     }
     return hzb_rect_occluded(lo, hi, nearest, occ.viewport.xy, occ.levels);
 }

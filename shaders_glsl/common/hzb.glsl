@@ -1,10 +1,31 @@
-// The HZB test of a screen rectangle (shared by cull.glsl's hzb_occluded and lod_cull): whether
+// The HZB test of a projected box (shared by cull.glsl's hzb_occluded and lod_cull): the box's
+// corners give a screen rectangle (`hzb_add_corner`), and `hzb_rect_occluded` tells whether
 // pixels `lo`..`hi` (corners of a projected box, unclamped) at nearest depth `nearest` (reverse-Z:
 // the largest) lie behind the farthest depth the HZB holds there. The HZB is built from a
 // `viewport`-sized frame with `levels` levels (depth_pyramid); the including shader declares
 // `hzb` (float[]). Conservative: a rectangle wholly off screen is never called occluded.
 #ifndef VGEO_HZB_GLSL
 #define VGEO_HZB_GLSL
+
+// Corner `i` (0..7) of the box [bmin, bmax].
+vec3 box_corner(vec3 bmin, vec3 bmax, int i) {
+    return vec3((i & 1) != 0 ? bmax.x : bmin.x, (i & 2) != 0 ? bmax.y : bmin.y, (i & 4) != 0 ? bmax.z : bmin.z);
+}
+
+// Adds a box corner in clip space `c` to the screen rectangle `lo`..`hi` (pixels of a
+// `viewport`-sized frame) and the nearest depth; false when it reaches the `near` plane (the box
+// is then never called occluded).
+bool hzb_add_corner(vec4 c, float near, vec2 viewport, inout vec2 lo, inout vec2 hi, inout float nearest) {
+    if (c.w <= near) {
+        return false;
+    }
+    vec3 n = c.xyz / c.w;
+    vec2 px = (n.xy * 0.5 + 0.5) * viewport;
+    lo = min(lo, px);
+    hi = max(hi, px);
+    nearest = max(nearest, n.z);
+    return true;
+}
 
 bool hzb_rect_occluded(vec2 lo, vec2 hi, float nearest, vec2 viewport, uint levels) {
     lo = max(lo, vec2(0.0));
