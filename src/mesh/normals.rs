@@ -156,16 +156,31 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
     };
     // The corner after `c` in its triangle: edge `c` runs from corner `c` to it.
     let next = |c: u32| c - c % 3 + (c + 1) % 3;
-    // Every edge by its two positions (smaller first), each edge's entries in corner order.
-    let mut edges: Vec<(u64, u32)> = (0..tri_count * 3)
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|c| {
-            let (a, b) = (cpid[c], cpid[next(c as u32) as usize]);
-            ((a.min(b) as u64) << 32 | a.max(b) as u64, c as u32)
-        })
-        .collect();
-    crate::sort::sort_total(&mut edges, |&e| e);
+    // Every edge by its two positions (smaller first), each edge's entries in corner order: a
+    // counting sort into buckets by the smaller position, then each bucket (a handful of
+    // entries) sorted on its own, in parallel.
+    let ends_of = |c: usize| {
+        let (a, b) = (cpid[c], cpid[next(c as u32) as usize]);
+        (a.min(b), a.max(b))
+    };
+    let mut start = vec![0u32; npos + 2];
+    for c in 0..tri_count * 3 {
+        start[ends_of(c).0 as usize + 1] += 1;
+    }
+    for i in 0..=npos {
+        start[i + 1] += start[i];
+    }
+    let mut edges: Vec<(u64, u32)> = vec![(0, 0); tri_count * 3];
+    for c in 0..tri_count * 3 {
+        let (lo, hi) = ends_of(c);
+        let slot = &mut start[lo as usize];
+        edges[*slot as usize] = ((lo as u64) << 32 | hi as u64, c as u32);
+        *slot += 1;
+    }
+    drop(start);
+    edges
+        .par_chunk_by_mut(|a, b| a.0 >> 32 == b.0 >> 32)
+        .for_each(|bucket| bucket.sort_unstable());
     // Smooth fans: union-find over corners. Two faces that share an edge and meet smoothly join
     // their corners at each end of it (a non-manifold edge joins every smooth pair). A
     // degenerate face's edge between two corners at one position joins them, and the other such
@@ -211,24 +226,62 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
     }
     drop(edges);
     // Each fan's angle-weighted normal, summed in corner order; each corner takes its fan's
-    // (its own face's where the sum vanishes).
-    let mut acc = vec![[0.0f64; 3]; tri_count * 3];
-    for c in 0..tri_count * 3 {
-        let r = find(&mut parent, c as u32) as usize;
-        let n = face_normal[c / 3];
-        for (a, n) in acc[r].iter_mut().zip(n) {
-            *a += n * weight[c];
+    // (its own face's where the sum vanishes). Fans never span positions, so the corners are
+    // grouped by position (counting sort), each position's sorted by (fan, corner), and the fans
+    // summed in parallel.
+    let root_of = |mut c: u32| {
+        while parent[c as usize] != c {
+            c = parent[c as usize];
         }
+        c
+    };
+    let roots: Vec<u32> = (0..tri_count as u32 * 3)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(root_of)
+        .collect();
+    let mut start = vec![0u32; npos + 2];
+    for &p in &cpid {
+        start[p as usize + 1] += 1;
     }
+    for i in 0..=npos {
+        start[i + 1] += start[i];
+    }
+    // (position, fan, corner)
+    let mut fans: Vec<(u32, u32, u32)> = vec![(0, 0, 0); tri_count * 3];
+    for (c, &p) in cpid.iter().enumerate() {
+        let slot = &mut start[p as usize];
+        fans[*slot as usize] = (p, roots[c], c as u32);
+        *slot += 1;
+    }
+    drop((start, roots, parent));
+    fans.par_chunk_by_mut(|a, b| a.0 == b.0)
+        .for_each(|at| at.sort_unstable());
+    let (face_normal, weight) = (&face_normal, &weight);
+    let normals: Vec<[f32; 3]> = fans
+        .par_chunk_by(|a, b| a.0 == b.0 && a.1 == b.1)
+        .flat_map_iter(|fan| {
+            let mut acc = [0.0f64; 3];
+            for &(_, _, c) in fan {
+                let n = face_normal[c as usize / 3];
+                for (a, n) in acc.iter_mut().zip(n) {
+                    *a += n * weight[c as usize];
+                }
+            }
+            let fan_normal = normalized(acc);
+            fan.iter().map(move |&(_, _, c)| {
+                fan_normal
+                    .or(normalized(face_normal[c as usize / 3]))
+                    .unwrap_or([0.0, 0.0, 1.0])
+                    .map(|x| x as f32)
+            })
+        })
+        .collect();
     let mut corner_normal = vec![[0.0f32; 3]; tri_count * 3];
-    for (c, out) in corner_normal.iter_mut().enumerate() {
-        let r = find(&mut parent, c as u32) as usize;
-        let normal = normalized(acc[r])
-            .or(normalized(face_normal[c / 3]))
-            .unwrap_or([0.0, 0.0, 1.0]);
-        *out = normal.map(|x| x as f32);
+    for (&(_, _, c), n) in fans.iter().zip(normals) {
+        corner_normal[c as usize] = n;
     }
-    drop((acc, parent, face_normal, weight, cpid));
+    drop((fans, cpid));
     // Vertices split per distinct normal, in corner order.
     let mut split: HashMap<(u32, [u32; 3]), u32, FxBuild> = HashMap::default();
     let mut first_normal: Vec<Option<[u32; 3]>> = vec![None; n];
