@@ -167,6 +167,26 @@ fn streamed_renderer(
     Ok(vgeo::Renderer::streamed(ctx, meshes, placements, stream)?)
 }
 
+/// One frame of a streamed renderer at `camera` (checked), then the streaming step after it.
+fn stream_frame(
+    r: &mut vgeo::Renderer,
+    streamer: &mut vgeo::Streamer,
+    opts: &Options,
+    camera: &vgeo::Camera,
+    light: &vgeo::Light,
+) -> Result<vgeo::StreamStats> {
+    let f = r.render(
+        camera,
+        opts.width,
+        opts.height,
+        &vgeo::FrameSettings::default(),
+        vgeo::ViewMode::Lit,
+        light,
+    )?;
+    f.check().map_err(|e| anyhow::anyhow!("{e}"))?;
+    Ok(streamer.update(&mut r.scene)?)
+}
+
 /// Streams scene size `n` along its path; its record.
 fn run_size(
     ctx: &vgeo::Context,
@@ -190,16 +210,8 @@ fn run_size(
         streamed_renderer(ctx, opts, streamed.meshes, &streamed.placements)?;
     let (mut peak, mut uploads, mut evictions, mut last) = (0, 0, 0, None);
     for cam in &cameras {
-        let f = r.render(
-            cam,
-            opts.width,
-            opts.height,
-            &vgeo::FrameSettings::default(),
-            vgeo::ViewMode::Lit,
-            &light,
-        )?;
-        f.check().map_err(|e| anyhow::anyhow!("size {n}: {e}"))?;
-        let st = streamer.update(&mut r.scene)?;
+        let st = stream_frame(&mut r, &mut streamer, opts, cam, &light)
+            .with_context(|| format!("size {n}"))?;
         if let Some(e) = streamer.take_errors().first() {
             bail!("size {n}: {e}");
         }
@@ -264,16 +276,7 @@ fn cold_cut(
     let (mut r, mut streamer) =
         streamed_renderer(ctx, opts, streamed.meshes, &streamed.placements)?;
     for k in 1..=64u32 {
-        let f = r.render(
-            &camera,
-            opts.width,
-            opts.height,
-            &vgeo::FrameSettings::default(),
-            vgeo::ViewMode::Lit,
-            &light,
-        )?;
-        f.check().map_err(|e| anyhow::anyhow!("cold cut: {e}"))?;
-        let st = streamer.update(&mut r.scene)?;
+        let st = stream_frame(&mut r, &mut streamer, opts, &camera, &light).context("cold cut")?;
         if st.settled() {
             return Ok((Some(k), st.resident_bytes, st.used_bytes, st.requests));
         }

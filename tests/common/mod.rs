@@ -57,6 +57,23 @@ pub fn assert_no_validation_errors(ctx: &Context) {
     );
 }
 
+/// Fails the test unless `gpu_hzb` (a `depth_pyramid` HZB of a `w` x `h` frame) equals, bit for
+/// bit and level by level, the CPU reference built from `depth`.
+pub fn assert_hzb_matches_reference(gpu_hzb: &[f32], depth: &[f32], w: u32, h: u32) {
+    use vgeo::passes::depth_pyramid::{hzb_levels, hzb_reference};
+    let cpu_hzb = hzb_reference(depth, w, h);
+    assert_eq!(gpu_hzb.len(), cpu_hzb.len(), "{w}x{h}: HZB size");
+    for (k, &(lw, lh, offset)) in hzb_levels(w, h).iter().enumerate() {
+        let range = offset as usize..(offset + lw * lh) as usize;
+        let differ = gpu_hzb[range.clone()]
+            .iter()
+            .zip(&cpu_hzb[range])
+            .filter(|(a, b)| a.to_bits() != b.to_bits())
+            .count();
+        assert_eq!(differ, 0, "{w}x{h}: level {k} ({lw}x{lh}) differs");
+    }
+}
+
 /// A flat square in the xy plane, `n` x `n` quads, centred on the origin, side 2.
 pub fn wall_mesh(n: u32) -> vgeo::mesh::Mesh {
     let mut m = vgeo::mesh::Mesh {
