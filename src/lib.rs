@@ -125,7 +125,6 @@ pub mod scene;
 pub mod scene_gpu;
 #[doc(hidden)]
 pub mod shared;
-mod sort;
 #[doc(hidden)]
 pub mod streaming;
 

@@ -20,7 +20,6 @@ use super::{uf_find, uf_union};
 use crate::hash::FxBuild;
 use crate::mesh::Mesh;
 use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
-use crate::sort::sort_total;
 
 /// Builds the cluster DAG of `mesh`. Deterministic: the same input gives the same result whatever
 /// the thread count.
@@ -935,6 +934,18 @@ fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
             .count();
         (seam, pieces > 1)
     })
+}
+
+/// Sorts `v` by `key`, which orders it totally (or equal keys are equal elements): a radix sort
+/// on one or two threads (a fraction of a comparison sort's instructions), rayon's parallel sort on
+/// more (less wall time on large meshes). The same order either way, so the build does not depend
+/// on the thread count.
+fn sort_total<T: Send + Copy, K: radsort::Key + Ord>(v: &mut [T], key: impl Fn(&T) -> K + Sync) {
+    if rayon::current_num_threads() <= 2 {
+        radsort::sort_by_key(v, key);
+    } else {
+        v.par_sort_unstable_by_key(key);
+    }
 }
 
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
