@@ -92,6 +92,11 @@ void main() {
             uint hw = min(atomicAdd(counters.hw_count, 0u), view.visible_capacity);
             counters.sw_dispatch = uvec4(min(sw, 65535u), 1u, 1u, 0u);
             counters.hw_draw = uvec4(MAX_CLUSTER_TRIANGLES * 3u, hw, 0u, 0u);
+            // depth_pyramid's workgroups (tiles of 2 * HZB_GROUP texels of level 0, which is
+            // half the frame), none when this phase drew nothing.
+            uvec2 level0 = (uvec2(view.viewport.xy) + 1u) / 2u;
+            uvec2 groups = (level0 + 2u * HZB_GROUP - 1u) / (2u * HZB_GROUP);
+            counters.hzb_dispatch = uvec4(sw + hw > 0u ? groups.x : 0u, groups.y, 1u, 0u);
         }
     }
 }

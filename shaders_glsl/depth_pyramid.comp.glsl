@@ -4,10 +4,12 @@
 // depth 0, i.e. infinitely far, so they never occlude; texels outside a level's source are neutral
 // (1.0). Level 0 is half the frame (see depth_pyramid.rs, hzb_levels).
 //
-// Dispatch `head` (pc.tail == 0): one workgroup of 16x16 (HZB_GROUP) per 32x32 texels of level 0
-// (64x64 pixels) reduces them through levels 0..5 (HZB_HEAD_LEVELS) in registers and shared memory.
-// Dispatch `tail` (pc.tail == 1, only when there are more levels): one workgroup makes the rest
-// from level HZB_HEAD_LEVELS-1, level by level through the buffer.
+// One dispatch: each workgroup of 16x16 (HZB_GROUP) reduces 32x32 texels of level 0 (64x64 pixels)
+// through levels 0..5 (HZB_HEAD_LEVELS) in registers and shared memory (`head`); the last
+// workgroup to finish (a counter it resets for the next dispatch) then makes the rest from level
+// HZB_HEAD_LEVELS-1, level by level through the buffer (`tail`). One dispatch instead of two saves
+// a drain of the GPU between them, and lets the post phase skip the pass with an indirect dispatch
+// of no workgroups when it drew nothing (CullCounters::hzb_dispatch).
 // Variant `depth` (the GPU-driven `lod` baseline): the source is a depth attachment copied into a
 // float buffer (reverse-Z, cleared to 0) instead of the visibility buffer.
 //! variant image VISBUFFER_IMAGE
@@ -25,15 +27,18 @@ layout(set = 0, binding = 0) readonly buffer Depth { float depth_texels[]; };
 #include "visbuffer.glsl"
 #endif
 layout(set = 0, binding = 1) coherent buffer Hzb { float hzb[]; };
+// Workgroups of this dispatch that have finished their head (0 between dispatches).
+layout(set = 0, binding = 2) coherent buffer Sync { uint finished_groups; };
 
 layout(push_constant) uniform Push {
     uint width;   // the frame
     uint height;
     uint levels;  // levels in the HZB
-    uint tail;    // 0: head dispatch, 1: tail dispatch
+    uint _pad;
 } pc;
 
 shared float s16[16][16];
+shared bool s_last;
 
 // Size of level k and the offset of its first texel (levels one after another).
 uvec3 level_of(uint k) {
@@ -132,9 +137,25 @@ void tail() {
 }
 
 void main() {
-    if (pc.tail == 0u) {
-        head();
-    } else {
-        tail();
+    head();
+    if (pc.levels <= HZB_HEAD_LEVELS) {
+        return;
+    }
+    // This group's texels are visible device-wide before it counts itself finished; the last
+    // group to finish sees every group's.
+    memoryBarrierBuffer();
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) {
+        uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
+        s_last = atomicAdd(finished_groups, 1u) == groups - 1u;
+    }
+    barrier();
+    if (!s_last) {
+        return;
+    }
+    memoryBarrierBuffer();
+    tail();
+    if (gl_LocalInvocationIndex == 0u) {
+        finished_groups = 0u;
     }
 }

@@ -1,7 +1,9 @@
 #version 460
 // Pass `material_classify`: the global material id of every pixel (the material of the first vertex
 // of its triangle; NO_MATERIAL where empty) and, per 64x64 tile, the min and max id present
-// (uvec2(NO_MATERIAL, 0) for an empty tile). One 16x16 workgroup per tile, 4x4 pixels per thread.
+// (uvec2(NO_MATERIAL, 0) for an empty tile). One 16x16 workgroup per tile, 16 pixels per thread:
+// the tile in 16 blocks of 16x16 pixels, one pixel of each block per thread, so that neighbouring
+// threads read and write neighbouring pixels.
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
@@ -38,12 +40,12 @@ void main() {
     barrier();
     uint width = uint(mview.viewport.x);
     uint height = uint(mview.viewport.y);
-    uvec2 base = gl_WorkGroupID.xy * MATERIAL_TILE + gl_LocalInvocationID.xy * 4u;
+    uvec2 base = gl_WorkGroupID.xy * MATERIAL_TILE + gl_LocalInvocationID.xy;
     uint lo = NO_MATERIAL;
     uint hi = 0u;
-    for (uint dy = 0u; dy < 4u; dy++) {
-        for (uint dx = 0u; dx < 4u; dx++) {
-            uvec2 p = base + uvec2(dx, dy);
+    for (uint by = 0u; by < MATERIAL_TILE / 16u; by++) {
+        for (uint bx = 0u; bx < MATERIAL_TILE / 16u; bx++) {
+            uvec2 p = base + 16u * uvec2(bx, by);
             if (p.x >= width || p.y >= height) {
                 continue;
             }

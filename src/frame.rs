@@ -743,8 +743,22 @@ impl VgeoRenderer {
                 .record_counting(cmd, timer, &self.scene, fb, phase, inputs.overdraw);
             cmd.barrier((raster_stages, rw), (S::COMPUTE_SHADER, rw));
             // After the main phase: this frame's HZB for the post phase; after the post
-            // phase: the HZB the next frame's main phase tests against.
-            inputs.pyramid.record(cmd, timer, fb);
+            // phase: the HZB the next frame's main phase tests against, made only when the
+            // post phase drew anything (its cull wrote the dispatch; before the rasterizers,
+            // behind the barrier that made their indirect arguments visible).
+            match phase {
+                Phase::Main => inputs.pyramid.record(cmd, timer, fb),
+                Phase::Post => {
+                    let (counters, _, _) = fb.phase_lists(phase);
+                    inputs.pyramid.record_indirect(
+                        cmd,
+                        timer,
+                        fb,
+                        counters,
+                        std::mem::offset_of!(CullCounters, hzb_dispatch) as u64,
+                    )
+                }
+            }
         }
         if let Some((buf, image)) = inputs.host_depth {
             self.depth_export.record(cmd, timer, fb, buf);

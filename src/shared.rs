@@ -335,8 +335,12 @@ pub struct CullCounters {
     pub occluded_nodes: u32,
     pub occluded_clusters: u32,
     pub _pad1: [u32; 2],
+    /// `vkCmdDispatchIndirect` arguments of the post phase's `depth_pyramid` (x, y, z) + pad: its
+    /// workgroups when the phase drew anything, else none (the visibility buffer, and so the
+    /// HZB, are what the main phase left).
+    pub hzb_dispatch: [u32; 4],
 }
-const _: () = assert!(size_of::<CullCounters>() == 128);
+const _: () = assert!(size_of::<CullCounters>() == 144);
 
 /// The HZB an occlusion test reads, and the view it was built from. The main phase tests against
 /// the previous frame's HZB (with that frame's view), the post phase against this frame's.

@@ -98,6 +98,7 @@ struct CullCounters {
     uint occluded_nodes;
     uint occluded_clusters;
     uint _pad1[2];
+    uvec4 hzb_dispatch;
 };
 
 struct OcclusionGpu {

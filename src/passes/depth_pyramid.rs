@@ -1,10 +1,13 @@
 //! Pass `depth_pyramid`: the hierarchical depth buffer (HZB) from the visibility buffer, stored as
 //! one f32 storage buffer with the levels one after another. Each texel holds the farthest depth
 //! (reverse-Z minimum) of the pixels below it; empty pixels count as infinitely far. Level `k` is
-//! `ceil(w / 2^(k+1)) x ceil(h / 2^(k+1))`. Two dispatches whatever the size: `head` reduces tiles
-//! of level 0 through the first [`HZB_HEAD_LEVELS`] levels in shared memory, `tail` (one
-//! workgroup, only when there are more levels) the rest; a dispatch per level cost the CPU three
-//! commands a level to record, and the GPU a drain between levels. The `lod` baseline builds the
+//! `ceil(w / 2^(k+1)) x ceil(h / 2^(k+1))`. One dispatch whatever the size: each workgroup reduces a
+//! tile of level 0 through the first [`HZB_HEAD_LEVELS`](crate::shared::HZB_HEAD_LEVELS) levels in shared memory, and the last
+//! workgroup to finish (a counter in `sync`, which it resets) makes the rest; a dispatch per level
+//! cost the CPU three commands a level to record and the GPU a drain between levels, and a second
+//! dispatch for the rest another drain. The post phase's pyramid is an indirect dispatch
+//! ([`DepthPyramid::record_indirect`], `CullCounters::hzb_dispatch`) of no workgroups when that
+//! phase drew nothing: the HZB is then the main phase's, unchanged. The `lod` baseline builds the
 //! same pyramid from its depth attachment (variant `depth`, [`DepthPyramid::for_depth`]).
 
 use bytemuck::{Pod, Zeroable};
@@ -14,7 +17,7 @@ use crate::gpu::{
     vk,
 };
 use crate::passes::{FrameBuffers, VisPath};
-use crate::shared::{HZB_GROUP, HZB_HEAD_LEVELS};
+use crate::shared::HZB_GROUP;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -22,7 +25,7 @@ struct Push {
     width: u32,
     height: u32,
     levels: u32,
-    tail: u32,
+    _pad: u32,
 }
 
 /// Sizes and offsets (in f32 texels) of the levels of an HZB for a `width` x `height` frame.
@@ -47,6 +50,9 @@ pub struct DepthPyramid {
     /// All levels, one after another (see [`hzb_levels`]).
     pub hzb: Buffer,
     pub levels: Vec<(u32, u32, u32)>,
+    /// One u32: the workgroups of the running dispatch that have finished their tile (zero
+    /// between dispatches; the last workgroup resets it).
+    sync: Buffer,
     width: u32,
     height: u32,
 }
@@ -65,7 +71,11 @@ impl DepthPyramid {
                 name: "depth_pyramid",
                 spirv,
             },
-            &[vis_desc, vk::DescriptorType::STORAGE_BUFFER],
+            &[
+                vis_desc,
+                vk::DescriptorType::STORAGE_BUFFER,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ],
             size_of::<Push>() as u32,
         )?;
         Self::with_pipeline(ctx, pipeline, fb.width, fb.height)
@@ -81,10 +91,7 @@ impl DepthPyramid {
                 name: "depth_pyramid",
                 spirv: crate::shaders::DEPTH_PYRAMID_COMP_DEPTH,
             },
-            &[
-                vk::DescriptorType::STORAGE_BUFFER,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ],
+            &[vk::DescriptorType::STORAGE_BUFFER; 3],
             size_of::<Push>() as u32,
         )?;
         Self::with_pipeline(ctx, pipeline, width, height)
@@ -107,10 +114,17 @@ impl DepthPyramid {
                 | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryKind::Gpu,
         )?;
+        let sync = Buffer::with_data(
+            ctx,
+            "hzb sync",
+            &[0u8; 4],
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
         Ok(Self {
             pipeline,
             hzb,
             levels,
+            sync,
             width,
             height,
         })
@@ -120,7 +134,25 @@ impl DepthPyramid {
     pub fn record(&self, cmd: &mut Cmd, timer: &mut Timer, fb: &FrameBuffers) {
         timer.begin(cmd, "depth_pyramid");
         let vis = fb.visbuffer_desc(cmd);
-        self.record_from(cmd, vis);
+        self.record_from(cmd, vis, None);
+        timer.end(cmd);
+    }
+
+    /// [`DepthPyramid::record`] as an indirect dispatch whose arguments (x, y, z) are at `offset`
+    /// in `args`, written before and visible to the indirect-command stage: the cull's
+    /// `CullCounters::hzb_dispatch`, no workgroups when the phase drew nothing (the HZB stays
+    /// the pyramid of the unchanged visibility buffer).
+    pub fn record_indirect(
+        &self,
+        cmd: &mut Cmd,
+        timer: &mut Timer,
+        fb: &FrameBuffers,
+        args: &Buffer,
+        offset: u64,
+    ) {
+        timer.begin(cmd, "depth_pyramid");
+        let vis = fb.visbuffer_desc(cmd);
+        self.record_from(cmd, vis, Some((args, offset)));
         timer.end(cmd);
     }
 
@@ -139,38 +171,43 @@ impl DepthPyramid {
                 vk::AccessFlags2::SHADER_STORAGE_READ,
             ),
         );
-        self.record_from(cmd, Desc::Storage(copy));
+        self.record_from(cmd, Desc::Storage(copy), None);
         timer.end(cmd);
     }
 
-    fn record_from(&self, cmd: &mut Cmd, source: Desc<'_>) {
-        cmd.bind_compute(&self.pipeline);
-        cmd.push_compute_descriptors(&self.pipeline, &[source, Desc::Storage(&self.hzb)]);
-        let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
-        let levels = self.levels.len() as u32;
+    /// Workgroups of a full dispatch: one per tile of `2 * HZB_GROUP` texels of level 0 (the
+    /// cull computes the same for `CullCounters::hzb_dispatch`).
+    pub fn groups(&self) -> (u32, u32) {
         let tile = 2 * HZB_GROUP;
-        for tail in [false, true] {
-            if tail && levels <= HZB_HEAD_LEVELS {
-                break;
+        let (w0, h0, _) = self.levels[0];
+        (w0.div_ceil(tile), h0.div_ceil(tile))
+    }
+
+    fn record_from(&self, cmd: &mut Cmd, source: Desc<'_>, indirect: Option<(&Buffer, u64)>) {
+        cmd.bind_compute(&self.pipeline);
+        cmd.push_compute_descriptors(
+            &self.pipeline,
+            &[source, Desc::Storage(&self.hzb), Desc::Storage(&self.sync)],
+        );
+        let push = Push {
+            width: self.width,
+            height: self.height,
+            levels: self.levels.len() as u32,
+            _pad: 0,
+        };
+        cmd.compute_push_constants(&self.pipeline, bytemuck::bytes_of(&push));
+        match indirect {
+            Some((args, offset)) => cmd.dispatch_indirect(args, offset),
+            None => {
+                let (x, y) = self.groups();
+                cmd.dispatch(x, y, 1);
             }
-            let push = Push {
-                width: self.width,
-                height: self.height,
-                levels,
-                tail: tail as u32,
-            };
-            cmd.compute_push_constants(&self.pipeline, bytemuck::bytes_of(&push));
-            if tail {
-                cmd.dispatch(1, 1, 1);
-            } else {
-                let (w0, h0, _) = self.levels[0];
-                cmd.dispatch(w0.div_ceil(tile), h0.div_ceil(tile), 1);
-            }
-            cmd.barrier(
-                (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
-                (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
-            );
         }
+        let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+        cmd.barrier(
+            (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+            (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+        );
     }
 }
 
