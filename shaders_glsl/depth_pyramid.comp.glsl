@@ -64,29 +64,41 @@ float pixel_depth(uint x, uint y) {
 #endif
 }
 
-// Level 0 texel (x, y): the farthest of its 2x2 pixels.
-float level0(uint x, uint y) {
-    return min(min(pixel_depth(2u * x, 2u * y), pixel_depth(2u * x + 1u, 2u * y)),
-               min(pixel_depth(2u * x, 2u * y + 1u), pixel_depth(2u * x + 1u, 2u * y + 1u)));
-}
-
 void store(uint k, uvec3 level, uvec2 p, float d) {
     if (k < pc.levels && p.x < level.x && p.y < level.y) {
         hzb[level.z + p.y * level.x + p.x] = d;
     }
 }
 
+// The tile's 64x64 pixels, read so that neighbouring threads read neighbouring pixels.
+shared float s_px[4u * HZB_GROUP][4u * HZB_GROUP];
+
+// Level 0 texel (x, y) of the tile (local coordinates): the farthest of its 2x2 pixels.
+float tile_level0(uvec2 q) {
+    return min(min(s_px[2u * q.y][2u * q.x], s_px[2u * q.y][2u * q.x + 1u]),
+               min(s_px[2u * q.y + 1u][2u * q.x], s_px[2u * q.y + 1u][2u * q.x + 1u]));
+}
+
 void head() {
     uvec2 t = gl_LocalInvocationID.xy;
     uvec2 g = gl_WorkGroupID.xy;
+    // The pixels: 16 blocks of HZB_GROUP x HZB_GROUP, one pixel of each per thread.
+    for (uint by = 0u; by < 4u; by++) {
+        for (uint bx = 0u; bx < 4u; bx++) {
+            uvec2 q = HZB_GROUP * uvec2(bx, by) + t;
+            uvec2 p = 4u * HZB_GROUP * g + q;
+            s_px[q.y][q.x] = pixel_depth(p.x, p.y);
+        }
+    }
+    barrier();
     // Level 0: this thread's 2x2 texels; level 1: their minimum. A texel outside a level has
     // only sources outside the level below, so it comes out neutral by itself.
     uvec3 l0 = level_of(0u);
     uvec2 base = 32u * g + 2u * t;
-    float a = level0(base.x, base.y);
-    float b = level0(base.x + 1u, base.y);
-    float c = level0(base.x, base.y + 1u);
-    float d = level0(base.x + 1u, base.y + 1u);
+    float a = tile_level0(2u * t);
+    float b = tile_level0(2u * t + uvec2(1u, 0u));
+    float c = tile_level0(2u * t + uvec2(0u, 1u));
+    float d = tile_level0(2u * t + uvec2(1u, 1u));
     store(0u, l0, base, a);
     store(0u, l0, base + uvec2(1u, 0u), b);
     store(0u, l0, base + uvec2(0u, 1u), c);
