@@ -1,9 +1,11 @@
 #version 460
-// Pass `cluster_cull`: persistent workgroups over a global queue of (instance, BVH node) items.
-// Each iteration one lane claims up to CLUSTER_CULL_WORKGROUP_SIZE items for the workgroup (shared
-// through shared memory; the loop is workgroup-uniform with barriers inside), every lane processes
-// one: frustum and LOD tests of the node, children pushed back to the queue, or for a leaf the cut
-// rule per cluster and an append to the visible list and the SW or HW list. The end is detected by
+// Pass `cluster_cull`: persistent workgroups over a global queue of (instance, BVH node) items and
+// (instance, cluster range) items. Each iteration one lane claims up to CLUSTER_CULL_WORKGROUP_SIZE
+// items for the workgroup (shared through shared memory; the loop is workgroup-uniform with
+// barriers inside), every lane processes one: frustum and LOD tests of the node, children pushed
+// back to the queue; for a leaf the LOD test per group and each group's clusters pushed in ranges
+// of CULL_RANGE_CLUSTERS; for a range the cut rule per cluster and an append to the visible list
+// and the SW or HW list. The end is detected by
 // a counter of outstanding items (pushed but not processed), never by an empty queue alone; a
 // watchdog bounds the loop. The last workgroup to finish writes the rasterizers' indirect arguments.
 //

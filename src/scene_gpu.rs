@@ -263,7 +263,9 @@ struct LiveMesh {
     loaded: Vec<u32>,
     resident_pages: u32,
     instances: u32,
-    bvh_nodes: u64,
+    /// Items one instance of the mesh can push to `cluster_cull`'s queue at most: its BVH nodes
+    /// and its groups' cluster ranges (`CULL_RANGE_CLUSTERS` each).
+    queue_items: u64,
     material: MeshMaterialSource,
 }
 
@@ -348,7 +350,8 @@ pub struct GpuScene {
     free_instances: Vec<u32>,
     /// Entries of the instance buffer.
     instance_capacity: u32,
-    /// Sum over instances of their mesh's BVH node count (what the cull queue can need).
+    /// Sum over instances of their mesh's queue items (BVH nodes and cluster ranges: what the
+    /// cull queue can need).
     instance_nodes: u64,
     /// Visible-list ranges of the instances; instances beyond 32-bit slots own none.
     visible: RangeAllocator,
@@ -602,8 +605,9 @@ impl GpuScene {
         // Every range now lies in the arenas (the batch fits after the last allocated element):
         // every offset below u32::MAX, clusters below 2^31.
         self.check_pool()?;
-        // The pool below 2^31 words (materials are addressed in u16 units).
-        if self.arenas[0].size() >= 1 << 31
+        // The pool below 2^31 words (materials are addressed in u16 units); the clusters below
+        // 2^CULL_RANGE_INDEX_BITS (cluster_cull's range items carry a global cluster index).
+        if self.arenas[0].size() >= 1 << crate::shared::CULL_RANGE_INDEX_BITS
             || self.arenas[POOL].size() >= 1 << 31
             || self.arenas.iter().any(|a| a.size() >= u32::MAX as u64)
         {
@@ -704,7 +708,13 @@ impl GpuScene {
                 loaded: pages.iter().map(|e| e.word).collect(),
                 resident_pages: m.resident_pages,
                 instances: 0,
-                bvh_nodes: m.bvh.len() as u64,
+                queue_items: m.bvh.len() as u64
+                    + m.groups
+                        .iter()
+                        .map(|g| {
+                            g.cluster_count.div_ceil(crate::shared::CULL_RANGE_CLUSTERS) as u64
+                        })
+                        .sum::<u64>(),
                 material: MeshMaterialSource::of(m),
             });
             self.mesh_table[slot as usize] = gpu;
@@ -958,7 +968,8 @@ impl GpuScene {
         self.instance_capacity
     }
 
-    /// Sum over instances of their mesh's BVH node count: the cull queue's worst case.
+    /// Sum over instances of their mesh's queue items (BVH nodes and cluster ranges): the cull
+    /// queue's worst case.
     pub fn instance_nodes(&self) -> u64 {
         self.instance_nodes
     }
@@ -994,7 +1005,7 @@ impl GpuScene {
     /// Appends one instance to the mirror and handle table (not yet on the GPU); its dense slot.
     fn push_instance(&mut self, d: &InstanceDesc) -> SceneResult<(InstanceHandle, u32)> {
         let live = self.live_mesh(d.mesh)?;
-        let nodes = live.bvh_nodes;
+        let nodes = live.queue_items;
         let clusters = self.mesh_table[d.mesh.index as usize].cluster_count as u64;
         if self.instance_count == u32::MAX - 1 {
             return Err(oversize("instances"));
@@ -1131,7 +1142,7 @@ impl GpuScene {
         }
         if let Some(l) = self.mesh_slots[mesh].live.as_mut() {
             l.instances -= 1;
-            self.instance_nodes -= l.bvh_nodes;
+            self.instance_nodes -= l.queue_items;
         }
         let last = self.instance_count - 1;
         self.mirror.swap_remove(d as usize);

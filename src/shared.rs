@@ -54,6 +54,16 @@ pub const WALK_CLUSTERS: u32 = 16;
 pub const WALK_CLUSTERS_WIDE: u32 = 64;
 /// Instances of a view from which `instance_cull` walks with [`WALK_CLUSTERS_WIDE`].
 pub const WALK_WIDE_INSTANCES: u32 = 4096;
+/// `cluster_cull` tests a BVH leaf's clusters in ranges of at most this many, each range a queue
+/// item of its own (so lanes share a leaf's clusters instead of one lane testing them all, one
+/// after another: a close mesh's leaves hold a hundred). An item's low word is then
+/// `CULL_RANGE_FLAG | (count - 1) << CULL_RANGE_INDEX_BITS | first cluster` (global index).
+pub const CULL_RANGE_CLUSTERS: u32 = 8;
+/// Bits of a range item's first cluster (global cluster index); a scene has fewer clusters.
+pub const CULL_RANGE_INDEX_BITS: u32 = 28;
+const _: () = assert!(CULL_RANGE_CLUSTERS <= 1 << (31 - CULL_RANGE_INDEX_BITS));
+/// Marks a queue item's low word as a range of clusters, not a BVH node.
+pub const CULL_RANGE_FLAG: u32 = 0x8000_0000;
 /// Nodes the local walk keeps pending in registers; more go to the global queue.
 pub const WALK_STACK: u32 = 32;
 /// `cluster_cull` gives up (and reports) after this many loop iterations per workgroup.

@@ -216,6 +216,56 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
 uint walk_stack[WALK_STACK];
 uint walk_sp;
 
+// The cut rule, frustum and occlusion for cluster `ci` (global index) of a visible instance, and
+// its emission when drawn.
+void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool partial) {
+    float scale = inst.max_scale;
+    bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
+    bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
+    uint at = cluster_word(mesh, ci);
+    uint info = cluster_info(at);
+    atomicAdd(counters.clusters_tested, 1u);
+    bool in_cut;
+    if (fallback) {
+        in_cut = (info >> 16) <= mesh.fallback_level;
+    } else {
+        uint creator = cluster_creator(at);
+        float self_px = self_error_px(inst, mesh, creator, scale);
+        bool fine = self_px <= view.error_px;
+        if (partial && !fine && !children_resident(mesh, creator)) {
+            request_children(mesh, creator, self_px / view.error_px);
+            fine = true;
+        }
+        in_cut = fine;
+    }
+    if (!in_cut) {
+        return;
+    }
+    mark_used(mesh, ci);
+    vec3 bmin = cluster_bounds_min(at);
+    vec3 bmax = cluster_bounds_max(at);
+    vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
+    float cr = length(bmax - bmin) * 0.5 * scale;
+    if (frustum && !sphere_in_frustum(view, cc, cr)) {
+        return;
+    }
+    if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
+        emit_cluster(instance, ci, (info >> 8) & 0xffu, cc, cr);
+    }
+}
+
+// A queue item of CULL_RANGE_CLUSTERS or fewer clusters of one group (see process_node).
+void process_range(uint instance, uint low) {
+    InstanceVgeo inst = instances[instance];
+    MeshGpu mesh = meshes[inst.mesh];
+    uint first = low & ((1u << CULL_RANGE_INDEX_BITS) - 1u);
+    uint count = ((low & ~CULL_RANGE_FLAG) >> CULL_RANGE_INDEX_BITS) + 1u;
+    bool partial = mesh_partial(mesh);
+    for (uint k = 0u; k < count; k++) {
+        test_cluster(instance, inst, mesh, first + k, partial);
+    }
+}
+
 // One (instance, BVH node) item: frustum and LOD tests of the node, then its children (to the
 // global queue, or with `local` to `walk_stack` while it has room) or, for a leaf, the cut rule per
 // cluster and the drawn clusters' emission. cluster_cull runs it on the items of its queue,
@@ -223,6 +273,10 @@ uint walk_sp;
 void process_node(uint64_t item, bool local) {
     uint instance = uint(item >> 32);
     uint node_index = uint(item & 0xffffffffu);
+    if ((node_index & CULL_RANGE_FLAG) != 0u) {
+        process_range(instance, node_index);
+        return;
+    }
     atomicAdd(counters.nodes_visited, 1u);
     InstanceVgeo inst = instances[instance];
     MeshGpu mesh = meshes[inst.mesh];
@@ -293,37 +347,18 @@ void process_node(uint64_t item, bool local) {
                 continue;
             }
         }
-        for (uint k = 0u; k < group.cluster_count; k++) {
-            uint ci = mesh.cluster_offset + group.first_cluster + k;
-            uint at = cluster_word(mesh, ci);
-            uint info = cluster_info(at);
-            atomicAdd(counters.clusters_tested, 1u);
-            bool in_cut;
-            if (fallback) {
-                in_cut = (info >> 16) <= mesh.fallback_level;
-            } else {
-                uint creator = cluster_creator(at);
-                float self_px = self_error_px(inst, mesh, creator, scale);
-                bool fine = self_px <= view.error_px;
-                if (partial && !fine && !children_resident(mesh, creator)) {
-                    request_children(mesh, creator, self_px / view.error_px);
-                    fine = true;
-                }
-                in_cut = fine;
+        uint first = mesh.cluster_offset + group.first_cluster;
+        if (local) {
+            // A small instance's walk (one thread, few clusters): tested here.
+            for (uint k = 0u; k < group.cluster_count; k++) {
+                test_cluster(instance, inst, mesh, first + k, partial);
             }
-            if (!in_cut) {
-                continue;
-            }
-            mark_used(mesh, ci);
-            vec3 bmin = cluster_bounds_min(at);
-            vec3 bmax = cluster_bounds_max(at);
-            vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
-            float cr = length(bmax - bmin) * 0.5 * scale;
-            if (frustum && !sphere_in_frustum(view, cc, cr)) {
-                continue;
-            }
-            if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
-                emit_cluster(instance, ci, (info >> 8) & 0xffu, cc, cr);
+        } else {
+            // In ranges on the queue, for other lanes.
+            for (uint k = 0u; k < group.cluster_count; k += CULL_RANGE_CLUSTERS) {
+                uint n = min(group.cluster_count - k, CULL_RANGE_CLUSTERS);
+                uint low = CULL_RANGE_FLAG | ((n - 1u) << CULL_RANGE_INDEX_BITS) | (first + k);
+                push_item((uint64_t(instance) << 32) | uint64_t(low));
             }
         }
     }
