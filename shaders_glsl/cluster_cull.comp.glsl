@@ -12,6 +12,7 @@
 // The queue is a bounded array per frame (slots start empty, all ones): a push reserves a slot with
 // atomicAdd and publishes the item with an atomic exchange; a consumer waits for the publish. A
 // producer never waits, so no lane waits on a lane that cannot run.
+#define CULL_RANGE_ITEMS
 #include "cull_bindings.glsl"
 
 layout(local_size_x = CLUSTER_CULL_WORKGROUP_SIZE) in;

@@ -254,6 +254,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
     }
 }
 
+#ifdef CULL_RANGE_ITEMS
 // A queue item of CULL_RANGE_CLUSTERS or fewer clusters of one group (see process_node).
 void process_range(uint instance, uint low) {
     InstanceVgeo inst = instances[instance];
@@ -265,6 +266,7 @@ void process_range(uint instance, uint low) {
         test_cluster(instance, inst, mesh, first + k, partial);
     }
 }
+#endif
 
 // One (instance, BVH node) item: frustum and LOD tests of the node, then its children (to the
 // global queue, or with `local` to `walk_stack` while it has room) or, for a leaf, the cut rule per
@@ -273,10 +275,14 @@ void process_range(uint instance, uint low) {
 void process_node(uint64_t item, bool local) {
     uint instance = uint(item >> 32);
     uint node_index = uint(item & 0xffffffffu);
+#ifdef CULL_RANGE_ITEMS
+    // Only cluster_cull pops range items (instance_cull walks nodes: leaving the branch out
+    // keeps its shader as small as it was).
     if ((node_index & CULL_RANGE_FLAG) != 0u) {
         process_range(instance, node_index);
         return;
     }
+#endif
     atomicAdd(counters.nodes_visited, 1u);
     InstanceVgeo inst = instances[instance];
     MeshGpu mesh = meshes[inst.mesh];
