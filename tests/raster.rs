@@ -453,10 +453,28 @@ fn near_plane_crossing() {
         );
         assert!(both as u32 > W * H / 4);
         assert!(cover >= 0.999, "HW coverage agreement {cover:.5}");
-        // Clipped triangles take the hardware's depth: the same clip positions in both paths.
+        // Clipped triangles take the hardware's depth (`gl_FragCoord.z`), which the two
+        // pipelines may round differently (lavapipe: a few pixels 1 ulp apart): same coverage and
+        // ids everywhere, depth within 1e-6 relative. Other triangles are bit-identical (above).
         match &first_hw {
             None => first_hw = Some(hw),
-            Some(v) => assert!(*v == hw, "near plane: the HW paths differ"),
+            Some(v) => {
+                let mut ulp = 0;
+                for i in 0..hw.len() {
+                    match (visbuffer::unpack(v[i]), visbuffer::unpack(hw[i])) {
+                        (None, None) => {}
+                        (Some((da, ca, ta)), Some((db, cb, tb))) => {
+                            assert_eq!((ca, ta), (cb, tb), "pixel {i}: the HW paths' ids differ");
+                            assert!((da - db).abs() <= 1e-6 * da, "pixel {i}: {da} vs {db}");
+                            ulp += (da != db) as usize;
+                        }
+                        (a, b) => panic!("pixel {i}: the HW paths' coverage differs: {a:?} {b:?}"),
+                    }
+                }
+                eprintln!(
+                    "near plane, HW paths: {ulp} pixels with rounding-level depth differences"
+                );
+            }
         }
     }
     let sw = rig.render(Split::AllSw, None);
