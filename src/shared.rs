@@ -461,3 +461,39 @@ pub struct LodStatsGpu {
     pub triangles: u64,
 }
 const _: () = assert!(size_of::<LodStatsGpu>() == 32);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The mesh path's workgroup grid covers every HW cluster up to the limit, in rows of
+    /// `MESH_GROUPS_X`, within the specification's minimum limits.
+    #[test]
+    fn hw_mesh_args_cover_the_list_within_the_limits() {
+        assert_eq!(hw_mesh_args(0), [0, 0, 1, 0]);
+        assert_eq!(hw_mesh_args(1), [1, 1, 1, 1]);
+        assert_eq!(
+            hw_mesh_args(MESH_GROUPS_X),
+            [MESH_GROUPS_X, 1, 1, MESH_GROUPS_X]
+        );
+        assert_eq!(
+            hw_mesh_args(MESH_GROUPS_X + 1),
+            [MESH_GROUPS_X, 2, 1, MESH_GROUPS_X + 1]
+        );
+        let top = hw_mesh_args(u32::MAX);
+        assert_eq!(top[3], MESH_MAX_CLUSTERS);
+        for n in [
+            1,
+            1000,
+            MESH_GROUPS_X + 7,
+            3 * MESH_GROUPS_X,
+            MESH_MAX_CLUSTERS,
+            u32::MAX,
+        ] {
+            let [x, y, z, count] = hw_mesh_args(n);
+            assert!(x <= 65535 && y <= 65535 && z == 1);
+            assert!(x as u64 * y as u64 <= 1 << 22, "{n}: {x} x {y}");
+            assert!(x as u64 * y as u64 >= count as u64 && (y - 1) * x < count);
+        }
+    }
+}
