@@ -5,7 +5,8 @@
 // The cluster's vertices are decoded, transformed and snapped once each into shared memory (and
 // written as the mesh's vertices), then one invocation per triangle writes its indices and, as
 // per-primitive outputs, what the fragment stage needs to recompute raster_sw's exact depth: the id
-// and the three snapped vertices with their ndc depths. The fragment stage is raster_hw.frag.glsl
+// and the three snapped vertices with their ndc depths (or, for a triangle that cannot be snapped,
+// their clip-space x, y, w). The fragment stage is raster_hw.frag.glsl
 // (its `mesh` variants), the same source as the vertex path's.
 #extension GL_EXT_mesh_shader : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -37,6 +38,7 @@ layout(location = 4) perprimitiveEXT flat out vec3 out_z[];
 shared ivec2 s_xy[MAX_CLUSTER_VERTICES];
 shared float s_z[MAX_CLUSTER_VERTICES];
 shared uint s_ok[MAX_CLUSTER_VERTICES];  // 1: snapped (in front of the near plane, in the guard band)
+shared vec3 s_clip[MAX_CLUSTER_VERTICES]; // clip-space x, y, w (triangles that cannot be snapped)
 
 void main() {
     uint entry_index = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
@@ -65,15 +67,27 @@ void main() {
         s_xy[k] = xy;
         s_z[k] = z;
         s_ok[k] = ok ? 1u : 0u;
+        s_clip[k] = clip.xyw;
     }
     barrier();
     for (uint t = tid; t < tcount; t += RASTER_HW_MESH_WORKGROUP_SIZE) {
         uvec3 v = cluster_triangle(d, c, t);
         gl_PrimitiveTriangleIndicesEXT[t] = v;
         out_id[t] = (visible_index << VISBUFFER_TRIANGLE_BITS) | t;
-        out_snapped[t] = s_ok[v.x] & s_ok[v.y] & s_ok[v.z];
-        out_xy01[t] = ivec4(s_xy[v.x], s_xy[v.y]);
-        out_xy2[t] = s_xy[v.z];
-        out_z[t] = vec3(s_z[v.x], s_z[v.y], s_z[v.z]);
+        uint ok = s_ok[v.x] & s_ok[v.y] & s_ok[v.z];
+        out_snapped[t] = ok;
+        if (ok != 0u) {
+            out_xy01[t] = ivec4(s_xy[v.x], s_xy[v.y]);
+            out_xy2[t] = s_xy[v.z];
+            out_z[t] = vec3(s_z[v.x], s_z[v.y], s_z[v.z]);
+        } else {
+            // Not snapped: the clip-space x, y, w for the fragment stage's clipped_depth.
+            vec3 c0 = s_clip[v.x];
+            vec3 c1 = s_clip[v.y];
+            vec3 c2 = s_clip[v.z];
+            out_xy01[t] = floatBitsToInt(vec4(c0.xy, c1.xy));
+            out_xy2[t] = floatBitsToInt(c2.xy);
+            out_z[t] = vec3(c0.z, c1.z, c2.z);
+        }
     }
 }

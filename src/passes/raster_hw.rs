@@ -18,7 +18,9 @@
 //! recomputed from the snapped vertices with `raster_sw`'s exact integer edge functions and float
 //! operations, so SW and both HW paths write bit-identical values for the pixels they cover.
 //! Triangles with a vertex behind the near plane (which only HW can draw: the hardware clips
-//! them) use `gl_FragCoord.z`. With
+//! them) pass their vertices' clip-space x, y, w instead, and the fragment stage computes their
+//! depth by 2D homogeneous interpolation (`clipped_depth` in shaders_glsl/common/raster.glsl),
+//! independent of how the pipeline clipped them, so the two paths agree there too. With
 //! [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW) every fragment also
 //! increments a per-pixel counter ([`RasterHw::record_counting`]).
 
