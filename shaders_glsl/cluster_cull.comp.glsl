@@ -95,6 +95,13 @@ void main() {
             uint hw = min(atomicAdd(counters.hw_count, 0u), view.visible_capacity);
             counters.sw_dispatch = uvec4(min(sw, 65535u), 1u, 1u, 0u);
             counters.hw_draw = uvec4(MAX_CLUSTER_TRIANGLES * 3u, hw, 0u, 0u);
+            // The mesh path: rows of MESH_GROUPS_X workgroups (src/shared.rs hw_mesh_args).
+            uint hw_mesh = min(hw, MESH_MAX_CLUSTERS);
+            counters.hw_mesh = uvec4(min(hw_mesh, MESH_GROUPS_X),
+                                     (hw_mesh + MESH_GROUPS_X - 1u) / MESH_GROUPS_X, 1u, hw_mesh);
+            if ((view.flags & VIEW_FLAG_HW_MESH) != 0u) {
+                counters.hw_overflow = hw - hw_mesh;
+            }
             // depth_pyramid's workgroups (tiles of 2 * HZB_GROUP texels of level 0, which is
             // half the frame), none when this phase drew nothing.
             uvec2 level0 = (uvec2(view.viewport.xy) + 1u) / 2u;

@@ -1,10 +1,25 @@
 #version 460
-// Pass `raster_hw`, fragment stage: no attachments; the hardware's coverage, the depth recomputed
-// from the snapped vertices with raster_sw's exact integer edge functions and float operations (so
-// both rasterizers write bit-identical values), atomicMax into the visibility buffer. Triangles
-// with a vertex that cannot be snapped (behind the near plane) use the hardware's depth. With
-// VIEW_FLAG_COUNT_OVERDRAW each fragment also increments the overdraw counter (binding 9).
+// Pass `raster_hw`, fragment stage of both paths: no attachments; the hardware's coverage, the
+// depth recomputed from the snapped vertices with raster_sw's exact integer edge functions and
+// float operations (so both rasterizers write bit-identical values), atomicMax into the visibility
+// buffer. Triangles with a vertex that cannot be snapped (behind the near plane: the hardware
+// clips them) carry their vertices' clip-space x, y, w in the same inputs instead, and take the
+// depth of raster.glsl's clipped_depth, not the hardware's (so both paths agree there too). With VIEW_FLAG_COUNT_OVERDRAW each fragment also increments the overdraw counter (binding
+// 9). The same inputs come flat from the vertex path (raster_hw.vert.glsl) or per primitive from
+// the mesh path (raster_hw.mesh.glsl): variants `mesh` and `mesh_image` (RASTER_HW_MESH).
 //! variant image VISBUFFER_IMAGE
+//! variant mesh RASTER_HW_MESH
+//! variant mesh_image RASTER_HW_MESH_IMAGE
+#ifdef RASTER_HW_MESH_IMAGE
+#define RASTER_HW_MESH
+#define VISBUFFER_IMAGE
+#endif
+#ifdef RASTER_HW_MESH
+#extension GL_EXT_mesh_shader : require
+#define RASTER_HW_IN perprimitiveEXT flat in
+#else
+#define RASTER_HW_IN flat in
+#endif
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define VISBUFFER_BINDING 8
 #include "shared.glsl"
@@ -12,11 +27,11 @@
 
 layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
 
-layout(location = 0) flat in uint in_id;
-layout(location = 1) flat in uint in_snapped;
-layout(location = 2) flat in ivec4 in_xy01;
-layout(location = 3) flat in ivec2 in_xy2;
-layout(location = 4) flat in vec3 in_z;
+layout(location = 0) RASTER_HW_IN uint in_id;
+layout(location = 1) RASTER_HW_IN uint in_snapped;
+layout(location = 2) RASTER_HW_IN ivec4 in_xy01;
+layout(location = 3) RASTER_HW_IN ivec2 in_xy2;
+layout(location = 4) RASTER_HW_IN vec3 in_z;
 
 #define RASTER_NO_SCENE
 #include "raster.glsl"
@@ -43,6 +58,11 @@ void main() {
             float e2 = float(edge_fn(v[0], v[1], centre));
             depth = raster_depth(e0, e1, e2, z, inv_area);
         }
+    } else {
+        // in_xy01 = bits of (x0, y0, x1, y1), in_xy2 = bits of (x2, y2), in_z = (w0, w1, w2).
+        vec4 a = intBitsToFloat(in_xy01);
+        vec2 b = intBitsToFloat(in_xy2);
+        depth = clipped_depth(px, vec3(a.x, a.z, b.x), vec3(a.y, a.w, b.y), in_z, depth);
     }
     vis_write(px, uint(view.viewport.x), vis_pack(depth, in_id >> VISBUFFER_TRIANGLE_BITS,
                                                    in_id & ((1u << VISBUFFER_TRIANGLE_BITS) - 1u)));

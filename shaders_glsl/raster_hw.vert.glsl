@@ -2,7 +2,8 @@
 // Pass `raster_hw`, vertex stage: vertex pulling for one vkCmdDrawIndirect over the HW list
 // (gl_InstanceIndex = HW list index, gl_VertexIndex / 3 = triangle, % 3 = corner). Each corner also
 // snaps all three vertices of its triangle (flat outputs) so that the fragment stage computes depth
-// exactly as raster_sw does.
+// exactly as raster_sw does (or, for a triangle that cannot be snapped, passes their clip-space x,
+// y, w in the same outputs).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
 
@@ -57,7 +58,14 @@ void main() {
     gl_Position = clip[corner];
     out_id = (visible_index << VISBUFFER_TRIANGLE_BITS) | tri;
     out_snapped = ok ? 1u : 0u;
-    out_xy01 = ivec4(xy[0], xy[1]);
-    out_xy2 = xy[2];
-    out_z = z;
+    if (ok) {
+        out_xy01 = ivec4(xy[0], xy[1]);
+        out_xy2 = xy[2];
+        out_z = z;
+    } else {
+        // Not snapped: the clip-space x, y, w for the fragment stage's clipped_depth.
+        out_xy01 = floatBitsToInt(vec4(clip[0].xy, clip[1].xy));
+        out_xy2 = floatBitsToInt(clip[2].xy);
+        out_z = vec3(clip[0].w, clip[1].w, clip[2].w);
+    }
 }

@@ -27,14 +27,15 @@ use crate::passes::emit_gbuffer::EmitPath;
 use crate::passes::instance_cull::InstanceCull;
 use crate::passes::material_classify::MaterialTargets;
 use crate::passes::materials::{MaterialOutput, MaterialPasses};
-use crate::passes::raster_hw::RasterHw;
+use crate::passes::raster_hw::{HwPath, RasterHw};
 use crate::passes::raster_sw::RasterSw;
 use crate::passes::view::{FrameSettings, MaterialViewGpu, view_gpu};
 use crate::passes::{FrameBuffers, VisPath, visbuffer};
 use crate::render::{Frame, Light, Placement};
 use crate::scene_gpu::GpuScene;
 use crate::shared::{
-    CullCounters, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_DIRECT_VISIBLE, ViewGpu,
+    CullCounters, MESH_MAX_CLUSTERS, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW,
+    VIEW_FLAG_DIRECT_VISIBLE, VIEW_FLAG_HW_MESH, ViewGpu,
 };
 
 /// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits, and its
@@ -78,6 +79,13 @@ impl CullResult {
             return Err(format!(
                 "visible-cluster list overflowed: {} clusters dropped",
                 c.visible_overflow
+            ));
+        }
+        if c.hw_overflow != 0 {
+            return Err(format!(
+                "raster_hw's mesh path draws at most {MESH_MAX_CLUSTERS} clusters per phase: {} \
+                 dropped (--hw-path vertex has no such limit)",
+                c.hw_overflow
             ));
         }
         Ok(())
@@ -180,7 +188,7 @@ impl VgeoRenderer {
             instance_cull: InstanceCull::new(ctx)?,
             cluster_cull: ClusterCull::new(ctx, default_workgroups(ctx.caps()))?,
             raster_sw: RasterSw::new(ctx, vis_path)?,
-            raster_hw: RasterHw::new(ctx, vis_path)?,
+            raster_hw: RasterHw::new(ctx, vis_path, HwPath::Auto)?,
             depth_import: DepthImport::new(ctx, vis_path)?,
             depth_export: DepthExport::new(ctx, vis_path)?,
             fb: None,
@@ -308,6 +316,22 @@ impl VgeoRenderer {
         self.vis_path
     }
 
+    /// Chooses how `raster_hw` draws (`--hw-path`; [`HwPath::Auto`] at creation: mesh shaders
+    /// where the device has them). [`HwPath::Mesh`] on a device without `VK_EXT_mesh_shader` is
+    /// an error (the renderer keeps its path).
+    pub fn set_hw_path(&mut self, path: HwPath) -> GpuResult<()> {
+        let resolved = path.resolve(self.ctx.caps()).map_err(GpuError::Other)?;
+        if resolved != self.raster_hw.hw_path() {
+            self.raster_hw = RasterHw::new(&self.ctx, self.vis_path, resolved)?;
+        }
+        Ok(())
+    }
+
+    /// The path `raster_hw` draws with: [`HwPath::Mesh`] or [`HwPath::Vertex`].
+    pub fn hw_path(&self) -> HwPath {
+        self.raster_hw.hw_path()
+    }
+
     /// A view's frame buffers (debug names prefixed with `view`, none for vgeo's own) and HZB at
     /// the renderer's capacities and the scene's instance capacity.
     pub(crate) fn view_buffers(
@@ -395,8 +419,7 @@ impl VgeoRenderer {
             (
                 vk::PipelineStageFlags2::COMPUTE_SHADER
                     | vk::PipelineStageFlags2::DRAW_INDIRECT
-                    | vk::PipelineStageFlags2::VERTEX_SHADER
-                    | vk::PipelineStageFlags2::FRAGMENT_SHADER
+                    | self.raster_hw.input_stages()
                     | vk::PipelineStageFlags2::ALL_TRANSFER,
                 vk::AccessFlags2::SHADER_STORAGE_READ
                     | vk::AccessFlags2::INDIRECT_COMMAND_READ
@@ -417,6 +440,9 @@ impl VgeoRenderer {
         let mut settings = *settings;
         if self.direct_visible() {
             settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
+        }
+        if self.raster_hw.hw_path() == HwPath::Mesh {
+            settings.flags |= VIEW_FLAG_HW_MESH;
         }
         view_gpu(
             camera,

@@ -149,6 +149,7 @@ pub use material::ShadeMode;
 pub use mesh::{ImportOptions, Mesh, load as load_mesh, merge as merge_meshes};
 pub use passes::debug_view::ViewMode;
 pub use passes::emit_gbuffer::EmitPath;
+pub use passes::raster_hw::HwPath;
 pub use passes::view::FrameSettings;
 pub use render::{BACKGROUND, Frame, Light, Placement};
 pub use scene::generated::generated_mesh;

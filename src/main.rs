@@ -91,6 +91,11 @@ struct RenderArgs {
     /// `--mode vgeo`: clusters larger than this on screen (pixels) go to the hardware rasterizer.
     #[arg(long, default_value_t = 32.0)]
     hw_threshold: f32,
+    /// `--mode vgeo`: how the hardware rasterizer is fed: `mesh` (a mesh-shader workgroup per
+    /// cluster, each vertex decoded once; needs VK_EXT_mesh_shader), `vertex` (vertex pulling,
+    /// the fallback) or `auto` (mesh where the device has it; `vgeo info` says which).
+    #[arg(long, default_value = "auto")]
+    hw_path: String,
     /// `--mode vgeo`: turn two-pass occlusion culling off.
     #[arg(long)]
     no_occlusion: bool,
@@ -234,6 +239,7 @@ fn main() -> ExitCode {
             view: "lit".into(),
             raster: "auto".into(),
             hw_threshold: 32.0,
+            hw_path: "auto".into(),
             emit: "compute".into(),
             no_occlusion: false,
             frames: 1,
@@ -311,6 +317,11 @@ fn context() -> Result<Context> {
 fn info() -> Result<()> {
     let ctx = context()?;
     println!("{}", ctx.caps());
+    let hw = match vgeo::HwPath::Auto.resolve(ctx.caps()) {
+        Ok(p) => p.name().to_string(),
+        Err(e) => format!("({e})"),
+    };
+    println!("raster_hw path:        {hw} (--hw-path auto; mesh or vertex to choose)");
     Ok(())
 }
 
@@ -347,6 +358,12 @@ fn render(a: &RenderArgs) -> Result<()> {
     }
     let emit = vgeo::EmitPath::parse(&a.emit)
         .with_context(|| format!("unknown --emit `{}` (available: compute, raster)", a.emit))?;
+    let hw_path = vgeo::HwPath::parse(&a.hw_path).with_context(|| {
+        format!(
+            "unknown --hw-path `{}` (available: auto, mesh, vertex)",
+            a.hw_path
+        )
+    })?;
     if a.error_px.is_nan() || a.error_px < 0.0 || a.error_px.is_infinite() {
         anyhow::bail!("--error-px must be a finite number >= 0");
     }
@@ -408,7 +425,7 @@ fn render(a: &RenderArgs) -> Result<()> {
             &light,
             &info,
             load_s,
-            (view, flags, emit),
+            (view, flags, emit, hw_path),
         );
     }
     let loaded = LoadedScene::load(&a.input)?;
@@ -440,7 +457,7 @@ fn render(a: &RenderArgs) -> Result<()> {
             &loaded.light,
             &info,
             load_s,
-            (view, flags, emit),
+            (view, flags, emit, hw_path),
         );
     }
     let stats_lines = Vec::new();
@@ -511,11 +528,13 @@ fn render_vgeo(
     light: &vgeo::Light,
     info: &SceneSummary,
     load_s: f64,
-    (view, flags, emit): (ViewMode, u32, vgeo::EmitPath),
+    (view, flags, emit, hw_path): (ViewMode, u32, vgeo::EmitPath, vgeo::HwPath),
 ) -> Result<()> {
     let camera = *cameras.last().context("no camera")?;
     let mut stats_lines = Vec::new();
     r.set_emit_path(emit);
+    r.set_hw_path(hw_path)
+        .map_err(|e| anyhow::anyhow!("--hw-path {}: {e}", hw_path.name()))?;
     let settings = FrameSettings {
         error_px: a.error_px,
         hw_threshold_px: a.hw_threshold,
@@ -619,8 +638,10 @@ fn render_vgeo(
         ));
     }
     stats_lines.push(format!(
-        "  visibility buffer: {:?} path; geometry {:.1} MiB",
+        "  visibility buffer: {:?} path; raster_hw: {} path (--hw-path {}); geometry {:.1} MiB",
         r.vis_path(),
+        r.hw_path().name(),
+        hw_path.name(),
         r.scene.geometry_bytes() as f64 / (1 << 20) as f64
     ));
     // What the geometry buffers hold (the allocation grows by doubling): per buffer, used MiB.

@@ -42,6 +42,16 @@ pub const INSTANCE_CULL_WORKGROUP_SIZE: u32 = 64;
 pub const CLUSTER_CULL_WORKGROUP_SIZE: u32 = 64;
 /// Threads of one `raster_sw` workgroup: one per triangle of a cluster.
 pub const RASTER_SW_WORKGROUP_SIZE: u32 = 128;
+/// Threads of one `raster_hw` mesh-shader workgroup (the mesh path, one workgroup per HW cluster):
+/// one per triangle, each also decoding up to two of the cluster's vertices.
+pub const RASTER_HW_MESH_WORKGROUP_SIZE: u32 = 128;
+/// `raster_hw` mesh path: workgroups along x of its `vkCmdDrawMeshTasksIndirectEXT` (the
+/// specification's minimum `maxMeshWorkGroupCount[0]`); more HW clusters take rows of this many.
+pub const MESH_GROUPS_X: u32 = 65535;
+/// `raster_hw` mesh path: most HW clusters one phase draws, the whole rows of [`MESH_GROUPS_X`]
+/// within the specification's minimum `maxMeshWorkGroupTotalCount` (2^22). More are counted in
+/// `CullCounters::hw_overflow` (an error, never silent).
+pub const MESH_MAX_CLUSTERS: u32 = 4194240;
 /// `instance_cull` walks an instance's BVH itself (no global queue) when at most this many of
 /// its mesh's clusters can be in the cut (`MeshGpu::walk_error`), so a small instance costs one
 /// thread's short walk instead of a trip per node through `cluster_cull`'s persistent queue.
@@ -88,6 +98,10 @@ pub const VIEW_FLAG_COUNT_OVERDRAW: u32 = 16;
 /// level nearest the fallback triangle count) instead of the LOD cut: a cluster is drawn when its
 /// level is at most that level and its group was simplified at or after it (the fallback view).
 pub const VIEW_FLAG_FALLBACK_CUT: u32 = 32;
+/// `ViewGpu::flags`: `raster_hw` runs its mesh-shader path, which takes at most
+/// [`MESH_MAX_CLUSTERS`] clusters per phase: the cull counts those beyond in
+/// `CullCounters::hw_overflow`.
+pub const VIEW_FLAG_HW_MESH: u32 = 64;
 /// `BvhNode::flags`: the node is a leaf over groups `first .. first + count`.
 pub const BVH_FLAG_LEAF: u32 = 1;
 /// `MeshGpu::streams`: the mesh's pages hold UVs.
@@ -344,13 +358,29 @@ pub struct CullCounters {
     pub occluded_instances: u32,
     pub occluded_nodes: u32,
     pub occluded_clusters: u32,
-    pub _pad1: [u32; 2],
+    /// `vkCmdDrawMeshTasksIndirectEXT` arguments of `raster_hw`'s mesh path (workgroups x, y, z:
+    /// rows of [`MESH_GROUPS_X`]), then the number of HW-list clusters they draw (the workgroups
+    /// of the last row beyond it draw nothing).
+    pub hw_mesh: [u32; 4],
+    /// With [`VIEW_FLAG_HW_MESH`]: HW clusters beyond [`MESH_MAX_CLUSTERS`], not drawn (reported).
+    pub hw_overflow: u32,
+    pub _pad1: u32,
     /// `vkCmdDispatchIndirect` arguments of the post phase's `depth_pyramid` (x, y, z) + pad: its
     /// workgroups when the phase drew anything, else none (the visibility buffer, and so the
     /// HZB, are what the main phase left).
     pub hzb_dispatch: [u32; 4],
 }
-const _: () = assert!(size_of::<CullCounters>() == 144);
+const _: () = assert!(size_of::<CullCounters>() == 160);
+const _: () = assert!(std::mem::offset_of!(CullCounters, hw_mesh) % 4 == 0);
+
+/// [`CullCounters::hw_mesh`] for `clusters` HW clusters, as `cluster_cull` writes it: rows of
+/// [`MESH_GROUPS_X`] workgroups, at most [`MESH_MAX_CLUSTERS`] clusters.
+pub fn hw_mesh_args(clusters: u32) -> [u32; 4] {
+    let n = clusters.min(MESH_MAX_CLUSTERS);
+    let x = n.min(MESH_GROUPS_X);
+    let y = n.div_ceil(MESH_GROUPS_X);
+    [x, y, 1, n]
+}
 
 /// The HZB an occlusion test reads, and the view it was built from. The main phase tests against
 /// the previous frame's HZB (with that frame's view), the post phase against this frame's.
@@ -445,3 +475,39 @@ pub struct LodStatsGpu {
     pub triangles: u64,
 }
 const _: () = assert!(size_of::<LodStatsGpu>() == 32);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The mesh path's workgroup grid covers every HW cluster up to the limit, in rows of
+    /// `MESH_GROUPS_X`, within the specification's minimum limits.
+    #[test]
+    fn hw_mesh_args_cover_the_list_within_the_limits() {
+        assert_eq!(hw_mesh_args(0), [0, 0, 1, 0]);
+        assert_eq!(hw_mesh_args(1), [1, 1, 1, 1]);
+        assert_eq!(
+            hw_mesh_args(MESH_GROUPS_X),
+            [MESH_GROUPS_X, 1, 1, MESH_GROUPS_X]
+        );
+        assert_eq!(
+            hw_mesh_args(MESH_GROUPS_X + 1),
+            [MESH_GROUPS_X, 2, 1, MESH_GROUPS_X + 1]
+        );
+        let top = hw_mesh_args(u32::MAX);
+        assert_eq!(top[3], MESH_MAX_CLUSTERS);
+        for n in [
+            1,
+            1000,
+            MESH_GROUPS_X + 7,
+            3 * MESH_GROUPS_X,
+            MESH_MAX_CLUSTERS,
+            u32::MAX,
+        ] {
+            let [x, y, z, count] = hw_mesh_args(n);
+            assert!(x <= 65535 && y <= 65535 && z == 1);
+            assert!(x as u64 * y as u64 <= 1 << 22, "{n}: {x} x {y}");
+            assert!(x as u64 * y as u64 >= count as u64 && (y - 1) * x < count);
+        }
+    }
+}

@@ -36,6 +36,8 @@ fn info_prints_device_and_features() {
         "timestamps:",
         "subgroup size:",
         "device-local memory:",
+        "mesh shaders:",
+        "raster_hw path:",
     ] {
         assert!(out.contains(key), "`{key}` missing from:\n{out}");
     }
@@ -123,6 +125,15 @@ fn bad_input_is_a_clear_error_not_a_panic() {
             ],
             "magic",
         ),
+        (
+            vec![
+                "render".into(),
+                "--hw-path".into(),
+                "geometry".into(),
+                assets().join("spot.obj").into(),
+            ],
+            "--hw-path `geometry`",
+        ),
     ];
     for (args, needle) in cases {
         let (ok, _out, err) = run(vgeo().args(&args));
@@ -134,6 +145,46 @@ fn bad_input_is_a_clear_error_not_a_panic() {
         );
         assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
     }
+}
+
+/// `--hw-path`: every cluster to the hardware rasterizer (`--hw-threshold 0`) gives one image on
+/// the vertex and the mesh path (where the device has mesh shaders; elsewhere `mesh` is a clear
+/// error), and `--stats` says which path drew.
+#[test]
+fn render_hw_paths_give_one_image() {
+    let dir = std::env::temp_dir().join(format!("vgeo-cli-hw-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (ok, info, err) = run(vgeo().arg("info"));
+    assert!(ok, "{err}");
+    let has_mesh = info.contains("mesh shaders:          yes");
+    let mut images = Vec::new();
+    for path in ["vertex", "mesh"] {
+        let png = dir.join(format!("{path}.png"));
+        let (ok, out, err) = run(vgeo()
+            .args(["render", "--width", "96", "--height", "64", "--stats"])
+            .args(["--hw-threshold", "0", "--hw-path", path, "--out"])
+            .arg(&png)
+            .arg(assets().join("spot.obj")));
+        if path == "mesh" && !has_mesh {
+            assert!(!ok, "--hw-path mesh without mesh shaders should fail");
+            assert!(err.contains("VK_EXT_mesh_shader"), "{err}");
+            assert!(!err.contains("panicked"), "{err}");
+            return;
+        }
+        assert!(ok, "--hw-path {path} failed: {err}");
+        assert!(
+            out.contains(&format!("raster_hw: {path} path (--hw-path {path})")),
+            "{out}"
+        );
+        assert!(!err.contains("validation error"), "{path}: {err}");
+        images.push(image::open(&png).expect("a readable PNG").to_rgba8());
+    }
+    assert!(
+        images[0] == images[1],
+        "the vertex and mesh paths' images differ"
+    );
+    let bg = images[0].get_pixel(0, 0);
+    assert!(images[0].pixels().filter(|p| *p != bg).count() > 200);
 }
 
 #[test]

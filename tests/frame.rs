@@ -248,6 +248,117 @@ fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_determ
     assert_no_validation_errors(&ctx);
 }
 
+/// raster_hw's mesh path (where the device has mesh shaders: lavapipe does) against its vertex
+/// path, through whole frames: all clusters to HW, `--hw-threshold 0` (every cluster that SW would
+/// not need, with occlusion culling) and the default hybrid split give the same visibility buffer
+/// bit for bit and the same image on both paths; forcing the vertex path works everywhere, and
+/// asking for mesh where there is none is an error that says why.
+#[test]
+fn mesh_and_vertex_hw_paths_give_identical_frames() {
+    use vgeo::HwPath;
+    let ctx = gpu();
+    let (mesh, built) = load_built(&assets().join("spot.obj"));
+    let camera = filling_camera(&mesh, 1.5);
+    let placements: Vec<Placement> = (0..3)
+        .map(|i| Placement {
+            mesh: 0,
+            transform: DMat4::from_translation(DVec3::new(
+                i as f64 * 0.4 - 0.4,
+                0.0,
+                -(i as f64) * 0.5,
+            )),
+            color: [1.0; 3],
+        })
+        .collect();
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).unwrap();
+    let has_mesh = ctx.caps().mesh_shader;
+    eprintln!(
+        "{}: mesh shaders {has_mesh}, auto takes the {:?} path",
+        ctx.caps().device_name,
+        r.hw_path()
+    );
+    let auto = if has_mesh {
+        HwPath::Mesh
+    } else {
+        HwPath::Vertex
+    };
+    if std::env::var("VGEO_HW_PATH").is_err() {
+        assert_eq!(r.hw_path(), auto, "auto takes mesh shaders where present");
+    }
+    r.set_hw_path(HwPath::Vertex)
+        .expect("the vertex path exists everywhere");
+    assert_eq!(r.hw_path(), HwPath::Vertex);
+    if !has_mesh {
+        let err = r
+            .set_hw_path(HwPath::Mesh)
+            .expect_err("no mesh shaders here");
+        assert!(err.to_string().contains("VK_EXT_mesh_shader"), "{err}");
+        assert_eq!(
+            r.hw_path(),
+            HwPath::Vertex,
+            "a refused path changes nothing"
+        );
+        eprintln!(
+            "no mesh shaders: the mesh path is refused ({err}); checked on a device with them"
+        );
+        return;
+    }
+    let base = FrameSettings {
+        error_px: 1.0,
+        occlusion: false,
+        ..Default::default()
+    };
+    let cases = [
+        (
+            "all HW",
+            FrameSettings {
+                flags: VIEW_FLAG_FORCE_HW,
+                ..base
+            },
+        ),
+        (
+            "--hw-threshold 0",
+            FrameSettings {
+                hw_threshold_px: 0.0,
+                occlusion: true,
+                ..base
+            },
+        ),
+        (
+            "hybrid",
+            FrameSettings {
+                hw_threshold_px: 8.0,
+                ..base
+            },
+        ),
+    ];
+    for (what, settings) in cases {
+        let mut frames = Vec::new();
+        for p in [HwPath::Vertex, HwPath::Mesh] {
+            r.set_hw_path(p).unwrap();
+            assert_eq!(r.hw_path(), p);
+            // Two frames: the second culls with the first one's HZB (occlusion on).
+            render(&mut r, &camera, &settings);
+            frames.push(render(&mut r, &camera, &settings));
+        }
+        let (v, m) = (&frames[0], &frames[1]);
+        let hw = v.main.counters.hw_count + v.post.counters.hw_count;
+        assert_eq!(hw, m.main.counters.hw_count + m.post.counters.hw_count);
+        assert!(hw > 0, "{what}: some clusters go to HW");
+        let differ = (v.visbuffer.iter().zip(&m.visbuffer))
+            .filter(|(a, b)| a != b)
+            .count();
+        eprintln!(
+            "{what}: {hw} HW clusters, vertex vs mesh path: {differ} of {} pixels differ",
+            v.visbuffer.len()
+        );
+        assert!(r.direct_visible());
+        assert_eq!(differ, 0, "{what}: the mesh and vertex paths differ");
+        assert_eq!(v.frame.color, m.frame.color, "{what}: images differ");
+    }
+    assert_no_validation_errors(&ctx);
+}
+
 /// What a visibility-buffer value resolves to: (depth bits, (instance, cluster), triangle). The
 /// visible-list numbering follows the GPU's atomic order, so runs are compared through it.
 fn key(f: &VgeoFrame, v: u64) -> (u32, [u32; 2], u32) {

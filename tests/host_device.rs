@@ -12,6 +12,7 @@ use std::sync::Mutex;
 use ash::vk;
 use common::{assert_no_validation_errors, assets, filling_camera, gpu, load_built};
 use glam::DMat4;
+use vgeo::HwPath;
 use vgeo::baseline::brute::Brute;
 use vgeo::camera::Camera;
 use vgeo::frame::VgeoRenderer;
@@ -267,6 +268,72 @@ fn a_device_without_a_required_feature_or_extension_is_refused_by_name() {
     assert!(errors.is_empty(), "host's messenger: {errors:#?}");
 }
 
+/// A device without `VK_EXT_mesh_shader` (RenderDoc hides it, for one): vgeo runs, `raster_hw`
+/// takes its vertex path, asking for the mesh path is an error naming the extension (not a
+/// panic), and the frame equals the one of vgeo's own context (the mesh path where the device
+/// has mesh shaders).
+#[test]
+fn without_mesh_shaders_raster_hw_pulls_vertices() {
+    let host = Host::new();
+    let all = device_extensions_for_vgeo(&host.instance, host.physical).unwrap();
+    let fewer: Vec<&CStr> = (all.iter().copied())
+        .filter(|n| *n != ash::ext::mesh_shader::NAME)
+        .collect();
+    let mesh_shader = (requirements().optional_features.iter())
+        .find(|f| f.name == "meshShader")
+        .expect("meshShader is an optional feature");
+    let mut features = host.vgeo_features();
+    features.set(mesh_shader, false);
+    let hd = host.device(&fewer, features);
+    let device = hd.device.clone();
+    let ctx = Context::from_host(hd, true).expect("vgeo runs without mesh shaders");
+    assert!(!ctx.caps().mesh_shader);
+    assert!(
+        (ctx.caps().fallbacks.iter()).any(|f| f.contains("VK_EXT_mesh_shader")),
+        "{:?}",
+        ctx.caps().fallbacks
+    );
+    let (_, built) = load_built(&assets().join("spot.obj"));
+    let one = [Placement {
+        mesh: 0,
+        transform: DMat4::IDENTITY,
+        color: [0.9, 0.8, 0.7],
+    }];
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one).unwrap();
+    if std::env::var("VGEO_HW_PATH").is_err() {
+        assert_eq!(
+            r.hw_path(),
+            HwPath::Vertex,
+            "auto falls back to vertex pulling"
+        );
+    }
+    let err = r
+        .set_hw_path(HwPath::Mesh)
+        .expect_err("no mesh path without the extension");
+    assert!(err.to_string().contains("VK_EXT_mesh_shader"), "{err}");
+    r.set_hw_path(HwPath::Vertex).expect("the vertex path");
+    drop(r);
+    let (frame, _) = render(&ctx);
+    assert_no_validation_errors(&ctx);
+    assert!(frame.covered() > 1000, "the cow is drawn");
+    drop(ctx);
+    let errors = host.errors();
+    host.destroy(device);
+    assert!(errors.is_empty(), "host's messenger: {errors:#?}");
+
+    let own = gpu();
+    let (own_frame, _) = render(&own);
+    assert_no_validation_errors(&own);
+    assert!(
+        frame.color == own_frame.color,
+        "the vertex path's image differs"
+    );
+    assert!(
+        frame.depth == own_frame.depth,
+        "the vertex path's depth differs"
+    );
+}
+
 #[test]
 fn requirements_list_what_the_context_enables() {
     let r = requirements();
@@ -282,9 +349,15 @@ fn requirements_list_what_the_context_enables() {
             "{ext}"
         );
     }
+    for ext in ["VK_EXT_shader_image_atomic_int64", "VK_EXT_mesh_shader"] {
+        assert!(
+            (r.optional_device_extensions.iter()).any(|n| n.to_str() == Ok(ext)),
+            "{ext}"
+        );
+    }
     assert!(
-        (r.optional_device_extensions.iter())
-            .any(|n| n.to_str() == Ok("VK_EXT_shader_image_atomic_int64"))
+        (r.optional_features.iter()).any(|f| f.name == "meshShader"),
+        "{r}"
     );
     assert!(r.features.iter().any(|f| f.name == "shaderInt64"));
     assert!(

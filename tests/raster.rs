@@ -2,7 +2,9 @@
 //! validation layer on) against the CPU reference rasterizer, against each other, across runs and
 //! far from the origin. The visible list and the counters are written by the test (no culling): all
 //! level-0 clusters of two instances of spot, the lists and indirect arguments made on the CPU.
-//! The visibility-buffer path is `VisPath::choose` (the image path on GPUs with 64-bit image atomics).
+//! The visibility-buffer path is `VisPath::choose` (the image path on GPUs with 64-bit image atomics);
+//! the hardware rasterizer runs both its paths where the device has mesh shaders (`hw_paths`), and
+//! they must agree bit for bit.
 
 mod common;
 
@@ -15,14 +17,14 @@ use vgeo::camera::Camera;
 use vgeo::gpu::{Buffer, Context, MemoryKind, Timer, vk};
 use vgeo::passes::cull::Phase;
 use vgeo::passes::debug_view::{DebugView, ViewMode};
-use vgeo::passes::raster_hw::RasterHw;
+use vgeo::passes::raster_hw::{HwPath, RasterHw};
 use vgeo::passes::raster_sw::RasterSw;
 use vgeo::passes::view::{FrameSettings, view_gpu};
 use vgeo::passes::{FrameBuffers, VisPath, visbuffer};
 use vgeo::reference::{RasterTarget, rasterize};
 use vgeo::render::Placement;
 use vgeo::scene_gpu::GpuScene;
-use vgeo::shared::{CullCounters, MAX_CLUSTER_TRIANGLES, VISBUFFER_TRIANGLE_BITS};
+use vgeo::shared::{CullCounters, MAX_CLUSTER_TRIANGLES, VISBUFFER_TRIANGLE_BITS, hw_mesh_args};
 
 const W: u32 = 128;
 const H: u32 = 96;
@@ -98,6 +100,20 @@ fn visible_list(levels: &[u32]) -> Vec<[u32; 2]> {
     v
 }
 
+/// The hardware rasterizer's paths this device has: vertex pulling, and mesh shaders where present.
+fn hw_paths(ctx: &Context) -> Vec<HwPath> {
+    let mut p = vec![HwPath::Vertex];
+    if ctx.caps().mesh_shader {
+        p.push(HwPath::Mesh);
+    } else {
+        eprintln!(
+            "{}: no mesh shaders, only the vertex path of raster_hw is checked",
+            ctx.caps().device_name
+        );
+    }
+    p
+}
+
 /// The rasterizers and buffers of one test.
 struct Rig {
     ctx: Context,
@@ -126,7 +142,7 @@ impl Rig {
         let visible = visible_list(levels);
         let fb = FrameBuffers::new(&ctx, W, H, path, 64, visible.len() as u32, 2).expect("buffers");
         let sw = RasterSw::new(&ctx, path).expect("raster_sw pipeline");
-        let hw = RasterHw::new(&ctx, path).expect("raster_hw pipeline");
+        let hw = RasterHw::new(&ctx, path, HwPath::Auto).expect("raster_hw pipeline");
         Self {
             ctx,
             path,
@@ -138,6 +154,12 @@ impl Rig {
             placements,
             visible,
         }
+    }
+
+    /// Makes `raster_hw` draw with `hw_path` from now on.
+    fn set_hw_path(&mut self, hw_path: HwPath) {
+        self.hw = RasterHw::new(&self.ctx, self.path, hw_path).expect("raster_hw pipeline");
+        assert_eq!(self.hw.hw_path(), hw_path);
     }
 
     /// Writes the view, the lists and the counters, records clear + raster_sw + raster_hw (+ the
@@ -176,6 +198,7 @@ impl Rig {
             hw_count,
             sw_dispatch: [sw_count.min(65535), 1, 1, 0],
             hw_draw: [MAX_CLUSTER_TRIANGLES * 3, hw_count, 0, 0],
+            hw_mesh: hw_mesh_args(hw_count),
             ..Default::default()
         };
         let ctx = &self.ctx;
@@ -209,7 +232,7 @@ impl Rig {
             }
             cmd.update_buffer(&fb.counters, 0, bytemuck::bytes_of(&counters));
             visbuffer::clear(cmd, fb);
-            let shaders = S::COMPUTE_SHADER | S::VERTEX_SHADER | S::FRAGMENT_SHADER;
+            let shaders = S::COMPUTE_SHADER | hw.input_stages();
             cmd.barrier(
                 (S::ALL_TRANSFER, A::TRANSFER_WRITE),
                 (
@@ -340,7 +363,12 @@ fn sw_matches_reference() {
 
 #[test]
 fn hw_matches_reference() {
-    check_against_reference(Split::AllHw);
+    let mut rig = Rig::new(DVec3::ZERO, &[0, 0]);
+    for p in hw_paths(&rig.ctx) {
+        rig.set_hw_path(p);
+        eprintln!("raster_hw {p:?} path:");
+        check_rig_against_reference(&mut rig, Split::AllHw, 0.999);
+    }
 }
 
 /// The coarsest DAG level close up: triangles of tens of pixels, which `raster_sw` walks by scanline.
@@ -368,13 +396,21 @@ fn large_triangles_match_reference() {
     // Large, steep triangles: the GPU evaluates the depth plane in f32 from vertices far from the
     // pixel, so a few grazing pixels differ from the reference by up to ~1e-3 relative (measured:
     // 0.14 % of pixels over 1e-4, max 1.3e-3). SW and HW still agree bit for bit (below).
-    check_rig_against_reference(&mut rig, Split::AllHw, 0.995);
     check_rig_against_reference(&mut rig, Split::AllSw, 0.995);
     let sw = rig.render(Split::AllSw, None);
-    let hw = rig.render(Split::AllHw, None);
-    let differ = (0..sw.len()).filter(|&i| sw[i] != hw[i]).count();
-    eprintln!("large triangles, SW vs HW: {differ} pixels differ");
-    assert!(differ as f64 <= 1e-4 * sw.len() as f64);
+    let mut first_hw: Option<Vec<u64>> = None;
+    for p in hw_paths(&rig.ctx) {
+        rig.set_hw_path(p);
+        check_rig_against_reference(&mut rig, Split::AllHw, 0.995);
+        let hw = rig.render(Split::AllHw, None);
+        let differ = (0..sw.len()).filter(|&i| sw[i] != hw[i]).count();
+        eprintln!("large triangles, SW vs HW ({p:?} path): {differ} pixels differ");
+        assert!(differ as f64 <= 1e-4 * sw.len() as f64);
+        match &first_hw {
+            None => first_hw = Some(hw),
+            Some(v) => assert!(*v == hw, "large triangles: the HW paths differ"),
+        }
+    }
 }
 
 /// A camera so close that triangles cross the near plane: HW clips them like the reference, SW
@@ -407,13 +443,27 @@ fn near_plane_crossing() {
         behind > 0,
         "the camera should cut the near plane through the mesh"
     );
-    let hw = rig.render(Split::AllHw, None);
-    let (cover, depth, _, max_rel, both) = compare(&hw, &r);
-    eprintln!(
-        "near plane, HW: coverage agreement {cover:.5}, depth within 1e-4 {depth:.5} (max {max_rel:.2e}), {both} covered"
-    );
-    assert!(both as u32 > W * H / 4);
-    assert!(cover >= 0.999, "HW coverage agreement {cover:.5}");
+    let mut first_hw: Option<Vec<u64>> = None;
+    for p in hw_paths(&rig.ctx) {
+        rig.set_hw_path(p);
+        let hw = rig.render(Split::AllHw, None);
+        let (cover, depth, _, max_rel, both) = compare(&hw, &r);
+        eprintln!(
+            "near plane, HW ({p:?} path): coverage agreement {cover:.5}, depth within 1e-4 {depth:.5} (max {max_rel:.2e}), {both} covered"
+        );
+        assert!(both as u32 > W * H / 4);
+        assert!(cover >= 0.999, "HW coverage agreement {cover:.5}");
+        // Clipped triangles too: their depth comes from their clip-space vertices, not from how
+        // a pipeline clipped them (`clipped_depth`), so the paths agree bit for bit.
+        match &first_hw {
+            None => first_hw = Some(hw),
+            Some(v) => {
+                let differ = (0..hw.len()).filter(|&i| v[i] != hw[i]).count();
+                eprintln!("near plane, the HW paths: {differ} pixels differ");
+                assert_eq!(differ, 0, "near plane: the HW paths differ");
+            }
+        }
+    }
     let sw = rig.render(Split::AllSw, None);
     let outside = (0..sw.len())
         .filter(|&i| sw[i] != 0 && r.id[i] == u32::MAX)
@@ -428,6 +478,32 @@ fn near_plane_crossing() {
 #[test]
 fn sw_and_hw_agree_and_runs_are_deterministic() {
     let mut rig = Rig::new(DVec3::ZERO, &[0, 0]);
+    let paths = hw_paths(&rig.ctx);
+    let mut by_path = Vec::new();
+    for &p in &paths {
+        rig.set_hw_path(p);
+        sw_and_hw_agree(&mut rig);
+        by_path.push((
+            p,
+            rig.render(Split::AllHw, None),
+            rig.render(Split::Mixed, None),
+        ));
+    }
+    // The mesh path equals the vertex path bit for bit: same coverage, same depth, same ids.
+    for w in by_path.windows(2) {
+        let ((pa, hw_a, mixed_a), (pb, hw_b, mixed_b)) = (&w[0], &w[1]);
+        let differ = (0..hw_a.len()).filter(|&i| hw_a[i] != hw_b[i]).count();
+        eprintln!("all-HW, {pa:?} vs {pb:?} path: {differ} pixels differ");
+        assert_eq!(differ, 0, "all-HW: the {pa:?} and {pb:?} paths differ");
+        assert!(
+            mixed_a == mixed_b,
+            "mixed: the {pa:?} and {pb:?} paths differ"
+        );
+    }
+}
+
+/// All-SW against all-HW (the rig's HW path), then determinism of each and of a mixed split.
+fn sw_and_hw_agree(rig: &mut Rig) {
     let sw = rig.render(Split::AllSw, None);
     let hw = rig.render(Split::AllHw, None);
     let n = sw.len();
@@ -442,9 +518,10 @@ fn sw_and_hw_agree_and_runs_are_deterministic() {
     }
     let covered = sw.iter().filter(|&&v| v != 0).count();
     eprintln!(
-        "SW vs HW ({:?} path): {} of {n} pixels differ ({cover_only} coverage, {depth_only} depth, \
-         {id_only} id only); {covered} covered",
+        "SW vs HW ({:?} path, {:?} HW path): {} of {n} pixels differ ({cover_only} coverage, \
+         {depth_only} depth, {id_only} id only); {covered} covered",
         rig.path,
+        rig.hw.hw_path(),
         differ.len()
     );
     assert!(covered as u32 > W * H / 4);

@@ -97,7 +97,9 @@ struct CullCounters {
     uint occluded_instances;
     uint occluded_nodes;
     uint occluded_clusters;
-    uint _pad1[2];
+    uvec4 hw_mesh;
+    uint hw_overflow;
+    uint _pad1;
     uvec4 hzb_dispatch;
 };
 

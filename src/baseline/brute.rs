@@ -13,8 +13,8 @@ use glam::DMat3;
 
 use crate::camera::Camera;
 use crate::gpu::{
-    Buffer, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, Image, MemoryKind,
-    RenderTarget, ShaderStage, Timer, vk,
+    Buffer, Context, Desc, GeometryStage, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, Image,
+    MemoryKind, RenderTarget, ShaderStage, Timer, vk,
 };
 use crate::material::{GpuMaterials, SceneMaterials, ShadeMode};
 use crate::mesh::Mesh;
@@ -207,10 +207,10 @@ fn classic_pipeline(
         ctx,
         &GraphicsPipelineDesc {
             name: pass,
-            vertex: ShaderStage {
+            geometry: GeometryStage::Vertex(ShaderStage {
                 name: "brute.vert",
                 spirv: vertex,
-            },
+            }),
             fragment: ShaderStage {
                 name: "brute.frag",
                 spirv: crate::shaders::BRUTE_FRAG,

@@ -47,6 +47,7 @@ use crate::Context;
 use crate::EmitPath;
 use crate::FrameSettings;
 use crate::GeometryBudget;
+use crate::HwPath;
 use crate::scene::load::MeshCache;
 use error::{equal_error, summarize};
 use report::{git_commit, utc_now};
@@ -117,6 +118,7 @@ impl Suite {
                 modes: MODES.iter().map(|s| s.to_string()).collect(),
                 hw_threshold_px: FrameSettings::default().hw_threshold_px,
                 emit: EmitPath::default(),
+                hw_path: HwPath::default(),
                 reference_spp: DEFAULT_REFERENCE_SPP,
                 psnr_margin_db: DEFAULT_PSNR_MARGIN_DB,
                 geometry_budget: None,
@@ -137,6 +139,7 @@ impl Suite {
                 modes: MODES.iter().map(|s| s.to_string()).collect(),
                 hw_threshold_px: FrameSettings::default().hw_threshold_px,
                 emit: EmitPath::default(),
+                hw_path: HwPath::default(),
                 reference_spp: DEFAULT_REFERENCE_SPP,
                 psnr_margin_db: DEFAULT_PSNR_MARGIN_DB,
                 geometry_budget: None,
@@ -177,6 +180,8 @@ pub struct BenchSettings {
     pub hw_threshold_px: f32,
     /// vgeo: how `emit_gbuffer` runs.
     pub emit: EmitPath,
+    /// vgeo: how `raster_hw` draws (`auto`: mesh shaders where the device has them).
+    pub hw_path: HwPath,
     /// Samples per pixel of the reference (a square: n x n on a regular grid, box-filtered).
     pub reference_spp: u32,
     /// "Equal error": a mode's threshold qualifies when its PSNR is at most this many dB below
@@ -247,6 +252,10 @@ pub struct BenchArgs {
     /// of tile quads per material against the material depth, DESIGN.md's form).
     #[arg(long)]
     pub emit: Option<String>,
+    /// vgeo: `raster_hw` as `mesh` (a mesh-shader workgroup per cluster; needs
+    /// VK_EXT_mesh_shader), `vertex` (vertex pulling) or `auto` (default: mesh where available).
+    #[arg(long)]
+    pub hw_path: Option<String>,
     /// Samples per pixel of the reference every mode's image error (PSNR of the lit image,
     /// surface difference %) is measured against: a square N = n x n, brute rendered at n times
     /// the resolution (in tiles) and box-filtered n x n back. Default 16 (4x4). Brute at 1 sample
@@ -325,6 +334,11 @@ impl BenchArgs {
         if let Some(e) = &self.emit {
             s.emit = EmitPath::parse(e)
                 .with_context(|| format!("unknown --emit `{e}` (available: compute, raster)"))?;
+        }
+        if let Some(p) = &self.hw_path {
+            s.hw_path = HwPath::parse(p).with_context(|| {
+                format!("unknown --hw-path `{p}` (available: auto, mesh, vertex)")
+            })?;
         }
         if let Some(n) = self.reference_spp {
             s.reference_spp = n;
@@ -458,6 +472,9 @@ pub fn run(
         ProgressBar::hidden()
     };
     let caps = ctx.caps();
+    // `--hw-path mesh` on a device without mesh shaders fails here, before any scene loads.
+    let hw_path = (settings.hw_path.resolve(caps))
+        .map_err(|e| anyhow::anyhow!("--hw-path {}: {e}", settings.hw_path.name()))?;
     let mut report = BenchReport {
         device: caps.device_name.clone(),
         driver: format!("{} {}", caps.driver_name, caps.driver_info),
@@ -466,6 +483,7 @@ pub fn run(
         commit: git_commit(),
         date: utc_now(),
         settings: settings.clone(),
+        hw_path: hw_path.name().into(),
         scenes: Vec::new(),
         records: Vec::new(),
         summary: Vec::new(),
@@ -618,6 +636,7 @@ mod tests {
             commit: None,
             date: String::new(),
             settings,
+            hw_path: "vertex".into(),
             scenes: vec![info],
             records,
             summary: Vec::new(),

@@ -126,6 +126,8 @@ pub struct BenchReport {
     /// UTC, ISO 8601.
     pub date: String,
     pub settings: BenchSettings,
+    /// The path `raster_hw` took on the device (`mesh` or `vertex`: `settings.hw_path` resolved).
+    pub hw_path: String,
     pub scenes: Vec<SceneInfo>,
     pub records: Vec<FrameRecord>,
     pub summary: Vec<Summary>,
@@ -618,13 +620,14 @@ pub fn markdown(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         md,
-        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px, emit_gbuffer {:?}; GPU ms from timestamps, frames of the path recorded back to back in one submission (no read-back, no CPU wait between them; heavy frames in submissions of ~100 ms) after ~0.5 s of GPU warm-up, mean over the path; CPU ms: a submission's wall time over its frames; images and counters from a second pass with read-back",
+        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px ({} path), emit_gbuffer {:?}; GPU ms from timestamps, frames of the path recorded back to back in one submission (no read-back, no CPU wait between them; heavy frames in submissions of ~100 ms) after ~0.5 s of GPU warm-up, mean over the path; CPU ms: a submission's wall time over its frames; images and counters from a second pass with read-back",
         s.width,
         s.height,
         s.frames,
         s.error_sweep,
         s.modes.join(", "),
         s.hw_threshold_px,
+        report.hw_path,
         s.emit
     );
     let n = s.reference_samples_per_axis();

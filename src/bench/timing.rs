@@ -277,6 +277,8 @@ pub(super) fn run_scene(
     };
     if let Some((r, streamer)) = vgeo.as_mut() {
         r.set_emit_path(settings.emit);
+        r.set_hw_path(settings.hw_path)
+            .map_err(|e| anyhow::anyhow!("--hw-path {}: {e}", settings.hw_path.name()))?;
         memory.insert(
             "vgeo",
             (
@@ -307,6 +309,7 @@ pub(super) fn run_scene(
                     let resident = new_vgeo(ctx, built, &scene.placements, None)
                         .and_then(|(mut full, _)| {
                             full.set_emit_path(settings.emit);
+                            full.set_hw_path(settings.hw_path)?;
                             resident_gpu_ms(settings, scene, &mut full, &fs)
                         })
                         .ok();

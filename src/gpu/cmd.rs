@@ -567,12 +567,11 @@ impl Cmd {
             "push constants of `{}`",
             p.name
         );
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         self.counts.bindings += 1;
-        // SAFETY: size matches the layout's range (checked above).
+        // SAFETY: size matches the layout's range (checked above), whose stages are the pipeline's.
         unsafe {
             self.dev()
-                .cmd_push_constants(self.cb, p.layout, stages, 0, data)
+                .cmd_push_constants(self.cb, p.layout, p.stages, 0, data)
         };
     }
 
@@ -685,6 +684,30 @@ impl Cmd {
         unsafe {
             self.dev()
                 .cmd_draw_indirect(self.cb, args.raw, offset, 1, 16)
+        };
+    }
+
+    /// `vkCmdDrawMeshTasksIndirectEXT` of one `VkDrawMeshTasksIndirectCommandEXT` (workgroups x,
+    /// y, z: three u32) at `offset` in `args`, with a mesh-shader pipeline bound
+    /// ([`super::GeometryStage::Mesh`], which exists only on a device with
+    /// [`super::Caps::mesh_shader`]).
+    pub fn draw_mesh_tasks_indirect(&mut self, args: &Buffer, offset: u64) {
+        self.counts.draws += 1;
+        let Some(mesh) = self.ctx.inner.mesh_shader.as_ref() else {
+            debug_assert!(false, "draw_mesh_tasks_indirect without VK_EXT_mesh_shader");
+            return;
+        };
+        // SAFETY: a mesh-shader pipeline is bound inside a rendering pass (its creation needed the
+        // extension and feature, whose commands `mesh` holds); `args` has INDIRECT usage and holds
+        // the 12 bytes at `offset` (callers).
+        unsafe {
+            mesh.cmd_draw_mesh_tasks_indirect(
+                self.cb,
+                args.raw,
+                offset,
+                1,
+                size_of::<vk::DrawMeshTasksIndirectCommandEXT>() as u32,
+            )
         };
     }
 

@@ -56,7 +56,8 @@ pub struct Caps {
     pub buffer_int64_atomics: bool,
     /// `VK_EXT_shader_image_atomic_int64`: the R64 visibility-buffer image path.
     pub image_int64_atomics: bool,
-    /// Whether `VK_EXT_mesh_shader` is available (not used yet).
+    /// `VK_EXT_mesh_shader` with `meshShader` enabled on the device: `raster_hw` can take its mesh
+    /// path (`--hw-path auto|mesh`); without it, vertex pulling.
     pub mesh_shader: bool,
     /// `multiDrawIndirect` (required).
     pub multi_draw_indirect: bool,
@@ -146,6 +147,8 @@ pub(crate) struct Inner {
     pub push_descriptor: ash::khr::push_descriptor::Device,
     pub dynamic_rendering: ash::khr::dynamic_rendering::Device,
     pub sync2: ash::khr::synchronization2::Device,
+    /// `VK_EXT_mesh_shader`'s commands, when enabled ([`Caps::mesh_shader`]).
+    pub mesh_shader: Option<ash::ext::mesh_shader::Device>,
     pub queue: vk::Queue,
     pub allocator: Mutex<Option<Allocator>>,
     pub caps: Caps,
@@ -677,6 +680,10 @@ impl Context {
             .iter()
             .any(|e| e.as_c_str() == ash::ext::shader_image_atomic_int64::NAME)
             && features.image_int64.shader_image_int64_atomics == vk::TRUE;
+        let mesh_shader = device_extensions
+            .iter()
+            .any(|e| e.as_c_str() == ash::ext::mesh_shader::NAME)
+            && features.mesh_shader.mesh_shader == vk::TRUE;
         // SAFETY: queries on a valid physical device.
         let (props, dev_exts, families) = unsafe {
             (
@@ -730,6 +737,12 @@ impl Context {
                  visibility buffer uses 64-bit buffer atomics"
             ));
         }
+        if !mesh_shader {
+            fallbacks.push(format!(
+                "no mesh shaders (VK_EXT_mesh_shader){hidden}: raster_hw pulls vertices (--hw-path \
+                 vertex)"
+            ));
+        }
         if !debug_utils {
             fallbacks.push(format!(
                 "no VK_EXT_debug_utils{hidden}: objects are not named and passes not labelled"
@@ -760,7 +773,7 @@ impl Context {
             shader_int64: true,
             buffer_int64_atomics: true,
             image_int64_atomics: image_int64,
-            mesh_shader: supports(ash::ext::mesh_shader::NAME),
+            mesh_shader,
             multi_draw_indirect: true,
             draw_indirect_count: true,
             timestamp_period_ns: (ts_bits > 0
@@ -814,6 +827,8 @@ impl Context {
             push_descriptor: ash::khr::push_descriptor::Device::new(&instance, &device),
             dynamic_rendering: ash::khr::dynamic_rendering::Device::new(&instance, &device),
             sync2: ash::khr::synchronization2::Device::new(&instance, &device),
+            mesh_shader: mesh_shader
+                .then(|| ash::ext::mesh_shader::Device::new(&instance, &device)),
             entry,
             instance,
             debug_device,

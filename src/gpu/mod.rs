@@ -21,7 +21,9 @@ pub use capture::RenderDoc;
 pub use cmd::{Cmd, CmdCounts, Desc, DescList, MAX_DESCRIPTORS, RenderTarget};
 pub use context::{Caps, Context, ContextOptions, HostDevice};
 pub use memory::{Buffer, HostImage, Image, MemoryKind};
-pub use pipeline::{ComputePipeline, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage};
+pub use pipeline::{
+    ComputePipeline, GeometryStage, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage,
+};
 pub use query::Timer;
 pub use requirements::{
     DeviceFeatures, Feature, Requirements, device_extensions_for_vgeo, requirements,

@@ -174,10 +174,29 @@ impl Drop for ComputePipeline {
 /// A vertex attribute: (shader location, format, byte offset in the vertex).
 pub type VertexAttribute = (u32, vk::Format, u32);
 
+/// The stage before rasterization of a graphics pipeline.
+#[derive(Clone, Copy)]
+pub enum GeometryStage<'a> {
+    /// A vertex shader (with the pipeline's vertex input and triangle-list assembly).
+    Vertex(ShaderStage<'a>),
+    /// A mesh shader (`VK_EXT_mesh_shader`, no task shader): needs [`super::Caps::mesh_shader`].
+    Mesh(ShaderStage<'a>),
+}
+
+impl GeometryStage<'_> {
+    fn flag(&self) -> vk::ShaderStageFlags {
+        match self {
+            GeometryStage::Vertex(_) => vk::ShaderStageFlags::VERTEX,
+            GeometryStage::Mesh(_) => vk::ShaderStageFlags::MESH_EXT,
+        }
+    }
+}
+
 /// How to build a graphics pipeline.
 pub struct GraphicsPipelineDesc<'a> {
     pub name: &'a str,
-    pub vertex: ShaderStage<'a>,
+    /// The vertex or mesh shader.
+    pub geometry: GeometryStage<'a>,
     pub fragment: ShaderStage<'a>,
     pub bindings: &'a [vk::DescriptorType],
     pub push_constant_size: u32,
@@ -197,6 +216,8 @@ pub struct GraphicsPipeline {
     pub(crate) layout: vk::PipelineLayout,
     set_layout: vk::DescriptorSetLayout,
     pub(crate) push_constant_size: u32,
+    /// The shader stages (vertex or mesh, and fragment): those of its push-constant range.
+    pub(crate) stages: vk::ShaderStageFlags,
     pub(crate) name: String,
 }
 
@@ -220,7 +241,18 @@ impl GraphicsPipeline {
         d: &GraphicsPipelineDesc<'_>,
         extra_sets: &[vk::DescriptorSetLayout],
     ) -> GpuResult<Self> {
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let (geometry, mesh) = match d.geometry {
+            GeometryStage::Vertex(s) => (s, false),
+            GeometryStage::Mesh(s) => (s, true),
+        };
+        if mesh && !ctx.caps().mesh_shader {
+            return Err(GpuError::Other(format!(
+                "pipeline `{}` has a mesh shader but the device has no VK_EXT_mesh_shader with \
+                 meshShader enabled",
+                d.name
+            )));
+        }
+        let stages = d.geometry.flag() | vk::ShaderStageFlags::FRAGMENT;
         let l = layout(
             ctx,
             d.name,
@@ -229,7 +261,7 @@ impl GraphicsPipeline {
             d.push_constant_size,
             extra_sets,
         )?;
-        let vm = module(ctx, d.vertex)?;
+        let vm = module(ctx, geometry)?;
         let fm = match module(ctx, d.fragment) {
             Ok(m) => m,
             Err(e) => {
@@ -240,7 +272,7 @@ impl GraphicsPipeline {
         };
         let sinfo = [
             vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
+                .stage(d.geometry.flag())
                 .module(vm)
                 .name(c"main"),
             vk::PipelineShaderStageCreateInfo::default()
@@ -298,10 +330,8 @@ impl GraphicsPipeline {
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(d.color_formats)
             .depth_attachment_format(d.depth_format.unwrap_or(vk::Format::UNDEFINED));
-        let info = vk::GraphicsPipelineCreateInfo::default()
+        let mut info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&sinfo)
-            .vertex_input_state(&vertex_input)
-            .input_assembly_state(&ia)
             .viewport_state(&vp)
             .rasterization_state(&rs)
             .multisample_state(&ms)
@@ -310,6 +340,12 @@ impl GraphicsPipeline {
             .dynamic_state(&dynamic)
             .layout(l.pipeline)
             .push_next(&mut rendering);
+        // A mesh pipeline has no vertex input or input assembly.
+        if !mesh {
+            info = info
+                .vertex_input_state(&vertex_input)
+                .input_assembly_state(&ia);
+        }
         // SAFETY: every pointer in `info` refers to locals alive for the call.
         let result = unsafe {
             ctx.device()
@@ -330,6 +366,7 @@ impl GraphicsPipeline {
             layout: l.pipeline,
             set_layout: l.set,
             push_constant_size: d.push_constant_size,
+            stages,
             name: d.name.into(),
         })
     }

@@ -57,7 +57,8 @@ pub struct Requirements {
     /// Device extensions vgeo requires.
     pub device_extensions: &'static [&'static CStr],
     /// Device extensions used when enabled: `VK_EXT_shader_image_atomic_int64` (the R64 image
-    /// visibility buffer; without it, a `uint64_t` storage buffer with 64-bit buffer atomics).
+    /// visibility buffer; without it, a `uint64_t` storage buffer with 64-bit buffer atomics) and
+    /// `VK_EXT_mesh_shader` (`raster_hw`'s mesh path; without it, vertex pulling).
     pub optional_device_extensions: &'static [&'static CStr],
     /// Device features vgeo requires.
     pub features: &'static [Feature],
@@ -117,7 +118,7 @@ static FEATURES: [Feature; 12] = [
     ),
 ];
 
-static OPTIONAL_FEATURES: [Feature; 6] = [
+static OPTIONAL_FEATURES: [Feature; 7] = [
     feature!(
         "vertexPipelineStoresAndAtomics",
         CORE,
@@ -140,6 +141,11 @@ static OPTIONAL_FEATURES: [Feature; 6] = [
         "VkPhysicalDeviceShaderImageAtomicInt64FeaturesEXT",
         image_int64.shader_image_int64_atomics
     ),
+    feature!(
+        "meshShader",
+        "VkPhysicalDeviceMeshShaderFeaturesEXT",
+        mesh_shader.mesh_shader
+    ),
 ];
 
 static DEVICE_EXTENSIONS: [&CStr; 4] = [
@@ -149,7 +155,10 @@ static DEVICE_EXTENSIONS: [&CStr; 4] = [
     ash::khr::maintenance4::NAME,
 ];
 
-static OPTIONAL_DEVICE_EXTENSIONS: [&CStr; 1] = [ash::ext::shader_image_atomic_int64::NAME];
+static OPTIONAL_DEVICE_EXTENSIONS: [&CStr; 2] = [
+    ash::ext::shader_image_atomic_int64::NAME,
+    ash::ext::mesh_shader::NAME,
+];
 
 static OPTIONAL_INSTANCE_EXTENSIONS: [&CStr; 1] = [ash::ext::debug_utils::NAME];
 
@@ -166,10 +175,12 @@ static OPTIONAL_INSTANCE_EXTENSIONS: [&CStr; 1] = [ash::ext::debug_utils::NAME];
 ///   `dynamicRendering`, `synchronization2`, `maintenance4` (their extensions' structs);
 /// - optional: `VK_EXT_debug_utils` on the instance (names, labels, validation messages),
 ///   `VK_EXT_shader_image_atomic_int64` with `shaderImageInt64Atomics` (the R64 image visibility
-///   buffer), `vertexPipelineStoresAndAtomics`, `pipelineStatisticsQuery`, `descriptorIndexing`,
+///   buffer), `VK_EXT_mesh_shader` with `meshShader` (`raster_hw`'s mesh path: a mesh-shader
+///   workgroup per hardware-rasterized cluster; without it, or with `--hw-path vertex`, vertex
+///   pulling), `vertexPipelineStoresAndAtomics`, `pipelineStatisticsQuery`, `descriptorIndexing`,
 ///   `descriptorBindingPartiallyBound`, `hostQueryReset`. Timestamps are used when the queue family
 ///   has `timestampValidBits` and the device `timestampComputeAndGraphics` (pass times; none
-///   otherwise). Mesh shaders are reported by `vgeo info` but not used.
+///   otherwise).
 ///
 /// No buffer device address, so vgeo runs where RenderDoc on lavapipe exposes only Vulkan 1.2.
 pub fn requirements() -> Requirements {
@@ -230,6 +241,9 @@ pub struct DeviceFeatures {
     pub maintenance4: vk::PhysicalDeviceMaintenance4Features<'static>,
     /// `VK_EXT_shader_image_atomic_int64` (chained only when its feature is on).
     pub image_int64: vk::PhysicalDeviceShaderImageAtomicInt64FeaturesEXT<'static>,
+    /// `VK_EXT_mesh_shader` (chained only when `meshShader` is on; vgeo enables no other of its
+    /// features: no task shaders).
+    pub mesh_shader: vk::PhysicalDeviceMeshShaderFeaturesEXT<'static>,
 }
 
 // SAFETY: the structs' `p_next` pointers are null outside the calls of [`DeviceFeatures::chain`]
@@ -256,10 +270,12 @@ impl DeviceFeatures {
         // SAFETY: a query on a valid physical device.
         let exts = unsafe { instance.enumerate_device_extension_properties(physical) }
             .call("vkEnumerateDeviceExtensionProperties")?;
-        let has_img64 = exts.iter().any(|e| {
-            e.extension_name_as_c_str()
-                .is_ok_and(|x| x == ash::ext::shader_image_atomic_int64::NAME)
-        });
+        let has = |n: &CStr| {
+            exts.iter()
+                .any(|e| e.extension_name_as_c_str().is_ok_and(|x| x == n))
+        };
+        let has_img64 = has(ash::ext::shader_image_atomic_int64::NAME);
+        let has_mesh = has(ash::ext::mesh_shader::NAME);
         let mut f = DeviceFeatures::default();
         let mut s2 = vk::PhysicalDeviceFeatures2::default()
             .push_next(&mut f.v12)
@@ -268,6 +284,9 @@ impl DeviceFeatures {
             .push_next(&mut f.maintenance4);
         if has_img64 {
             s2 = s2.push_next(&mut f.image_int64);
+        }
+        if has_mesh {
+            s2 = s2.push_next(&mut f.mesh_shader);
         }
         // SAFETY: the chain holds valid, writable structs alive for the call.
         unsafe { instance.get_physical_device_features2(physical, &mut s2) };
@@ -298,11 +317,12 @@ impl DeviceFeatures {
     }
 
     /// `info` with these features: `enabled_features` set to [`DeviceFeatures::core`] and the
-    /// extension structs chained (the image-atomic one only when on). `self` must stay borrowed
-    /// until the device is created.
+    /// extension structs chained (the image-atomic and mesh-shader ones only when on). `self` must
+    /// stay borrowed until the device is created.
     pub fn chain<'a>(&'a mut self, info: vk::DeviceCreateInfo<'a>) -> vk::DeviceCreateInfo<'a> {
         *self = self.unchained();
         let img64 = self.image_int64.shader_image_int64_atomics == vk::TRUE;
+        let mesh = self.mesh_shader.mesh_shader == vk::TRUE;
         let mut info = info
             .enabled_features(&self.core)
             .push_next(&mut self.v12)
@@ -311,6 +331,9 @@ impl DeviceFeatures {
             .push_next(&mut self.maintenance4);
         if img64 {
             info = info.push_next(&mut self.image_int64);
+        }
+        if mesh {
+            info = info.push_next(&mut self.mesh_shader);
         }
         info
     }
@@ -322,6 +345,7 @@ impl DeviceFeatures {
         self.synchronization2.p_next = std::ptr::null_mut();
         self.maintenance4.p_next = std::ptr::null_mut();
         self.image_int64.p_next = std::ptr::null_mut();
+        self.mesh_shader.p_next = std::ptr::null_mut();
         self
     }
 }

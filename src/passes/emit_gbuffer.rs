@@ -13,7 +13,7 @@
 //! with the pixels of each material).
 
 use crate::gpu::{
-    Cmd, ComputePipeline, Context, Desc, DescList, GpuResult, GraphicsPipeline,
+    Cmd, ComputePipeline, Context, Desc, DescList, GeometryStage, GpuResult, GraphicsPipeline,
     GraphicsPipelineDesc, Image, RenderTarget, ShaderStage, Timer, vk,
 };
 use crate::material::GpuMaterials;
@@ -70,10 +70,10 @@ impl EmitGbuffer {
             ctx,
             &GraphicsPipelineDesc {
                 name: NAME,
-                vertex: ShaderStage {
+                geometry: GeometryStage::Vertex(ShaderStage {
                     name: "emit_gbuffer.vert",
                     spirv: crate::shaders::EMIT_GBUFFER_VERT,
-                },
+                }),
                 fragment: ShaderStage {
                     name: "emit_gbuffer.frag",
                     spirv: frag,

@@ -4,8 +4,8 @@
 //! no material draw matches. `emit_gbuffer` tests against it with `EQUAL`.
 
 use crate::gpu::{
-    Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, RenderTarget,
-    ShaderStage, Timer, vk,
+    Cmd, Context, Desc, GeometryStage, GpuResult, GraphicsPipeline, GraphicsPipelineDesc,
+    RenderTarget, ShaderStage, Timer, vk,
 };
 use crate::passes::material_classify::{MATERIAL_DEPTH_FORMAT, MaterialTargets};
 
@@ -25,10 +25,10 @@ impl MaterialDepth {
             ctx,
             &GraphicsPipelineDesc {
                 name: NAME,
-                vertex: ShaderStage {
+                geometry: GeometryStage::Vertex(ShaderStage {
                     name: "material_depth.vert",
                     spirv: crate::shaders::MATERIAL_DEPTH_VERT,
-                },
+                }),
                 fragment: ShaderStage {
                     name: "material_depth.frag",
                     spirv: crate::shaders::MATERIAL_DEPTH_FRAG,

@@ -1,19 +1,32 @@
-//! Pass `raster_hw`: the hardware rasterizer (shaders_glsl/raster_hw.vert.glsl / .frag.glsl).
+//! Pass `raster_hw`: the hardware rasterizer, in one of two paths ([`HwPath`]):
 //!
-//! One `vkCmdDrawIndirect` (`CullCounters::hw_draw`: `MAX_CLUSTER_TRIANGLES * 3` vertices, one
-//! instance per HW-list entry) with no vertex buffers and no attachments: the vertex shader pulls the
-//! cluster's vertices (triangles beyond the cluster's count collapse to a point outside the view
-//! volume), the fragment shader does the same `atomicMax` into the visibility buffer as `raster_sw`.
-//! Coverage is the hardware's (same fill rule and sub-pixel precision as SW on conformant devices);
-//! depth is recomputed from the snapped vertices with `raster_sw`'s exact integer edge functions and
-//! float operations, so SW and HW write bit-identical values for the pixels both cover. Triangles
-//! with a vertex behind the near plane (which only HW can draw: the hardware clips them) use
-//! `gl_FragCoord.z`. With [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW)
-//! every fragment also increments a per-pixel counter ([`RasterHw::record_counting`]).
+//! - **mesh** (shaders_glsl/raster_hw.mesh.glsl, where the device has `VK_EXT_mesh_shader`): one
+//!   `vkCmdDrawMeshTasksIndirectEXT` (`CullCounters::hw_mesh`: a mesh-shader workgroup per HW-list
+//!   entry, in rows of [`MESH_GROUPS_X`](crate::shared::MESH_GROUPS_X)); each workgroup decodes,
+//!   transforms and snaps its cluster's vertices once into shared memory and emits the cluster as
+//!   a meshlet (up to 255 vertices, 128 triangles), with the triangle's id, snapped vertices and
+//!   depths as per-primitive outputs;
+//! - **vertex** (shaders_glsl/raster_hw.vert.glsl, the fallback): one `vkCmdDrawIndirect`
+//!   (`CullCounters::hw_draw`: `MAX_CLUSTER_TRIANGLES * 3` vertices, one instance per HW-list
+//!   entry) with no vertex buffers: each vertex invocation pulls and snaps all three vertices of
+//!   its triangle (triangles beyond the cluster's count collapse to a point outside the view
+//!   volume).
+//!
+//! No attachments: the fragment shader (shaders_glsl/raster_hw.frag.glsl, one source for both
+//! paths) does the same `atomicMax` into the visibility buffer as `raster_sw`. Coverage is the
+//! hardware's (same fill rule and sub-pixel precision as SW on conformant devices); depth is
+//! recomputed from the snapped vertices with `raster_sw`'s exact integer edge functions and float
+//! operations, so SW and both HW paths write bit-identical values for the pixels they cover.
+//! Triangles with a vertex behind the near plane (which only HW can draw: the hardware clips
+//! them) pass their vertices' clip-space x, y, w instead, and the fragment stage computes their
+//! depth by 2D homogeneous interpolation (`clipped_depth` in shaders_glsl/common/raster.glsl),
+//! independent of how the pipeline clipped them, so the two paths agree there too. With
+//! [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW) every fragment also
+//! increments a per-pixel counter ([`RasterHw::record_counting`]).
 
 use crate::gpu::{
-    Buffer, Cmd, Context, Desc, GpuResult, GraphicsPipeline, GraphicsPipelineDesc, ShaderStage,
-    Timer, vk,
+    Buffer, Caps, Cmd, Context, Desc, GeometryStage, GpuError, GpuResult, GraphicsPipeline,
+    GraphicsPipelineDesc, ShaderStage, Timer, vk,
 };
 use crate::passes::cull::Phase;
 use crate::passes::{FrameBuffers, VisPath, with_geometry};
@@ -23,35 +36,118 @@ use crate::shared::CullCounters;
 /// The pass's name: debug label, timer scope and pipeline name.
 pub const NAME: &str = "raster_hw";
 
-/// The hardware rasterizer's pipeline for one visibility-buffer path.
+/// How `raster_hw` feeds the hardware rasterizer (`--hw-path`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum HwPath {
+    /// Mesh shaders where the device has them ([`Caps::mesh_shader`]), else vertex pulling;
+    /// `VGEO_HW_PATH=mesh|vertex` overrides it.
+    #[default]
+    Auto,
+    /// A mesh-shader workgroup per cluster, each vertex decoded once (`VK_EXT_mesh_shader`).
+    Mesh,
+    /// Vertex pulling: one draw of `MAX_CLUSTER_TRIANGLES * 3` vertices per cluster.
+    Vertex,
+}
+
+impl HwPath {
+    /// `auto`, `mesh` or `vertex`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "auto" => Some(HwPath::Auto),
+            "mesh" => Some(HwPath::Mesh),
+            "vertex" => Some(HwPath::Vertex),
+            _ => None,
+        }
+    }
+
+    /// `auto`, `mesh` or `vertex`.
+    pub fn name(self) -> &'static str {
+        match self {
+            HwPath::Auto => "auto",
+            HwPath::Mesh => "mesh",
+            HwPath::Vertex => "vertex",
+        }
+    }
+
+    /// The path this request takes on a device with `caps`: [`HwPath::Mesh`] or
+    /// [`HwPath::Vertex`]. `Auto` is mesh where available (or `VGEO_HW_PATH`); `Mesh` on a device
+    /// without mesh shaders is an error that says so.
+    pub fn resolve(self, caps: &Caps) -> Result<Self, String> {
+        let requested = match self {
+            HwPath::Auto => match std::env::var("VGEO_HW_PATH").ok().as_deref() {
+                None | Some("") | Some("auto") => {
+                    return Ok(if caps.mesh_shader {
+                        HwPath::Mesh
+                    } else {
+                        HwPath::Vertex
+                    });
+                }
+                Some(v) => HwPath::parse(v).ok_or_else(|| {
+                    format!("VGEO_HW_PATH={v:?}: expected `auto`, `mesh` or `vertex`")
+                })?,
+            },
+            p => p,
+        };
+        if requested == HwPath::Mesh && !caps.mesh_shader {
+            return Err(format!(
+                "the mesh-shader path of raster_hw needs VK_EXT_mesh_shader with meshShader, which \
+                 {} does not have enabled (a capture tool may hide it); use --hw-path vertex or auto",
+                caps.device_name
+            ));
+        }
+        Ok(requested)
+    }
+}
+
+/// The hardware rasterizer's pipeline for one visibility-buffer path and one [`HwPath`].
 pub struct RasterHw {
     pipeline: GraphicsPipeline,
     path: VisPath,
+    hw_path: HwPath,
     /// Bound as the overdraw counter when the frame does not count.
     no_overdraw: Buffer,
 }
 
 impl RasterHw {
-    /// Creates the pipeline for `path` (the image variant needs 64-bit image atomics).
-    pub fn new(ctx: &Context, path: VisPath) -> GpuResult<Self> {
+    /// Creates the pipeline for `path` (the image variant needs 64-bit image atomics) and
+    /// `hw_path` ([`HwPath::resolve`]d: `Mesh` without mesh shaders is an error).
+    pub fn new(ctx: &Context, path: VisPath, hw_path: HwPath) -> GpuResult<Self> {
         use vk::DescriptorType as D;
-        let frag = match path {
-            VisPath::Buffer => crate::shaders::RASTER_HW_FRAG,
-            VisPath::Image => crate::shaders::RASTER_HW_FRAG_IMAGE,
+        let hw_path = hw_path.resolve(ctx.caps()).map_err(GpuError::Other)?;
+        let mesh = hw_path == HwPath::Mesh;
+        let frag = match (path, mesh) {
+            (VisPath::Buffer, false) => crate::shaders::RASTER_HW_FRAG,
+            (VisPath::Image, false) => crate::shaders::RASTER_HW_FRAG_IMAGE,
+            (VisPath::Buffer, true) => crate::shaders::RASTER_HW_FRAG_MESH,
+            (VisPath::Image, true) => crate::shaders::RASTER_HW_FRAG_MESH_IMAGE,
         };
+        let geometry = if mesh {
+            GeometryStage::Mesh(ShaderStage {
+                name: "raster_hw.mesh",
+                spirv: crate::shaders::RASTER_HW_MESH,
+            })
+        } else {
+            GeometryStage::Vertex(ShaderStage {
+                name: "raster_hw.vert",
+                spirv: crate::shaders::RASTER_HW_VERT,
+            })
+        };
+        // view, visible, HW list, the 5 geometry buffers, visibility buffer, overdraw; the mesh
+        // path also reads the counters (how many entries its workgroup grid covers).
         let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 7]);
         bindings.push(vis);
         bindings.push(D::STORAGE_BUFFER);
+        if mesh {
+            bindings.push(D::STORAGE_BUFFER);
+        }
         let pipeline = GraphicsPipeline::new(
             ctx,
             &GraphicsPipelineDesc {
                 name: NAME,
-                vertex: ShaderStage {
-                    name: "raster_hw.vert",
-                    spirv: crate::shaders::RASTER_HW_VERT,
-                },
+                geometry,
                 fragment: ShaderStage {
                     name: "raster_hw.frag",
                     spirv: frag,
@@ -70,6 +166,7 @@ impl RasterHw {
         Ok(Self {
             pipeline,
             path,
+            hw_path,
             no_overdraw,
         })
     }
@@ -79,9 +176,24 @@ impl RasterHw {
         self.path
     }
 
+    /// The path it draws with: [`HwPath::Mesh`] or [`HwPath::Vertex`].
+    pub fn hw_path(&self) -> HwPath {
+        self.hw_path
+    }
+
+    /// The shader stages that read the cull's output (lists, counters): the barrier after the
+    /// cull must make its writes visible to these (and to `DRAW_INDIRECT`).
+    pub fn input_stages(&self) -> vk::PipelineStageFlags2 {
+        let first = match self.hw_path {
+            HwPath::Mesh => vk::PipelineStageFlags2::MESH_SHADER_EXT,
+            _ => vk::PipelineStageFlags2::VERTEX_SHADER,
+        };
+        first | vk::PipelineStageFlags2::FRAGMENT_SHADER
+    }
+
     /// Records the pass: draws every cluster of `fb.hw_list` (count and draw arguments in
-    /// `fb.counters`) into `fb.visbuffer`. Inputs must be visible to the vertex and fragment
-    /// shaders and to the indirect-command stage (the frame records those barriers). Counts no
+    /// `fb.counters`) into `fb.visbuffer`. Inputs must be visible to [`RasterHw::input_stages`]
+    /// and to the indirect-command stage (the frame records those barriers). Counts no
     /// overdraw: the view's flags must not have
     /// [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW).
     pub fn record(
@@ -116,6 +228,9 @@ impl RasterHw {
             self.path,
             "raster_hw: pipeline for another path"
         );
+        let mesh = self.hw_path == HwPath::Mesh;
+        let overdraw = Desc::Storage(overdraw.unwrap_or(&self.no_overdraw));
+        let after = [vis, overdraw, Desc::Storage(counters)];
         cmd.begin_rendering_no_attachments(fb.width, fb.height);
         cmd.bind_graphics(&self.pipeline);
         cmd.push_graphics_descriptors(
@@ -127,10 +242,17 @@ impl RasterHw {
                     Desc::Storage(hw_list),
                 ],
                 scene,
-                &[vis, Desc::Storage(overdraw.unwrap_or(&self.no_overdraw))],
+                &after[..if mesh { 3 } else { 2 }],
             ),
         );
-        cmd.draw_indirect(counters, std::mem::offset_of!(CullCounters, hw_draw) as u64);
+        if mesh {
+            cmd.draw_mesh_tasks_indirect(
+                counters,
+                std::mem::offset_of!(CullCounters, hw_mesh) as u64,
+            );
+        } else {
+            cmd.draw_indirect(counters, std::mem::offset_of!(CullCounters, hw_draw) as u64);
+        }
         cmd.end_rendering();
         timer.end(cmd);
     }

@@ -1,0 +1,93 @@
+#version 460
+// Pass `raster_hw`, mesh stage (the mesh path, VK_EXT_mesh_shader; no task stage): one workgroup
+// per HW-list entry (workgroup (x, y) of the grid is entry y * gl_NumWorkGroups.x + x; the cull
+// writes rows of MESH_GROUPS_X, and CullCounters.hw_mesh.w says how many entries there are).
+// The cluster's vertices are decoded, transformed and snapped once each into shared memory (and
+// written as the mesh's vertices), then one invocation per triangle writes its indices and, as
+// per-primitive outputs, what the fragment stage needs to recompute raster_sw's exact depth: the id
+// and the three snapped vertices with their ndc depths (or, for a triangle that cannot be snapped,
+// their clip-space x, y, w). The fragment stage is raster_hw.frag.glsl
+// (its `mesh` variants), the same source as the vertex path's.
+#extension GL_EXT_mesh_shader : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#include "shared.glsl"
+
+layout(local_size_x = RASTER_HW_MESH_WORKGROUP_SIZE) in;
+layout(triangles, max_vertices = MAX_CLUSTER_VERTICES, max_primitives = MAX_CLUSTER_TRIANGLES) out;
+
+// Bindings 0-7 as the vertex path's; 8 and 9 are the fragment stage's (visibility buffer, overdraw).
+layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
+layout(set = 0, binding = 1, scalar) readonly buffer Visible { uvec2 visible[]; };
+layout(set = 0, binding = 2, scalar) readonly buffer HwList { uint hw_list[]; };
+layout(set = 0, binding = 3, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
+layout(set = 0, binding = 4, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
+layout(set = 0, binding = 5, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Pages { PageGpu pages[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer Pool { uint pool[]; };
+layout(set = 0, binding = 10, scalar) readonly buffer Counters { CullCounters counters; };
+
+#include "raster.glsl"
+
+// The fragment stage's inputs (raster_hw.frag.glsl), one per triangle.
+layout(location = 0) perprimitiveEXT flat out uint out_id[];      // visible index << 7 | triangle
+layout(location = 1) perprimitiveEXT flat out uint out_snapped[]; // 1: the snapped vertices are valid
+layout(location = 2) perprimitiveEXT flat out ivec4 out_xy01[];
+layout(location = 3) perprimitiveEXT flat out ivec2 out_xy2[];
+layout(location = 4) perprimitiveEXT flat out vec3 out_z[];
+
+shared ivec2 s_xy[MAX_CLUSTER_VERTICES];
+shared float s_z[MAX_CLUSTER_VERTICES];
+shared uint s_ok[MAX_CLUSTER_VERTICES];  // 1: snapped (in front of the near plane, in the guard band)
+shared vec3 s_clip[MAX_CLUSTER_VERTICES]; // clip-space x, y, w (triangles that cannot be snapped)
+
+void main() {
+    uint entry_index = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    // Workgroup-uniform: the last row's workgroups past the list draw nothing.
+    if (entry_index >= counters.hw_mesh.w) {
+        SetMeshOutputsEXT(0u, 0u);
+        return;
+    }
+    uint tid = gl_LocalInvocationIndex;
+    uint visible_index = hw_list[entry_index];
+    uvec2 entry = visible[visible_index];
+    InstanceVgeo inst = instances[entry.x];
+    MeshGpu mesh = meshes[inst.mesh];
+    Cluster c = cluster_at(mesh, entry.y);
+    ClusterData d = cluster_data(mesh, c);
+    uint vcount = cluster_vertex_count(c);
+    uint tcount = cluster_triangle_count(c);
+    SetMeshOutputsEXT(vcount, tcount);
+    for (uint k = tid; k < vcount; k += RASTER_HW_MESH_WORKGROUP_SIZE) {
+        PackedVertex pv = cluster_vertex(d, k);
+        vec4 clip = clip_position(relative_position(inst, decode_position(mesh, pv)));
+        gl_MeshVerticesEXT[k].gl_Position = clip;
+        ivec2 xy;
+        float z;
+        bool ok = project_fixed(clip, xy, z);
+        s_xy[k] = xy;
+        s_z[k] = z;
+        s_ok[k] = ok ? 1u : 0u;
+        s_clip[k] = clip.xyw;
+    }
+    barrier();
+    for (uint t = tid; t < tcount; t += RASTER_HW_MESH_WORKGROUP_SIZE) {
+        uvec3 v = cluster_triangle(d, c, t);
+        gl_PrimitiveTriangleIndicesEXT[t] = v;
+        out_id[t] = (visible_index << VISBUFFER_TRIANGLE_BITS) | t;
+        uint ok = s_ok[v.x] & s_ok[v.y] & s_ok[v.z];
+        out_snapped[t] = ok;
+        if (ok != 0u) {
+            out_xy01[t] = ivec4(s_xy[v.x], s_xy[v.y]);
+            out_xy2[t] = s_xy[v.z];
+            out_z[t] = vec3(s_z[v.x], s_z[v.y], s_z[v.z]);
+        } else {
+            // Not snapped: the clip-space x, y, w for the fragment stage's clipped_depth.
+            vec3 c0 = s_clip[v.x];
+            vec3 c1 = s_clip[v.y];
+            vec3 c2 = s_clip[v.z];
+            out_xy01[t] = floatBitsToInt(vec4(c0.xy, c1.xy));
+            out_xy2[t] = floatBitsToInt(c2.xy);
+            out_z[t] = vec3(c0.z, c1.z, c2.z);
+        }
+    }
+}
