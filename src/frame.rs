@@ -316,8 +316,8 @@ impl VgeoRenderer {
         self.vis_path
     }
 
-    /// Chooses how `raster_hw` draws (`--hw-path`; [`HwPath::Auto`] at creation: mesh shaders
-    /// where the device has them). [`HwPath::Mesh`] on a device without `VK_EXT_mesh_shader` is
+    /// Chooses how `raster_hw` draws (`--hw-path`; [`HwPath::Auto`] at creation: vertex
+    /// pulling, measured the faster). [`HwPath::Mesh`] on a device without `VK_EXT_mesh_shader` is
     /// an error (the renderer keeps its path).
     pub fn set_hw_path(&mut self, path: HwPath) -> GpuResult<()> {
         let resolved = path.resolve(self.ctx.caps()).map_err(GpuError::Other)?;

@@ -93,7 +93,7 @@ struct RenderArgs {
     hw_threshold: f32,
     /// `--mode vgeo`: how the hardware rasterizer is fed: `mesh` (a mesh-shader workgroup per
     /// cluster, each vertex decoded once; needs VK_EXT_mesh_shader), `vertex` (vertex pulling,
-    /// the fallback) or `auto` (mesh where the device has it; `vgeo info` says which).
+    /// measured the faster on the H100 and lavapipe) or `auto` (vertex; `vgeo info` says which).
     #[arg(long, default_value = "auto")]
     hw_path: String,
     /// `--mode vgeo`: turn two-pass occlusion culling off.

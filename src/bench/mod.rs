@@ -180,7 +180,7 @@ pub struct BenchSettings {
     pub hw_threshold_px: f32,
     /// vgeo: how `emit_gbuffer` runs.
     pub emit: EmitPath,
-    /// vgeo: how `raster_hw` draws (`auto`: mesh shaders where the device has them).
+    /// vgeo: how `raster_hw` draws (`auto`: vertex pulling, measured the faster).
     pub hw_path: HwPath,
     /// Samples per pixel of the reference (a square: n x n on a regular grid, box-filtered).
     pub reference_spp: u32,
@@ -253,7 +253,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub emit: Option<String>,
     /// vgeo: `raster_hw` as `mesh` (a mesh-shader workgroup per cluster; needs
-    /// VK_EXT_mesh_shader), `vertex` (vertex pulling) or `auto` (default: mesh where available).
+    /// VK_EXT_mesh_shader), `vertex` (vertex pulling) or `auto` (default: vertex, measured the faster).
     #[arg(long)]
     pub hw_path: Option<String>,
     /// Samples per pixel of the reference every mode's image error (PSNR of the lit image,

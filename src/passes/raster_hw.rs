@@ -6,7 +6,8 @@
 //!   transforms and snaps its cluster's vertices once into shared memory and emits the cluster as
 //!   a meshlet (up to 255 vertices, 128 triangles), with the triangle's id, snapped vertices and
 //!   depths as per-primitive outputs;
-//! - **vertex** (shaders_glsl/raster_hw.vert.glsl, the fallback): one `vkCmdDrawIndirect`
+//! - **vertex** (shaders_glsl/raster_hw.vert.glsl, the default: measured faster, see
+//!   [`HwPath::Auto`]): one `vkCmdDrawIndirect`
 //!   (`CullCounters::hw_draw`: `MAX_CLUSTER_TRIANGLES * 3` vertices, one instance per HW-list
 //!   entry) with no vertex buffers: each vertex invocation pulls and snaps all three vertices of
 //!   its triangle (triangles beyond the cluster's count collapse to a point outside the view
@@ -40,8 +41,10 @@ pub const NAME: &str = "raster_hw";
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum HwPath {
-    /// Mesh shaders where the device has them ([`Caps::mesh_shader`]), else vertex pulling;
-    /// `VGEO_HW_PATH=mesh|vertex` overrides it.
+    /// Vertex pulling, the faster of the two wherever measured (H100, session 14: all clusters to
+    /// hardware 232 vs 314 ms on foliage, 556 vs 706 ms on stress N=100; the default split within
+    /// 3 %; lavapipe: a mesh draw costs milliseconds even when empty); `VGEO_HW_PATH=mesh|vertex`
+    /// overrides it.
     #[default]
     Auto,
     /// A mesh-shader workgroup per cluster, each vertex decoded once (`VK_EXT_mesh_shader`).
@@ -71,18 +74,12 @@ impl HwPath {
     }
 
     /// The path this request takes on a device with `caps`: [`HwPath::Mesh`] or
-    /// [`HwPath::Vertex`]. `Auto` is mesh where available (or `VGEO_HW_PATH`); `Mesh` on a device
-    /// without mesh shaders is an error that says so.
+    /// [`HwPath::Vertex`]. `Auto` is vertex pulling (or `VGEO_HW_PATH`; see [`HwPath::Auto`]);
+    /// `Mesh` on a device without mesh shaders is an error that says so.
     pub fn resolve(self, caps: &Caps) -> Result<Self, String> {
         let requested = match self {
             HwPath::Auto => match std::env::var("VGEO_HW_PATH").ok().as_deref() {
-                None | Some("") | Some("auto") => {
-                    return Ok(if caps.mesh_shader {
-                        HwPath::Mesh
-                    } else {
-                        HwPath::Vertex
-                    });
-                }
+                None | Some("") | Some("auto") => return Ok(HwPath::Vertex),
                 Some(v) => HwPath::parse(v).ok_or_else(|| {
                     format!("VGEO_HW_PATH={v:?}: expected `auto`, `mesh` or `vertex`")
                 })?,

@@ -18,7 +18,7 @@ $V info >> $OUT/log.txt 2>&1
 T0=$(date +%s)
 # name: --hw-threshold --hw-path
 CONFIGS="thr0-mesh:0:mesh thr0-vertex:0:vertex hybrid-mesh:32:mesh hybrid-vertex:32:vertex swonly:100000:auto"
-for scene in foliage stress outdoor; do
+for scene in foliage stress; do
   extra="--frames 8"; limit=75
   [ $scene = stress ] && extra="--stress-n 100 --frames 4" && limit=110
   for cfg in $CONFIGS; do
@@ -33,6 +33,17 @@ for scene in foliage stress outdoor; do
     cp $d/bench.md $OUT/$scene-$name-bench.md 2>/dev/null
     cp $d/bench.json $OUT/$scene-$name-bench.json 2>/dev/null
     grep -E "^\| vgeo" $d/bench.md >> $OUT/log.txt 2>/dev/null
+  done
+done
+# outdoor (hybrid only) and the close mesh: both paths, and a lower SW/HW split on the close mesh.
+for path in mesh vertex; do
+  d=/tmp/hw-outdoor-hybrid-$path
+  timeout 75 $V bench --suite full --scenes outdoor --frames 8 --modes vgeo --sweep 1 --hw-path $path --quiet --out $d > $d.log 2>&1
+  echo "== outdoor hybrid-$path rc=$?" >> $OUT/log.txt; grep -E "^\| vgeo" $d/bench.md >> $OUT/log.txt 2>/dev/null
+  cp $d/bench.json $OUT/outdoor-hybrid-$path-bench.json 2>/dev/null
+  for thr in 32 16 8; do
+    echo "=== close $path hw-threshold $thr" >> $OUT/close.txt
+    timeout 60 $V render .gpu/close.toml --width 1920 --height 1080 --stats --frames 8 --hw-path $path --hw-threshold $thr --out /tmp/close-$path-$thr.png 2>&1 | grep -E "GPU time|^  [a-z_]+( \(post\))? +[0-9.]+ ms|main:" >> $OUT/close.txt
   done
 done
 echo "== total $(( $(date +%s) - T0 )) s" >> $OUT/log.txt
