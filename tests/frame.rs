@@ -154,9 +154,9 @@ fn threshold_zero_equals_brute() {
     assert_no_validation_errors(&ctx);
 }
 
-#[test]
-fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_deterministic() {
-    let ctx = gpu();
+/// Three spots in a row, each farther back, and a camera that the first one fills: a renderer for
+/// comparing rasterizer paths.
+fn three_spots(ctx: &Context) -> (VgeoRenderer, Camera) {
     let (mesh, built) = load_built(&assets().join("spot.obj"));
     let camera = filling_camera(&mesh, 1.5);
     let placements: Vec<Placement> = (0..3)
@@ -170,7 +170,14 @@ fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_determ
             color: [1.0; 3],
         })
         .collect();
-    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).unwrap();
+    let r = VgeoRenderer::new(ctx, std::slice::from_ref(&built), &placements).unwrap();
+    (r, camera)
+}
+
+#[test]
+fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_deterministic() {
+    let ctx = gpu();
+    let (mut r, camera) = three_spots(&ctx);
     let base = FrameSettings {
         error_px: 1.0,
         occlusion: false,
@@ -257,20 +264,7 @@ fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_determ
 fn mesh_and_vertex_hw_paths_give_identical_frames() {
     use vgeo::HwPath;
     let ctx = gpu();
-    let (mesh, built) = load_built(&assets().join("spot.obj"));
-    let camera = filling_camera(&mesh, 1.5);
-    let placements: Vec<Placement> = (0..3)
-        .map(|i| Placement {
-            mesh: 0,
-            transform: DMat4::from_translation(DVec3::new(
-                i as f64 * 0.4 - 0.4,
-                0.0,
-                -(i as f64) * 0.5,
-            )),
-            color: [1.0; 3],
-        })
-        .collect();
-    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).unwrap();
+    let (mut r, camera) = three_spots(&ctx);
     let has_mesh = ctx.caps().mesh_shader;
     eprintln!(
         "{}: mesh shaders {has_mesh}, auto takes the {:?} path",
