@@ -88,6 +88,8 @@ pub struct SizeRecord {
     pub cold_resident_bytes: u64,
     pub cold_used_bytes: u64,
     pub cold_requests_left: u64,
+    /// Where the cold cut's resident bytes go, against the pages it used.
+    pub cold_residency: vgeo::CutResidency,
 }
 
 /// Mesh `i`'s `.vgeo` in `work`, made if absent.
@@ -255,6 +257,7 @@ fn run_size(
         cold_resident_bytes: cold.1,
         cold_used_bytes: cold.2,
         cold_requests_left: cold.3,
+        cold_residency: cold.4,
     })
 }
 
@@ -265,7 +268,7 @@ fn cold_cut(
     ctx: &vgeo::Context,
     opts: &Options,
     file: &Path,
-) -> Result<(Option<u32>, u64, u64, u64)> {
+) -> Result<(Option<u32>, u64, u64, u64, vgeo::CutResidency)> {
     let streamed = vgeo::StreamedScene::load(file, &|_| {})?;
     let aspect = opts.width as f32 / opts.height as f32;
     let keys = streamed
@@ -278,10 +281,17 @@ fn cold_cut(
     for k in 1..=64u32 {
         let st = stream_frame(&mut r, &mut streamer, opts, &camera, &light).context("cold cut")?;
         if st.settled() {
-            return Ok((Some(k), st.resident_bytes, st.used_bytes, st.requests));
+            let cut = streamer.cut_residency();
+            return Ok((
+                Some(k),
+                st.resident_bytes,
+                st.used_bytes,
+                st.requests,
+                cut,
+            ));
         }
     }
-    Ok((None, 0, 0, 0))
+    Ok((None, 0, 0, 0, Default::default()))
 }
 
 /// MiB against the scene's `.vgeo` GiB: GPU geometry allocated, page pool, resident pages,
