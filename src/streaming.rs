@@ -167,8 +167,13 @@ pub struct CutResidency {
     /// The always-resident pages, and those of them the cut did not use.
     pub fixed_bytes: u64,
     pub fixed_unused_bytes: u64,
-    /// Resident pages the cut does not need (not in `needed_bytes`'s set).
-    pub unneeded_bytes: u64,
+    /// Resident pages outside `needed_bytes`'s set. After a cold cut settles these are groups
+    /// the cull asked for to refine a coarse cluster it drew, whose own members it then culled
+    /// (hidden behind nearer detail): no drawn cluster is on their pages, but without them the
+    /// coarse cluster would be drawn again (and ask for them again), so the settled image needs
+    /// them too. After camera motion they also hold what earlier views left (evicted only for
+    /// room, least-recently-used first).
+    pub other_bytes: u64,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -470,7 +475,7 @@ impl Streamer {
                     }
                 }
                 if resident && !needed[p] {
-                    out.unneeded_bytes += bytes;
+                    out.other_bytes += bytes;
                 }
             }
         }

@@ -832,13 +832,27 @@ fn resident_bytes_follow_the_budget_not_the_scene_size() {
             "{r:?}"
         );
         assert!(r.uploads > 0 && r.used_bytes_last_frame > 0, "{r:?}");
-        // The cold cut settles, within the budget, holding at least what its frame uses.
+        // The cold cut settles, within the budget, holding at least what its frame uses and
+        // what that needs (the closure of the used pages: the DAG above them, up to the root).
         assert!(r.cold_frames_to_settle.is_some(), "{r:?}");
+        let c = &r.cold_residency;
         assert!(
             r.cold_used_bytes > 0
-                && r.cold_used_bytes <= r.cold_resident_bytes
+                && c.used_bytes == r.cold_used_bytes
+                && c.resident_bytes == r.cold_resident_bytes
+                && c.used_bytes <= c.needed_bytes
+                && c.needed_bytes <= c.resident_page_bytes
+                && c.resident_page_bytes <= c.resident_bytes
+                && c.fixed_bytes <= c.needed_bytes
                 && r.cold_resident_bytes <= budget,
             "{r:?}"
+        );
+        eprintln!(
+            "{} meshes: cold cut settled in {:?} frames, resident / used {:.2}x, needed / used {:.2}x",
+            r.meshes,
+            r.cold_frames_to_settle,
+            r.cold_resident_bytes as f64 / r.cold_used_bytes as f64,
+            c.needed_bytes as f64 / r.cold_used_bytes as f64
         );
     }
     // The largest scene wants more than the budget along the path: it fills it and evicts.
