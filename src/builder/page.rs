@@ -38,8 +38,12 @@
 //! [`decode_page`] turns the encoded bytes back into the logical streams.
 //!
 //! Pages are ordered from the DAG's root down (groups by decreasing build iteration): the first
-//! [`BuiltMesh::resident_pages`] pages hold every group simplified at or after the fallback level,
-//! the always-resident part from which the mesh can always be drawn.
+//! [`BuiltMesh::resident_pages`] pages hold every group simplified at or after the fallback level
+//! and nothing else, the always-resident part from which the mesh can always be drawn (it ends at
+//! a page boundary: every mesh keeps it, in view or not). A page that cannot take the next group
+//! is first filled with the largest groups of the same iteration among the next
+//! [`FILL_WINDOW`] that fit, so that pages (and the slots holding them, each the size of the
+//! largest page) are nearly full while neighbours in the stored (spatial) order share a page.
 
 use std::collections::HashMap;
 
@@ -507,7 +511,7 @@ pub fn decode_page(
 }
 
 /// How many groups ahead [`paginate`] looks for one that fills the rest of a page.
-const FILL_WINDOW: usize = 16;
+pub const FILL_WINDOW: usize = 16;
 
 /// Most vertices one page may hold (its logical references are u16 offsets from its first
 /// vertex).
@@ -531,7 +535,7 @@ fn vertex_key(v: &PackedVertex, material: u16) -> VertexKey {
 /// Lays `m`'s clusters out in pages of at most `page_bytes` encoded bytes (see the module's
 /// documentation), rewriting the logical vertex, reference and triangle streams page by page and
 /// setting each cluster's `page` and `data_offset`; the clusters, groups and BVH keep their order
-/// and meaning. Groups simplified at or after iteration `resident_level` come first, in the
+/// and meaning. Groups simplified at or after iteration `resident_level` come first, alone in the
 /// always-resident pages. Deterministic.
 pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
     use rayon::prelude::*;
