@@ -168,11 +168,11 @@ pub struct CutResidency {
     pub fixed_bytes: u64,
     pub fixed_unused_bytes: u64,
     /// Resident pages outside `needed_bytes`'s set. After a cold cut settles these are groups
-    /// the cull asked for to refine a coarse cluster it drew, whose own members it then culled
-    /// (hidden behind nearer detail): no drawn cluster is on their pages, but without them the
-    /// coarse cluster would be drawn again (and ask for them again), so the settled image needs
-    /// them too. After camera motion they also hold what earlier views left (evicted only for
-    /// room, least-recently-used first).
+    /// the cull asked for to refine a coarse cluster it drew, none of whose own members it then
+    /// drew (all culled by the BVH nodes' frustum or HZB tests): without them the coarse cluster
+    /// would be drawn again (and ask for them again), so the settled image needs them too. After
+    /// camera motion they also hold what earlier views left (evicted only for room,
+    /// least-recently-used first).
     pub other_bytes: u64,
 }
 

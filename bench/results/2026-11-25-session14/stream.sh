@@ -1,7 +1,8 @@
 #!/bin/bash
 # Session 14 (H100 host): issue 13 acceptance 2, the cold camera cut after this session's streaming
 # changes (a load set no longer takes a page being read, so no slot is lost; the always-resident
-# prefix ends at a page boundary; pages filled from the next 16 groups). stream_sizes as in
+# prefix ends at a page boundary; pages filled from the next 16 groups; no request for a group
+# whose LOD sphere is outside the frustum). stream_sizes as in
 # session 12 (bench/results/2026-11-25-session12/s12f.sh): 16 unique meshes (bunny subdivided
 # 3 levels, 4 copies each), sizes 4, 8, 16 under 256 MiB, 1920x1080; sizes.md now has a second
 # table for the cold cut: frames to settle, resident, used, resident/used, needed (closure of the
