@@ -595,6 +595,76 @@ fn load_sets_of_one_step_never_lose_a_slot() {
     assert_no_validation_errors(&ctx);
 }
 
+/// Frustum culling on (the other streamed-image tests turn it off), a view the mesh overflows:
+/// coarse clusters straddle the frustum's edges, where the cull asks for no group whose LOD
+/// sphere (enclosing all it could draw) is outside the frustum. The view settles to the
+/// all-resident image bit for bit. (Here no request happens to be dropped: 42 of 80 pages end
+/// resident either way; stream_sizes' cold cut is where the rule counts.)
+#[test]
+fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_culling() {
+    let ctx = gpu();
+    let m = bunny();
+    let settings = FrameSettings {
+        error_px: 1.0,
+        occlusion: false,
+        ..Default::default()
+    };
+    let camera = Camera::look_at(
+        DVec3::new(0.03, 0.13, 0.1),
+        DVec3::new(-0.01, 0.11, 0.0),
+        Vec3::Y,
+        45f32.to_radians(),
+        0.01,
+    );
+    let frame = |r: &mut VgeoRenderer| {
+        let f = r
+            .render(
+                &camera,
+                W,
+                H,
+                &settings,
+                ViewMode::Lambert,
+                &Light::default(),
+            )
+            .expect("frame renders");
+        f.check().expect("no overflow, no watchdog");
+        f
+    };
+    let opts = StreamOptions {
+        budget_bytes: 8 << 20,
+        upload_bytes_per_frame: 8 << 20,
+    };
+    let (mut r, mut streamer) = streamed(&ctx, &m, Box::new(m.clone()), opts);
+    let mut settled = false;
+    for _ in 0..40 {
+        let _ = frame(&mut r);
+        let st = streamer.update(&mut r.scene).expect("streaming step");
+        if st.requests == 0 && st.settled() {
+            settled = true;
+            break;
+        }
+    }
+    assert!(settled, "settles within 40 frames");
+    let f = frame(&mut r);
+    let mut full = VgeoRenderer::new(&ctx, std::slice::from_ref(&m), &[place()]).unwrap();
+    let reference = frame(&mut full);
+    let covered = reference.visbuffer.iter().filter(|&&v| v != 0).count();
+    assert!(
+        covered > W as usize * H as usize / 2,
+        "{covered} pixels covered: the mesh overflows the view"
+    );
+    let all = streamer.residency().remove(0);
+    assert!(
+        all.iter().any(|&r| !r),
+        "the view needs only part of the mesh"
+    );
+    assert!(
+        f.visbuffer == reference.visbuffer,
+        "settled with frustum culling"
+    );
+    assert_no_validation_errors(&ctx);
+}
+
 /// The residency view's colour of each state, as the image holds it (RGBA8).
 fn residency_rgba(state: u32) -> [u8; 4] {
     state.to_le_bytes()
