@@ -82,12 +82,16 @@ pub struct SizeRecord {
     pub buffers: Vec<(String, u64)>,
     /// A cold camera cut: a new streamer with only the always-resident pages, the path's
     /// close-up rendered until a step stages, reads and evicts nothing (`None`: not within 64
-    /// frames); then the resident page bytes, the bytes that frame used, and the pages it still
-    /// asked for (more than the budget holds).
+    /// frames); then the resident bytes (always-resident pages and slots in use, whole: what the
+    /// budget counts), the bytes of the pages that frame used (holding a cluster it drew), and
+    /// the pages it still asked for (more than the budget holds).
     pub cold_frames_to_settle: Option<u32>,
     pub cold_resident_bytes: u64,
     pub cold_used_bytes: u64,
     pub cold_requests_left: u64,
+    /// Where the cold cut's resident bytes go, against the pages it used
+    /// ([`vgeo::Streamer::cut_residency`]).
+    pub cold_residency: vgeo::CutResidency,
 }
 
 /// Mesh `i`'s `.vgeo` in `work`, made if absent.
@@ -255,6 +259,7 @@ fn run_size(
         cold_resident_bytes: cold.1,
         cold_used_bytes: cold.2,
         cold_requests_left: cold.3,
+        cold_residency: cold.4,
     })
 }
 
@@ -265,7 +270,7 @@ fn cold_cut(
     ctx: &vgeo::Context,
     opts: &Options,
     file: &Path,
-) -> Result<(Option<u32>, u64, u64, u64)> {
+) -> Result<(Option<u32>, u64, u64, u64, vgeo::CutResidency)> {
     let streamed = vgeo::StreamedScene::load(file, &|_| {})?;
     let aspect = opts.width as f32 / opts.height as f32;
     let keys = streamed
@@ -278,10 +283,11 @@ fn cold_cut(
     for k in 1..=64u32 {
         let st = stream_frame(&mut r, &mut streamer, opts, &camera, &light).context("cold cut")?;
         if st.settled() {
-            return Ok((Some(k), st.resident_bytes, st.used_bytes, st.requests));
+            let cut = streamer.cut_residency();
+            return Ok((Some(k), st.resident_bytes, st.used_bytes, st.requests, cut));
         }
     }
-    Ok((None, 0, 0, 0))
+    Ok((None, 0, 0, 0, Default::default()))
 }
 
 /// MiB against the scene's `.vgeo` GiB: GPU geometry allocated, page pool, resident pages,
@@ -369,6 +375,31 @@ fn svg(records: &[SizeRecord]) -> String {
     s
 }
 
+/// The cold camera cut's table: what its columns mean, and its header.
+const COLD_CUT_HEADER: &str = "\nA cold camera cut (a new streamer at the path's close-up until a step stages, reads and evicts nothing). *Resident*: the always-resident pages and the page slots in use, whole (what the budget counts). *Used*: the pages holding a cluster the settled frame drew (their own bytes). *Needed*: the smallest closed residency holding the used pages (the used pages, the DAG's groups above them up to the root that keep the cut crack-free, and the other groups those pages hold). *Other*: resident pages outside it (groups refined for a coarse cluster the frame drew, none of whose own members it then drew, all culled by the BVH nodes' frustum or HZB tests; the settled image needs them too). *Always resident*: every mesh's top pages, in view or not.\n\n| meshes | frames to settle | resident MiB | used MiB | resident / used | needed MiB | needed / used | other MiB | always resident MiB | slot rounding MiB | still asked |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+
+/// One row of [`COLD_CUT_HEADER`]'s table.
+fn cold_cut_row(r: &SizeRecord) -> String {
+    let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+    let c = &r.cold_residency;
+    let ratio = |a: u64| a as f64 / r.cold_used_bytes.max(1) as f64;
+    format!(
+        "| {} | {} | {:.2} | {:.2} | {:.2}x | {:.2} | {:.2}x | {:.2} | {:.2} | {:.2} | {} |\n",
+        r.meshes,
+        r.cold_frames_to_settle
+            .map_or("not within 64".to_string(), |k| k.to_string()),
+        mib(r.cold_resident_bytes),
+        mib(r.cold_used_bytes),
+        ratio(r.cold_resident_bytes),
+        mib(c.needed_bytes),
+        ratio(c.needed_bytes),
+        mib(c.other_bytes),
+        mib(c.fixed_bytes),
+        mib(c.resident_bytes.saturating_sub(c.resident_page_bytes)),
+        r.cold_requests_left
+    )
+}
+
 /// Makes the meshes, streams every size, writes `sizes.json`, `sizes.md` and `sizes.svg`.
 pub fn run(opts: &Options) -> Result<Vec<SizeRecord>> {
     let ctx = vgeo::Context::new(&vgeo::ContextOptions::from_env())?;
@@ -421,7 +452,7 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
     }
     let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
     let mut md = format!(
-        "# Streaming at {} scene sizes under {:.0} MiB\n\n{}x{}, {} frames along the path, {:.0} MiB per frame at most.\n\n| meshes | .vgeo GiB | triangles | GPU geometry MiB (allocated) | page pool MiB | hierarchy MiB | resident MiB (end) | peak resident MiB | used by the last frame MiB | uploads | evictions | cold cut: frames to settle | cold cut: resident / used MiB | cold cut: still asked |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "# Streaming at {} scene sizes under {:.0} MiB\n\n{}x{}, {} frames along the path, {:.0} MiB per frame at most.\n\n| meshes | .vgeo GiB | triangles | GPU geometry MiB (allocated) | page pool MiB | hierarchy MiB | resident MiB (end) | peak resident MiB | used by the last frame MiB | uploads | evictions |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
         records.len(),
         mib(opts.budget_bytes),
         opts.width,
@@ -432,7 +463,7 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
     for r in &records {
         let _ = writeln!(
             md,
-            "| {} | {:.2} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {} | {} | {:.1} / {:.1} ({:.2}x) | {} |",
+            "| {} | {:.2} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {} | {} |",
             r.meshes,
             r.vgeo_bytes as f64 / (1u64 << 30) as f64,
             r.triangles,
@@ -444,13 +475,11 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
             mib(r.used_bytes_last_frame),
             r.uploads,
             r.evictions,
-            r.cold_frames_to_settle
-                .map_or("not within 64".to_string(), |k| k.to_string()),
-            mib(r.cold_resident_bytes),
-            mib(r.cold_used_bytes),
-            r.cold_resident_bytes as f64 / r.cold_used_bytes.max(1) as f64,
-            r.cold_requests_left
         );
+    }
+    md.push_str(COLD_CUT_HEADER);
+    for r in &records {
+        md.push_str(&cold_cut_row(r));
     }
     std::fs::write(opts.out.join("sizes.md"), md)?;
     std::fs::write(
@@ -511,6 +540,18 @@ fn main() -> Result<()> {
             r.hierarchy_bytes as f64 / (1u64 << 20) as f64,
             r.resident_bytes as f64 / (1u64 << 20) as f64,
             r.peak_resident_bytes as f64 / (1u64 << 20) as f64
+        );
+        println!(
+            "  cold cut: {} frames to settle, resident {:.2} MiB / used {:.2} MiB = {:.2}x (needed {:.2} MiB = {:.2}x, other {:.2}, always resident {:.2})",
+            r.cold_frames_to_settle
+                .map_or("not within 64".to_string(), |k| k.to_string()),
+            r.cold_resident_bytes as f64 / (1u64 << 20) as f64,
+            r.cold_used_bytes as f64 / (1u64 << 20) as f64,
+            r.cold_resident_bytes as f64 / r.cold_used_bytes.max(1) as f64,
+            r.cold_residency.needed_bytes as f64 / (1u64 << 20) as f64,
+            r.cold_residency.needed_bytes as f64 / r.cold_used_bytes.max(1) as f64,
+            r.cold_residency.other_bytes as f64 / (1u64 << 20) as f64,
+            r.cold_residency.fixed_bytes as f64 / (1u64 << 20) as f64,
         );
     }
     println!("wrote {}", opts.out.join("sizes.svg").display());

@@ -156,7 +156,7 @@ pub use scene::generated::generated_mesh;
 pub use scene::load::LoadedScene;
 pub use scene_gpu::{GpuScene, InstanceDesc, InstanceHandle, MeshHandle, SceneMemory};
 pub use streaming::{
-    GeometryBudget, PageSource, StreamOptions, StreamStats, StreamedScene, Streamer,
+    CutResidency, GeometryBudget, PageSource, StreamOptions, StreamStats, StreamedScene, Streamer,
 };
 
 /// The command line's workflows as functions, for tools built on vgeo: `vgeo build` (plan,

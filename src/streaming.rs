@@ -149,6 +149,33 @@ impl StreamStats {
     }
 }
 
+/// Where the resident bytes go against the cut the newest feedback saw
+/// ([`Streamer::cut_residency`]). Page bytes are the pages' own encoded bytes; `resident_bytes`
+/// counts slots whole, as the budget does.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct CutResidency {
+    /// The always-resident pages and the slots in use (whole): [`StreamStats::resident_bytes`].
+    pub resident_bytes: u64,
+    /// The resident pages' own bytes.
+    pub resident_page_bytes: u64,
+    /// Pages holding a cluster the newest feedback's frames drew: [`StreamStats::used_bytes`].
+    pub used_bytes: u64,
+    /// The smallest closed residency holding the used pages and the always-resident ones
+    /// ([`crate::builder::page::close_residency`]): what drawing this cut needs resident (the
+    /// used pages, the groups above them up to the root, the groups those pages also hold).
+    pub needed_bytes: u64,
+    /// The always-resident pages, and those of them the cut did not use.
+    pub fixed_bytes: u64,
+    pub fixed_unused_bytes: u64,
+    /// Resident pages outside `needed_bytes`'s set. After a cold cut settles these are groups
+    /// the cull asked for to refine a coarse cluster it drew, none of whose own members it then
+    /// drew (all culled by the BVH nodes' frustum or HZB tests): without them the coarse cluster
+    /// would be drawn again (and ask for them again), so the settled image needs them too. After
+    /// camera motion they also hold what earlier views left (evicted only for room,
+    /// least-recently-used first).
+    pub other_bytes: u64,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum PageState {
     /// One of the always-resident pages.
@@ -174,6 +201,8 @@ struct StreamedMesh {
     groups_on: Vec<Vec<u32>>,
     /// Per page, the groups (with no member on it) that need it.
     needed_by: Vec<Vec<u32>>,
+    /// Per page, whether the newest feedback's frames drew a cluster of it.
+    used: Vec<bool>,
 }
 
 impl StreamedMesh {
@@ -184,14 +213,21 @@ impl StreamedMesh {
         )
     }
 
-    fn group_resident(&self, g: u32, extra: &[u32]) -> bool {
+    /// Whether page `p` is resident or being read (it will be, once its read lands).
+    fn held(&self, p: u32) -> bool {
+        self.resident(p) || matches!(self.state[p as usize], PageState::Loading(_))
+    }
+
+    /// Whether group `g` is wholly held, or will be once `extra` lands too.
+    fn group_held(&self, g: u32, extra: &[u32]) -> bool {
         let g = &self.head.groups[g as usize];
-        (g.page_first..g.page_first + g.page_count).all(|p| self.resident(p) || extra.contains(&p))
+        (g.page_first..g.page_first + g.page_count).all(|p| self.held(p) || extra.contains(&p))
     }
 
     /// `page`, the absent pages of the groups on it (a group larger than a page is refined only
     /// whole) and the absent pages that must come with them to keep the residency closed; `None`
-    /// when one of them failed.
+    /// when one of them failed. Pages being read (an earlier set of this step) count as
+    /// resident: a set that took one again gave it a second slot and lost the first.
     fn load_set(&self, page: u32) -> Option<Vec<u32>> {
         let mut set = vec![page];
         let mut k = 0;
@@ -201,17 +237,17 @@ impl StreamedMesh {
             for &g in &self.groups_on[p as usize] {
                 let grp = &self.head.groups[g as usize];
                 for q in grp.page_first..grp.page_first + grp.page_count {
-                    if !self.resident(q) && !set.contains(&q) {
+                    if !self.held(q) && !set.contains(&q) {
                         set.push(q);
                     }
                 }
             }
             for &g in &self.groups_on[p as usize] {
-                if !self.group_resident(g, &set) {
+                if !self.group_held(g, &set) {
                     continue;
                 }
                 for &q in &self.needs[g as usize] {
-                    if !self.resident(q) && !set.contains(&q) {
+                    if !self.held(q) && !set.contains(&q) {
                         set.push(q);
                     }
                 }
@@ -361,6 +397,7 @@ impl Streamer {
                 source: source.into(),
                 state,
                 last_used: vec![0; n],
+                used: vec![false; n],
                 needs,
                 groups_on,
                 needed_by,
@@ -407,6 +444,44 @@ impl Streamer {
         std::mem::take(&mut self.errors)
     }
 
+    /// The resident pages against the cut of the newest feedback (the pages its frames drew a
+    /// cluster of, as [`StreamStats::used_bytes`] counts them), after the last
+    /// [`Streamer::update`].
+    pub fn cut_residency(&self) -> CutResidency {
+        let mut out = CutResidency {
+            resident_bytes: self.residency_stats().1,
+            ..Default::default()
+        };
+        for m in &self.meshes {
+            let mut needed = m.used.clone();
+            crate::builder::page::close_residency(&m.head, &m.needs, &mut needed);
+            for (p, page) in m.head.pages.iter().enumerate() {
+                let bytes = page.bytes as u64;
+                let resident = m.resident(p as u32);
+                let fixed = m.state[p] == PageState::Fixed;
+                if resident {
+                    out.resident_page_bytes += bytes;
+                }
+                if m.used[p] {
+                    out.used_bytes += bytes;
+                }
+                if needed[p] {
+                    out.needed_bytes += bytes;
+                }
+                if fixed {
+                    out.fixed_bytes += bytes;
+                    if !m.used[p] {
+                        out.fixed_unused_bytes += bytes;
+                    }
+                }
+                if resident && !needed[p] {
+                    out.other_bytes += bytes;
+                }
+            }
+        }
+        out
+    }
+
     /// Resident pages and bytes now.
     fn residency_stats(&self) -> (u64, u64) {
         let fixed: u64 = self
@@ -436,7 +511,8 @@ impl Streamer {
         for (mi, m) in self.meshes.iter_mut().enumerate() {
             let first = scene.page_range(m.handle)?.0 as usize;
             for p in 0..m.state.len() {
-                if used.get(first + p).is_some_and(|&u| u != 0) {
+                m.used[p] = used.get(first + p).is_some_and(|&u| u != 0);
+                if m.used[p] {
                     m.last_used[p] = frame;
                     stats.used_pages += 1;
                     stats.used_bytes += m.head.pages[p].bytes as u64;

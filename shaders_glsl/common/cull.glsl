@@ -157,8 +157,15 @@ float self_error_px(InstanceVgeo inst, MeshGpu mesh, uint creator, float scale) 
 
 // A drawn cluster that is coarser than wanted (`wish`: its projected error over the threshold)
 // because its children are absent asks for their pages; a drawn cluster marks its page used.
-void request_children(MeshGpu mesh, uint creator, float wish) {
+// No request when the children's group's LOD sphere is outside the frustum: it encloses every
+// member and descendant of the group, so none of them could reach the screen (a coarse cluster
+// at the frustum's edge asked for detail that lies outside it).
+void request_children(InstanceVgeo inst, MeshGpu mesh, uint creator, float wish) {
     Group g = groups[mesh.group_offset + creator];
+    if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u
+        && !sphere_in_frustum(view, relative_position(inst, view, g.lod_sphere.xyz), g.lod_sphere.w * inst.max_scale)) {
+        return;
+    }
     for (uint p = g.page_first; p < g.page_first + g.page_count; p++) {
         if (!page_resident(mesh, p)) {
             atomicMax(page_requests[mesh.page_offset + p], floatBitsToUint(min(wish, 1e30)));
@@ -194,7 +201,7 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
             if (children_resident(mesh, creator)) {
                 return false;
             }
-            request_children(mesh, creator, self_px / view.error_px);
+            request_children(inst, mesh, creator, self_px / view.error_px);
         }
     }
     mark_used(mesh, ci);
@@ -233,7 +240,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
         float self_px = self_error_px(inst, mesh, creator, scale);
         bool fine = self_px <= view.error_px;
         if (partial && !fine && !children_resident(mesh, creator)) {
-            request_children(mesh, creator, self_px / view.error_px);
+            request_children(inst, mesh, creator, self_px / view.error_px);
             fine = true;
         }
         in_cut = fine;

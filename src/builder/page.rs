@@ -38,8 +38,12 @@
 //! [`decode_page`] turns the encoded bytes back into the logical streams.
 //!
 //! Pages are ordered from the DAG's root down (groups by decreasing build iteration): the first
-//! [`BuiltMesh::resident_pages`] pages hold every group simplified at or after the fallback level,
-//! the always-resident part from which the mesh can always be drawn.
+//! [`BuiltMesh::resident_pages`] pages hold every group simplified at or after the fallback level
+//! and nothing else, the always-resident part from which the mesh can always be drawn (it ends at
+//! a page boundary: every mesh keeps it, in view or not). A page that cannot take the next group
+//! is first filled with the largest groups of the same iteration among the next
+//! [`FILL_WINDOW`] that fit, so that pages (and the slots holding them, each the size of the
+//! largest page) are nearly full while neighbours in the stored (spatial) order share a page.
 
 use std::collections::HashMap;
 
@@ -506,6 +510,9 @@ pub fn decode_page(
     Ok(st)
 }
 
+/// How many groups ahead [`paginate`] looks for one that fills the rest of a page.
+pub const FILL_WINDOW: usize = 16;
+
 /// Most vertices one page may hold (its logical references are u16 offsets from its first
 /// vertex).
 const MAX_PAGE_VERTICES: usize = 1 << 16;
@@ -528,7 +535,7 @@ fn vertex_key(v: &PackedVertex, material: u16) -> VertexKey {
 /// Lays `m`'s clusters out in pages of at most `page_bytes` encoded bytes (see the module's
 /// documentation), rewriting the logical vertex, reference and triangle streams page by page and
 /// setting each cluster's `page` and `data_offset`; the clusters, groups and BVH keep their order
-/// and meaning. Groups simplified at or after iteration `resident_level` come first, in the
+/// and meaning. Groups simplified at or after iteration `resident_level` come first, alone in the
 /// always-resident pages. Deterministic.
 pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
     use rayon::prelude::*;
@@ -571,11 +578,56 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
     let fits = |used: (usize, usize), add: (usize, usize)| {
         used.0 + add.0 + 4 <= page_bytes && used.1 + add.1 <= MAX_PAGE_VERTICES
     };
-    for (k, &g) in order.iter().enumerate() {
+    let members_of = |g: u32| {
         let grp = &m.groups[g as usize];
-        let members: Vec<u32> =
-            (grp.first_cluster..grp.first_cluster + grp.cluster_count).collect();
+        (grp.first_cluster..grp.first_cluster + grp.cluster_count).collect::<Vec<u32>>()
+    };
+    // Groups placed ahead of their turn to fill a page (see below).
+    let mut taken = vec![false; m.groups.len()];
+    let mut in_prefix = true;
+    for (k, &g) in order.iter().enumerate() {
+        if taken[g as usize] {
+            continue;
+        }
+        let grp = &m.groups[g as usize];
+        // The always-resident prefix holds the groups at or above `resident_level` and nothing
+        // else: its last page ends with them (a streamed group there would stay resident for
+        // good, and every mesh pays its prefix, in view or not).
+        if in_prefix && k > 0 && grp.iteration < resident_level {
+            in_prefix = false;
+            if !pages.last().is_some_and(|p| p.is_empty()) {
+                pages.push(Vec::new());
+                used = (0, 0);
+            }
+            resident_pages = pages.len() - 1;
+        }
+        let members = members_of(g);
         let add = cost(&members);
+        // A page that cannot take this group is first filled with the largest groups of the
+        // same iteration among the next few that still fit (so that pages, and the slots that
+        // hold them, are nearly full; the groups stay near in the stored, spatial order).
+        if !fits(used, add) && fits((0, 0), add) && !pages.last().is_some_and(|p| p.is_empty()) {
+            loop {
+                let best = order[k + 1..order.len().min(k + 1 + FILL_WINDOW)]
+                    .iter()
+                    .copied()
+                    .filter(|&h| {
+                        !taken[h as usize] && m.groups[h as usize].iteration == grp.iteration
+                    })
+                    .map(|h| (cost(&members_of(h)), h))
+                    .filter(|&(c, _)| fits(used, c))
+                    .max_by_key(|&(c, h)| (c.0, std::cmp::Reverse(h)));
+                let Some((c, h)) = best else { break };
+                taken[h as usize] = true;
+                used = (used.0 + c.0, used.1 + c.1);
+                let page = pages.len() as u32 - 1;
+                let hm = members_of(h);
+                for &ci in &hm {
+                    page_of[ci as usize] = page;
+                }
+                pages.last_mut().expect("a page").extend_from_slice(&hm);
+            }
+        }
         let chunks: Vec<Vec<u32>> = if fits(used, add) || fits((0, 0), add) {
             vec![members]
         } else {
@@ -594,11 +646,9 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
             }
             pages.last_mut().expect("a page").extend_from_slice(&chunk);
         }
-        // The always-resident prefix ends with the last page holding a group at or above
-        // `resident_level` (groups come in decreasing iteration).
-        if grp.iteration >= resident_level || k == 0 {
-            resident_pages = pages.len();
-        }
+    }
+    if in_prefix {
+        resident_pages = pages.len();
     }
 
     // The logical streams, page by page; clusters in index order within a page, each distinct
