@@ -3,8 +3,8 @@
 // depth recomputed from the snapped vertices with raster_sw's exact integer edge functions and
 // float operations (so both rasterizers write bit-identical values), atomicMax into the visibility
 // buffer. Triangles with a vertex that cannot be snapped (behind the near plane: the hardware
-// clips them) carry their vertices' clip-space x, y, w in the same inputs instead, and take the
-// depth of raster.glsl's clipped_depth, not the hardware's (so both paths agree there too). With VIEW_FLAG_COUNT_OVERDRAW each fragment also increments the overdraw counter (binding
+// clips them) carry their depth plane in `in_z` instead (raster.glsl's clipped_plane, once per
+// triangle), and take the depth of clipped_depth, not the hardware's (so both paths agree there too). With VIEW_FLAG_COUNT_OVERDRAW each fragment also increments the overdraw counter (binding
 // 9). The same inputs come flat from the vertex path (raster_hw.vert.glsl) or per primitive from
 // the mesh path (raster_hw.mesh.glsl): variants `mesh` and `mesh_image` (RASTER_HW_MESH).
 //! variant image VISBUFFER_IMAGE
@@ -59,10 +59,8 @@ void main() {
             depth = raster_depth(e0, e1, e2, z, inv_area);
         }
     } else {
-        // in_xy01 = bits of (x0, y0, x1, y1), in_xy2 = bits of (x2, y2), in_z = (w0, w1, w2).
-        vec4 a = intBitsToFloat(in_xy01);
-        vec2 b = intBitsToFloat(in_xy2);
-        depth = clipped_depth(px, vec3(a.x, a.z, b.x), vec3(a.y, a.w, b.y), in_z, depth);
+        // in_z = the triangle's depth plane (clipped_plane, computed once per triangle).
+        depth = clipped_depth(px, in_z, depth);
     }
     vis_write(px, uint(view.viewport.x), vis_pack(depth, in_id >> VISBUFFER_TRIANGLE_BITS,
                                                    in_id & ((1u << VISBUFFER_TRIANGLE_BITS) - 1u)));

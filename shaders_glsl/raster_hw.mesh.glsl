@@ -81,13 +81,14 @@ void main() {
             out_xy2[t] = s_xy[v.z];
             out_z[t] = vec3(s_z[v.x], s_z[v.y], s_z[v.z]);
         } else {
-            // Not snapped: the clip-space x, y, w for the fragment stage's clipped_depth.
+            // Not snapped: the depth plane for the fragment stage's clipped_depth.
             vec3 c0 = s_clip[v.x];
             vec3 c1 = s_clip[v.y];
             vec3 c2 = s_clip[v.z];
-            out_xy01[t] = floatBitsToInt(vec4(c0.xy, c1.xy));
-            out_xy2[t] = floatBitsToInt(c2.xy);
-            out_z[t] = vec3(c0.z, c1.z, c2.z);
+            out_xy01[t] = ivec4(0);
+            out_xy2[t] = ivec2(0);
+            out_z[t] = clipped_plane(vec3(c0.x, c1.x, c2.x), vec3(c0.y, c1.y, c2.y),
+                                     vec3(c0.z, c1.z, c2.z));
         }
     }
 }

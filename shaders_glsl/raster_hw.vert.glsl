@@ -2,8 +2,8 @@
 // Pass `raster_hw`, vertex stage: vertex pulling for one vkCmdDrawIndirect over the HW list
 // (gl_InstanceIndex = HW list index, gl_VertexIndex / 3 = triangle, % 3 = corner). Each corner also
 // snaps all three vertices of its triangle (flat outputs) so that the fragment stage computes depth
-// exactly as raster_sw does (or, for a triangle that cannot be snapped, passes their clip-space x,
-// y, w in the same outputs).
+// exactly as raster_sw does (or, for a triangle that cannot be snapped, passes its depth plane,
+// in the same outputs).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
 
@@ -63,9 +63,11 @@ void main() {
         out_xy2 = xy[2];
         out_z = z;
     } else {
-        // Not snapped: the clip-space x, y, w for the fragment stage's clipped_depth.
-        out_xy01 = floatBitsToInt(vec4(clip[0].xy, clip[1].xy));
-        out_xy2 = floatBitsToInt(clip[2].xy);
-        out_z = vec3(clip[0].w, clip[1].w, clip[2].w);
+        // Not snapped: the depth plane for the fragment stage's clipped_depth.
+        out_xy01 = ivec4(0);
+        out_xy2 = ivec2(0);
+        out_z = clipped_plane(vec3(clip[0].x, clip[1].x, clip[2].x),
+                              vec3(clip[0].y, clip[1].y, clip[2].y),
+                              vec3(clip[0].w, clip[1].w, clip[2].w));
     }
 }

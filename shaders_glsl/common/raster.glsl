@@ -207,26 +207,31 @@ int64_t edge_fn(ivec2 a, ivec2 b, ivec2 p) {
     return int64_t(b.x - a.x) * int64_t(p.y - a.y) - int64_t(b.y - a.y) * int64_t(p.x - a.x);
 }
 
-// Depth at pixel `px` of a triangle that cannot be snapped (a vertex behind the near plane, which
+// The depth plane of a triangle that cannot be snapped (a vertex behind the near plane, which
 // the hardware clips, or beyond the guard band), from its vertices' clip-space x, y and w (one
 // vertex per component): 2D homogeneous interpolation (Olano and Greer), so the value depends on
 // the triangle and the pixel only, not on how a pipeline clipped it (raster_hw's mesh and vertex
 // paths agree bit for bit). In (x, y, w) space the triangle's plane is n . (q - v0) = 0 with
 // n = (v1 - v0) x (v2 - v0); the pixel's ray is q = t (ndc, 1), so 1/w = n . (ndc, 1) / n . v0.
 // Reverse-Z infinite projection: every vertex's clip z is the matrix's constant term
-// (view_proj[3][2], the near distance), so depth = z / w. `fallback` for a triangle degenerate in
-// clip space.
-float clipped_depth(ivec2 px, vec3 x, vec3 y, vec3 w, float fallback) {
-    precise vec2 ndc = (vec2(px) + 0.5) * view.viewport.zw * 2.0 - 1.0;
+// (view_proj[3][2], the near distance), so depth = z / w = a . (ndc, 1) with the coefficients
+// a = n view_proj[3][2] / (n . v0) returned here, once per triangle (the geometry stage), so a
+// fragment pays one dot product (clipped_depth). Not finite for a triangle degenerate in clip
+// space.
+vec3 clipped_plane(vec3 x, vec3 y, vec3 w) {
     precise vec3 v0 = vec3(x.x, y.x, w.x);
     precise vec3 n = cross(vec3(x.y, y.y, w.y) - v0, vec3(x.z, y.z, w.z) - v0);
     precise float den = dot(n, v0);
-    precise float num = dot(n, vec3(ndc, 1.0));
-    if (!(abs(den) > 0.0)) {
-        return fallback;
-    }
-    precise float d = view.view_proj[3][2] * (num / den);
-    return isnan(d) ? fallback : clamp(d, 0.0, 1.0);
+    precise float k = view.view_proj[3][2] / den;
+    precise vec3 a = n * k;
+    return a;
+}
+
+// Depth at pixel `px` of the plane `a` (clipped_plane); `fallback` where it is not finite.
+float clipped_depth(ivec2 px, vec3 a, float fallback) {
+    precise vec2 ndc = (vec2(px) + 0.5) * view.viewport.zw * 2.0 - 1.0;
+    precise float d = dot(a, vec3(ndc, 1.0));
+    return (isnan(d) || isinf(d)) ? fallback : clamp(d, 0.0, 1.0);
 }
 
 // Depth from the (positively oriented) edge values of a pixel: sum(e_k z_k) / area, the same float
