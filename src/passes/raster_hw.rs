@@ -19,9 +19,10 @@
 //! recomputed from the snapped vertices with `raster_sw`'s exact integer edge functions and float
 //! operations, so SW and both HW paths write bit-identical values for the pixels they cover.
 //! Triangles with a vertex behind the near plane (which only HW can draw: the hardware clips
-//! them) pass their vertices' clip-space x, y, w instead, and the fragment stage computes their
-//! depth by 2D homogeneous interpolation (`clipped_depth` in shaders_glsl/common/raster.glsl),
-//! independent of how the pipeline clipped them, so the two paths agree there too. With
+//! them) pass their depth plane instead (2D homogeneous interpolation, `clipped_plane` in
+//! shaders_glsl/common/raster.glsl, once per triangle), and the fragment stage takes one dot
+//! product (`clipped_depth`), independent of how the pipeline clipped them, so the two paths
+//! agree there too. With
 //! [`VIEW_FLAG_COUNT_OVERDRAW`](crate::shared::VIEW_FLAG_COUNT_OVERDRAW) every fragment also
 //! increments a per-pixel counter ([`RasterHw::record_counting`]).
 
