@@ -6,7 +6,7 @@
 // written as the mesh's vertices), then one invocation per triangle writes its indices and, as
 // per-primitive outputs, what the fragment stage needs to recompute raster_sw's exact depth: the id
 // and the three snapped vertices with their ndc depths (or, for a triangle that cannot be snapped,
-// their clip-space x, y, w). The fragment stage is raster_hw.frag.glsl
+// its depth plane: raster.glsl's clipped_plane). The fragment stage is raster_hw.frag.glsl
 // (its `mesh` variants), the same source as the vertex path's.
 #extension GL_EXT_mesh_shader : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -15,18 +15,8 @@
 layout(local_size_x = RASTER_HW_MESH_WORKGROUP_SIZE) in;
 layout(triangles, max_vertices = MAX_CLUSTER_VERTICES, max_primitives = MAX_CLUSTER_TRIANGLES) out;
 
-// Bindings 0-7 as the vertex path's; 8 and 9 are the fragment stage's (visibility buffer, overdraw).
-layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
-layout(set = 0, binding = 1, scalar) readonly buffer Visible { uvec2 visible[]; };
-layout(set = 0, binding = 2, scalar) readonly buffer HwList { uint hw_list[]; };
-layout(set = 0, binding = 3, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
-layout(set = 0, binding = 4, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 5, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Pages { PageGpu pages[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer Pool { uint pool[]; };
 layout(set = 0, binding = 10, scalar) readonly buffer Counters { CullCounters counters; };
-
-#include "raster.glsl"
+#include "raster_hw_bindings.glsl"
 
 // The fragment stage's inputs (raster_hw.frag.glsl), one per triangle.
 layout(location = 0) perprimitiveEXT flat out uint out_id[];      // visible index << 7 | triangle

@@ -7,16 +7,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
 
-layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
-layout(set = 0, binding = 1, scalar) readonly buffer Visible { uvec2 visible[]; };
-layout(set = 0, binding = 2, scalar) readonly buffer HwList { uint hw_list[]; };
-layout(set = 0, binding = 3, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
-layout(set = 0, binding = 4, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
-layout(set = 0, binding = 5, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
-layout(set = 0, binding = 6, scalar) readonly buffer Pages { PageGpu pages[]; };
-layout(set = 0, binding = 7, scalar) readonly buffer Pool { uint pool[]; };
-
-#include "raster.glsl"
+#include "raster_hw_bindings.glsl"
 
 layout(location = 0) flat out uint out_id;      // visible index << 7 | triangle
 layout(location = 1) flat out uint out_snapped; // 1: the three snapped vertices below are valid
