@@ -268,14 +268,9 @@ impl StreamedMesh {
     /// was being read: the group landed with its need absent, and the residency was not closed.)
     fn evictable(&self, p: u32, coming: &[u32]) -> bool {
         matches!(self.state[p as usize], PageState::Slot(_))
-            && self.needed_by[p as usize].iter().all(|&g| {
-                let g = &self.head.groups[g as usize];
-                !(g.page_first..g.page_first + g.page_count).all(|q| {
-                    self.resident(q)
-                        || matches!(self.state[q as usize], PageState::Loading(_))
-                        || coming.contains(&q)
-                })
-            })
+            && self.needed_by[p as usize]
+                .iter()
+                .all(|&g| !self.group_held(g, coming))
     }
 }
 
