@@ -1,5 +1,5 @@
 #version 460
-// Pass `depth_pyramid`: the hierarchical depth buffer (HZB) in two dispatches, whatever the frame
+// Pass `depth_pyramid`: the hierarchical depth buffer (HZB) in one dispatch, whatever the frame
 // size. Each texel keeps the FARTHEST depth below it (reverse-Z: the minimum); empty pixels have
 // depth 0, i.e. infinitely far, so they never occlude; texels outside a level's source are neutral
 // (1.0). Level 0 is half the frame (see depth_pyramid.rs, hzb_levels).
