@@ -25,6 +25,7 @@ use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
 
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::builder::page::{Page, clusters_by_page, decode_page, encode_page};
@@ -193,15 +194,23 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
     // The page data, each page 16-aligned (offsets relative to the section for now).
     let mut data = Vec::new();
     let mut entries: Vec<PageEntry> = Vec::with_capacity(m.pages.len());
+    // Pages are encoded and checksummed in parallel (each on its own), then laid out in order.
     let by_page = clusters_by_page(m);
-    for (p, clusters) in m.pages.iter().zip(&by_page) {
+    let encoded: Vec<(Vec<u8>, u64)> = by_page
+        .par_iter()
+        .map(|clusters| {
+            let bytes = encode_page(m, clusters);
+            let checksum = fnv1a64(&bytes);
+            (bytes, checksum)
+        })
+        .collect();
+    for (p, (bytes, checksum)) in m.pages.iter().zip(encoded) {
         data.resize(align(data.len()), 0);
-        let bytes = encode_page(m, clusters);
         entries.push(PageEntry {
             page: *p,
             offset: data.len() as u64,
             length: bytes.len() as u64,
-            checksum: fnv1a64(&bytes),
+            checksum,
             _reserved: 0,
         });
         data.extend_from_slice(&bytes);

@@ -65,7 +65,8 @@ pub struct BuildArgs {
     /// Weight of the UV in the simplification error (meshes with UVs; 0: ignore UVs).
     #[arg(long = "uv-weight", default_value_t = BuildOptions::default().uv_weight)]
     pub uv_weight: f32,
-    /// Worker threads (default: all cores). The output does not depend on it.
+    /// Worker threads of the whole command: import (crease normals), build and the file's page
+    /// encoding (default: all cores). The output does not depend on it.
     #[arg(long = "threads")]
     pub threads: Option<usize>,
     /// The mesh's position precision: bits per axis of its grid (1-21; the step is its largest
@@ -104,6 +105,13 @@ pub struct VerifyArgs {
 
 /// Runs `vgeo build`.
 pub fn run_build(a: &BuildArgs) -> anyhow::Result<()> {
+    // The import and the file's writing run on rayon's global pool; the build on its own pool of
+    // the same size. (The global pool can be set up once per process: a later call keeps it.)
+    if let Some(n) = a.threads {
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build_global();
+    }
     let build = BuildOptions {
         max_cluster_triangles: a.max_triangles,
         group_min: a.group_min,

@@ -79,8 +79,8 @@ fn union(parent: &mut [u32], a: u32, b: u32) {
 /// into smooth fans joined across edges that are not sharp, and each triangle corner gets the
 /// angle-weighted average normal of its fan. A vertex whose corners get different normals is split
 /// (new vertices appended, indices updated). `crease_deg >= 180` shades smoothly everywhere, `0`
-/// flat per face. Linear in the corners (one radix sort of the edges). Deterministic. Returns how many
-/// vertices were added.
+/// flat per face. Linear in the corners (a counting sort by position; each position on its own, in
+/// parallel). Deterministic. Returns how many vertices were added.
 pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
     let n = mesh.positions.len();
     mesh.normals.resize(n, [0.0; 3]);
@@ -151,95 +151,9 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
     } else {
         (crease_deg.max(0.0) as f64).to_radians().cos() - 1e-9
     };
-    let smooth = |a: u32, b: u32| {
-        dot(face_normal[a as usize / 3], face_normal[b as usize / 3]) >= cos_crease
-    };
-    // The corner after `c` in its triangle: edge `c` runs from corner `c` to it.
-    let next = |c: u32| c - c % 3 + (c + 1) % 3;
-    // Every edge by its two positions (smaller first), each edge's entries in corner order: a
-    // counting sort into buckets by the smaller position, then each bucket (a handful of
-    // entries) sorted on its own, in parallel.
-    let ends_of = |c: usize| {
-        let (a, b) = (cpid[c], cpid[next(c as u32) as usize]);
-        (a.min(b), a.max(b))
-    };
-    let mut start = vec![0u32; npos + 2];
-    for c in 0..tri_count * 3 {
-        start[ends_of(c).0 as usize + 1] += 1;
-    }
-    for i in 0..=npos {
-        start[i + 1] += start[i];
-    }
-    let mut edges: Vec<(u64, u32)> = vec![(0, 0); tri_count * 3];
-    for c in 0..tri_count * 3 {
-        let (lo, hi) = ends_of(c);
-        let slot = &mut start[lo as usize];
-        edges[*slot as usize] = ((lo as u64) << 32 | hi as u64, c as u32);
-        *slot += 1;
-    }
-    drop(start);
-    edges
-        .par_chunk_by_mut(|a, b| a.0 >> 32 == b.0 >> 32)
-        .for_each(|bucket| bucket.sort_unstable());
-    // Smooth fans: union-find over corners. Two faces that share an edge and meet smoothly join
-    // their corners at each end of it (a non-manifold edge joins every smooth pair). A
-    // degenerate face's edge between two corners at one position joins them, and the other such
-    // edges' corners there, as a fan around that position would (their normals are zero, so
-    // only at a crease of 90 degrees or more).
-    let mut parent: Vec<u32> = (0..tri_count as u32 * 3).collect();
-    let mut run = 0;
-    while run < edges.len() {
-        let key = edges[run].0;
-        let mut end = run + 1;
-        while end < edges.len() && edges[end].0 == key {
-            end += 1;
-        }
-        let lo = (key >> 32) as u32;
-        if lo == key as u32 {
-            if 0.0 >= cos_crease {
-                for &(_, c) in &edges[run..end] {
-                    union(&mut parent, c, next(c));
-                    union(&mut parent, c, edges[run].1);
-                }
-            }
-        } else {
-            // Each entry's corners at the edge's smaller and larger position.
-            let ends = |c: u32| {
-                if cpid[c as usize] == lo {
-                    (c, next(c))
-                } else {
-                    (next(c), c)
-                }
-            };
-            for i in run..end {
-                for j in i + 1..end {
-                    let (a, b) = (edges[i].1, edges[j].1);
-                    if smooth(a, b) {
-                        let ((a0, a1), (b0, b1)) = (ends(a), ends(b));
-                        union(&mut parent, a0, b0);
-                        union(&mut parent, a1, b1);
-                    }
-                }
-            }
-        }
-        run = end;
-    }
-    drop(edges);
-    // Each fan's angle-weighted normal, summed in corner order; each corner takes its fan's
-    // (its own face's where the sum vanishes). Fans never span positions, so the corners are
-    // grouped by position (counting sort), each position's sorted by (fan, corner), and the fans
-    // summed in parallel.
-    let root_of = |mut c: u32| {
-        while parent[c as usize] != c {
-            c = parent[c as usize];
-        }
-        c
-    };
-    let roots: Vec<u32> = (0..tri_count as u32 * 3)
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(root_of)
-        .collect();
+    // Corners grouped by position (a counting sort, so each position's corners stay in corner
+    // order). Fans never span positions: each position's fans are found and summed on their own,
+    // in parallel over blocks of positions.
     let mut start = vec![0u32; npos + 2];
     for &p in &cpid {
         start[p as usize + 1] += 1;
@@ -247,41 +161,57 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
     for i in 0..=npos {
         start[i + 1] += start[i];
     }
-    // (position, fan, corner)
-    let mut fans: Vec<(u32, u32, u32)> = vec![(0, 0, 0); tri_count * 3];
-    for (c, &p) in cpid.iter().enumerate() {
-        let slot = &mut start[p as usize];
-        fans[*slot as usize] = (p, roots[c], c as u32);
-        *slot += 1;
+    let mut by_pos = vec![0u32; tri_count * 3];
+    {
+        let mut fill = start.clone();
+        for (c, &p) in cpid.iter().enumerate() {
+            let slot = &mut fill[p as usize];
+            by_pos[*slot as usize] = c as u32;
+            *slot += 1;
+        }
     }
-    drop((start, roots, parent));
-    fans.par_chunk_by_mut(|a, b| a.0 == b.0)
-        .for_each(|at| at.sort_unstable());
-    let (face_normal, weight) = (&face_normal, &weight);
-    let normals: Vec<[f32; 3]> = fans
-        .par_chunk_by(|a, b| a.0 == b.0 && a.1 == b.1)
-        .flat_map_iter(|fan| {
-            let mut acc = [0.0f64; 3];
-            for &(_, _, c) in fan {
-                let n = face_normal[c as usize / 3];
-                for (a, n) in acc.iter_mut().zip(n) {
-                    *a += n * weight[c as usize];
-                }
+    // Each corner's normal, in `by_pos` order: blocks of whole positions, each with its slice.
+    let mut fan_normal = vec![[0.0f32; 3]; tri_count * 3];
+    let mut blocks: Vec<(usize, usize, &mut [[f32; 3]])> = Vec::new();
+    {
+        const BLOCK_CORNERS: u32 = 1 << 14;
+        let mut rest: &mut [[f32; 3]] = &mut fan_normal;
+        let mut p0 = 0;
+        for p in 1..=npos + 1 {
+            if p == npos + 1 || start[p] - start[p0] >= BLOCK_CORNERS {
+                let (head, tail) =
+                    std::mem::take(&mut rest).split_at_mut((start[p] - start[p0]) as usize);
+                blocks.push((p0, p, head));
+                rest = tail;
+                p0 = p;
             }
-            let fan_normal = normalized(acc);
-            fan.iter().map(move |&(_, _, c)| {
-                fan_normal
-                    .or(normalized(face_normal[c as usize / 3]))
-                    .unwrap_or([0.0, 0.0, 1.0])
-                    .map(|x| x as f32)
-            })
-        })
-        .collect();
+        }
+    }
+    let input = FanInput {
+        cpid: &cpid,
+        face_normal: &face_normal,
+        weight: &weight,
+        cos_crease,
+    };
+    blocks.into_par_iter().for_each(|(p0, p1, out)| {
+        let mut scratch = FanScratch::default();
+        let base = start[p0] as usize;
+        for p in p0..p1 {
+            let (a, b) = (start[p] as usize, start[p + 1] as usize);
+            input.position_fans(
+                p as u32,
+                &by_pos[a..b],
+                &mut scratch,
+                &mut out[a - base..b - base],
+            );
+        }
+    });
+    drop((start, face_normal, weight, cpid));
     let mut corner_normal = vec![[0.0f32; 3]; tri_count * 3];
-    for (&(_, _, c), n) in fans.iter().zip(normals) {
+    for (&c, &n) in by_pos.iter().zip(&fan_normal) {
         corner_normal[c as usize] = n;
     }
-    drop((fans, cpid));
+    drop((by_pos, fan_normal));
     // Vertices split per distinct normal, in corner order.
     let mut split: HashMap<(u32, [u32; 3]), u32, FxBuild> = HashMap::default();
     let mut first_normal: Vec<Option<[u32; 3]>> = vec![None; n];
@@ -312,6 +242,99 @@ pub fn crease_normals(mesh: &mut Mesh, crease_deg: f32) -> usize {
         }
     }
     added
+}
+
+/// What the smooth fans of a position are found from: per corner its position id (`cpid`) and
+/// angle (`weight`), per face its unit normal.
+struct FanInput<'a> {
+    cpid: &'a [u32],
+    face_normal: &'a [[f64; 3]],
+    weight: &'a [f64],
+    /// Faces meet smoothly where their normals' dot product is at least this.
+    cos_crease: f64,
+}
+
+/// Reused buffers of [`FanInput::position_fans`].
+#[derive(Default)]
+struct FanScratch {
+    /// (the other position of an edge at this position, local corner)
+    edges: Vec<(u32, u32)>,
+    /// Union-find over the local corners.
+    parent: Vec<u32>,
+    /// (fan root, local corner)
+    fans: Vec<(u32, u32)>,
+}
+
+impl FanInput<'_> {
+    /// The normals of the corners at position `p` (`corners`, ascending), into `out` (one per
+    /// corner): faces join across an edge from `p` whose faces meet smoothly (every smooth pair
+    /// of a non-manifold edge); a degenerate face's edges that stay at `p` join their corners, as
+    /// a fan around `p` would (their normals are zero, so only at a crease of 90 degrees or more).
+    /// Each fan's normal is the angle-weighted sum of its faces' normals in corner order; a corner
+    /// whose fan sums to nothing takes its face's normal, else +z.
+    fn position_fans(&self, p: u32, corners: &[u32], s: &mut FanScratch, out: &mut [[f32; 3]]) {
+        let next = |c: u32| c - c % 3 + (c + 1) % 3;
+        let prev = |c: u32| c - c % 3 + (c + 2) % 3;
+        // A corner at `p` by its index in `corners` (the corners after and before a corner of a
+        // degenerate edge at `p` are at `p` too).
+        let local = |c: u32, or: u32| corners.binary_search(&c).map_or(or, |i| i as u32);
+        s.parent.clear();
+        s.parent.extend(0..corners.len() as u32);
+        s.edges.clear();
+        let mut first_degenerate = None;
+        for (i, &c) in corners.iter().enumerate() {
+            let i = i as u32;
+            let (to, from) = (self.cpid[next(c) as usize], self.cpid[prev(c) as usize]);
+            if to == p {
+                if 0.0 >= self.cos_crease {
+                    union(&mut s.parent, i, local(next(c), i));
+                    union(&mut s.parent, i, *first_degenerate.get_or_insert(i));
+                }
+            } else {
+                s.edges.push((to, i));
+            }
+            if from != p {
+                s.edges.push((from, i));
+            }
+        }
+        s.edges.sort_unstable();
+        for run in s.edges.chunk_by(|a, b| a.0 == b.0) {
+            for (x, &(_, i)) in run.iter().enumerate() {
+                for &(_, j) in &run[x + 1..] {
+                    let (a, b) = (corners[i as usize] / 3, corners[j as usize] / 3);
+                    if dot(self.face_normal[a as usize], self.face_normal[b as usize])
+                        >= self.cos_crease
+                    {
+                        union(&mut s.parent, i, j);
+                    }
+                }
+            }
+        }
+        s.fans.clear();
+        for i in 0..corners.len() as u32 {
+            let root = find(&mut s.parent, i);
+            s.fans.push((root, i));
+        }
+        s.fans.sort_unstable();
+        for fan in s.fans.chunk_by(|a, b| a.0 == b.0) {
+            let mut acc = [0.0f64; 3];
+            for &(_, i) in fan {
+                let c = corners[i as usize] as usize;
+                let n = self.face_normal[c / 3];
+                for (a, n) in acc.iter_mut().zip(n) {
+                    *a += n * self.weight[c];
+                }
+            }
+            let fan_normal = normalized(acc);
+            for &(_, i) in fan {
+                let c = corners[i as usize] as usize;
+                out[i as usize] = fan_normal
+                    .or(normalized(self.face_normal[c / 3]))
+                    .unwrap_or([0.0, 0.0, 1.0])
+                    .map(|x| x as f32);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -439,5 +462,48 @@ mod tests {
             p[1] *= 0.1;
         }
         assert!(crease_normals(&mut flat, 20.0) > 0);
+    }
+
+    /// A fin: two coplanar faces and a third at 90 degrees on the same edge (non-manifold), plus
+    /// a degenerate face at one of the edge's ends. Below 90 degrees the coplanar pair share
+    /// their normals along the edge and the fin keeps its own (each end of the edge split once);
+    /// above, the fin joins them (no split).
+    #[test]
+    fn a_non_manifold_fin_is_split_from_its_coplanar_pair() {
+        let mut m = Mesh {
+            name: "fin".into(),
+            materials: vec![super::super::Material::default()],
+            ..Default::default()
+        };
+        // Edge 0-1 on the x axis; faces in the z = 0 plane on either side, a fin going up in z.
+        m.positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, 1.0, 0.0],
+            [0.5, -1.0, 0.0],
+            [0.5, 0.0, 1.0],
+        ];
+        m.indices = vec![0, 1, 2, 1, 0, 3, 0, 1, 4, 0, 0, 1];
+        m.material_ids = vec![0; 4];
+        m.normals = vec![[0.0; 3]; 5];
+        m.uvs = vec![[0.0; 2]; 5];
+        let mut sharp = m.clone();
+        assert_eq!(crease_normals(&mut sharp, 60.0), 2);
+        sharp.validate().expect("valid");
+        // The coplanar faces' corners at the edge point along z, the fin's along -y.
+        let corner = |m: &Mesh, c: usize| m.normals[m.indices[c] as usize].map(f64::from);
+        for c in [0, 1, 3, 4] {
+            assert!(
+                corner(&sharp, c)[2].abs() > 0.9999,
+                "{:?}",
+                corner(&sharp, c)
+            );
+        }
+        for c in [6, 7] {
+            assert!(corner(&sharp, c)[1] < -0.9999, "{:?}", corner(&sharp, c));
+        }
+        let mut smooth = m.clone();
+        assert_eq!(crease_normals(&mut smooth, 120.0), 0);
+        assert_eq!(corner(&smooth, 0), corner(&smooth, 6));
     }
 }
