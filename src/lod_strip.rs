@@ -59,7 +59,8 @@ pub struct LodStripOptions {
     pub height: u32,
     /// LOD threshold in pixels of the unmagnified view (see the module documentation).
     pub error_px: f32,
-    /// The HW/SW split size in pixels of the unmagnified view.
+    /// The HW/SW split (`FrameSettings::hw_threshold_px`: the edge-length equivalent of a cluster's
+    /// triangles) in pixels of the unmagnified view.
     pub hw_threshold_px: f32,
     /// Extra `VIEW_FLAG_*` (force SW / HW).
     pub flags: u32,
@@ -75,7 +76,7 @@ impl Default for LodStripOptions {
             width: 320,
             height: 240,
             error_px: 1.0,
-            hw_threshold_px: 32.0,
+            hw_threshold_px: crate::shared::DEFAULT_HW_THRESHOLD_PX,
             flags: 0,
             view: ViewMode::Clusters,
         }

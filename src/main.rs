@@ -84,12 +84,17 @@ struct RenderArgs {
     /// missing; all green without --geometry-budget).
     #[arg(long, default_value = "lit")]
     view: String,
-    /// `--mode vgeo` rasterizer choice: auto (by projected size), sw (compute) or hw (hardware).
-    /// Clusters reaching the near plane always use hw.
+    /// `--mode vgeo` rasterizer choice: auto (by the projected size of each cluster's triangles,
+    /// see --hw-threshold), sw (compute) or hw (hardware). Clusters reaching the near plane always
+    /// use hw.
     #[arg(long, default_value = "auto")]
     raster: String,
-    /// `--mode vgeo`: clusters larger than this on screen (pixels) go to the hardware rasterizer.
-    #[arg(long, default_value_t = 32.0)]
+    /// `--mode vgeo`, the SW/HW split: a cluster goes to the hardware rasterizer when its
+    /// triangles' edge-length equivalent exceeds this many pixels: sqrt(2 x their area-weighted
+    /// mean area), the side of a square grid cell of that area (two triangles per cell), projected
+    /// at the cluster's nearest point. Long thin triangles count by their area, not their length.
+    /// 0: every cluster to hardware; 100000: software only (but the near plane's clusters).
+    #[arg(long, default_value_t = FrameSettings::DEFAULT_HW_THRESHOLD_PX)]
     hw_threshold: f32,
     /// `--mode vgeo`: how the hardware rasterizer is fed: `mesh` (a mesh-shader workgroup per
     /// cluster, each vertex decoded once; needs VK_EXT_mesh_shader), `vertex` (vertex pulling,
@@ -238,7 +243,7 @@ fn main() -> ExitCode {
             error_px: 1.0,
             view: "lit".into(),
             raster: "auto".into(),
-            hw_threshold: 32.0,
+            hw_threshold: FrameSettings::DEFAULT_HW_THRESHOLD_PX,
             hw_path: "auto".into(),
             emit: "compute".into(),
             no_occlusion: false,

@@ -122,9 +122,24 @@ pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
 /// `src/builder/page.rs`): the unit a `.vgeo` file stores and checks, and the GPU holds per slot.
 pub const PAGE_BYTES: u32 = 131072;
 /// Words at the start of a cluster's header in its page that culling reads: bounds (min, max as
-/// f32 bits), `vertex_count | triangle_count << 8 | level << 16`, group, creator group
-/// (`src/builder/page.rs`); the vertex code follows them.
+/// f32 bits), `vertex_count | triangle_count << 8 | level << 16 | size_code << 24`, group, creator
+/// group (`src/builder/page.rs`); the vertex code follows them.
 pub const CLUSTER_CULL_WORDS: u32 = 9;
+/// Most DAG levels of a mesh: a cluster's level has 8 bits in its cull words (the builder stops
+/// with `BuildError::Stuck` before; a level takes at least a 15 % reduction, so 255 levels would
+/// need more than 2^32 triangles).
+pub const MAX_CLUSTER_LEVEL: u32 = 255;
+/// The size code of a cluster (bits 24-31 of its counts and of its cull words' info word, see
+/// `builder::size`) in steps of `1 / CLUSTER_SIZE_STEPS` octave: the edge-length equivalent of
+/// its triangles is at most `diagonal * 2^((code - CLUSTER_SIZE_CODE_MAX) / CLUSTER_SIZE_STEPS)`,
+/// `diagonal` the length of its bounds' diagonal.
+pub const CLUSTER_SIZE_STEPS: u32 = 16;
+/// The largest size code: a size equal to the cluster's bounds diagonal.
+pub const CLUSTER_SIZE_CODE_MAX: u32 = 255;
+/// Default SW/HW split (`FrameSettings::hw_threshold_px`, `--hw-threshold`): a cluster goes to
+/// the hardware rasterizer when the edge-length equivalent of its triangles (see
+/// `builder::size`), projected at the cluster's nearest point, exceeds this many pixels.
+pub const DEFAULT_HW_THRESHOLD_PX: f32 = 32.0;
 /// Colours of the `residency` debug view, RGBA8 packed as `r | g << 8 | b << 16 | a << 24` (GLSL
 /// `unpackUnorm4x8`; the image holds these bytes exactly). Per drawn cluster, by the pages of the
 /// group it would refine into (the group that produced it, `Cluster::creator`): resident (green)
@@ -306,7 +321,8 @@ pub struct ViewGpu {
     pub proj_scale: f32,
     /// LOD threshold in pixels.
     pub error_px: f32,
-    /// Clusters whose projected bounds exceed this many pixels go to the HW rasterizer.
+    /// The SW/HW split: clusters whose triangles' projected edge-length equivalent exceeds this
+    /// many pixels go to the HW rasterizer (`common/cull.glsl::emit_cluster`).
     pub hw_threshold_px: f32,
     pub near: f32,
     pub instance_count: u32,

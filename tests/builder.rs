@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::shapes::{append, grid, mesh_from, sphere};
+use common::shapes::{append, flat_grid, grid, mesh_from, slivers, sphere};
 
 use vgeo::builder::{self, BuildOptions, BuiltMesh, VerifyOptions};
 use vgeo::mesh::{Material, Mesh};
@@ -215,6 +215,55 @@ fn thin_needles() {
         ]);
     }
     build_and_verify(&mesh_from("needles", m.0, m.1));
+}
+
+/// The SW/HW split's measure (builder::size): the edge-length equivalent of a cluster's triangles,
+/// `sqrt(2 * sum(A^2) / sum(A))`, stored rounded up to 1/16 octave of its bounds' diagonal. A
+/// flat grid of squares of side s measures s at level 0; slivers of length L and width w measure
+/// sqrt(L w) (their area's), far below their clusters' size; verify recomputes every code.
+#[test]
+fn cluster_size_is_the_edge_length_equivalent_of_its_triangles() {
+    let step = 2f64.powf(1.0 / 16.0);
+    let within = |what: &str, got: f64, want: f64| {
+        // Rounded up by at most 1/16 octave; positions snap to the mesh's grid (a step of
+        // 1/65535 of the extent here), which moves the areas by a few parts in 10^4.
+        assert!(
+            got >= want * (1.0 - 1e-3) && got <= want * step * (1.0 + 1e-3),
+            "{what}: stored size {got}, measure {want}"
+        );
+    };
+    let side = 0.25f32;
+    let (p, i) = flat_grid(64, side);
+    let b = build_and_verify(&mesh_from("flat grid", p, i));
+    let level0: Vec<_> = b.clusters.iter().filter(|c| c.level == 0).collect();
+    assert!(level0.len() > 32, "{} level-0 clusters", level0.len());
+    for c in &level0 {
+        within("grid cluster", c.triangle_size(), side as f64);
+        // Every code is what its triangles give (verify checks it too).
+        assert!(c.size_code() > 0 && c.size_code() < 255);
+    }
+    // Simplification makes larger triangles: the coarser levels measure more.
+    let coarse = b.clusters.iter().filter(|c| c.level > 0);
+    assert!(coarse.clone().count() > 0);
+    assert!(coarse.into_iter().all(|c| c.triangle_size() > side as f64));
+
+    let (length, width) = (1.8f32, 0.002f32);
+    let (p, i) = slivers(200, length, width, 0.01);
+    let b = build_and_verify(&mesh_from("slivers", p, i));
+    let want = (length as f64 * width as f64).sqrt();
+    for c in b.clusters.iter().filter(|c| c.level == 0) {
+        within("sliver cluster", c.triangle_size(), want);
+        // The estimate by the bounding sphere (diameter / sqrt(triangles / 2)) is far larger.
+        let diagonal = (0..3)
+            .map(|k| (c.bounds_max[k] - c.bounds_min[k]).powi(2))
+            .sum::<f32>()
+            .sqrt();
+        let by_sphere = diagonal as f64 / (c.triangle_count() as f64 / 2.0).sqrt();
+        assert!(
+            by_sphere > 2.0 * want,
+            "{by_sphere} by the sphere, {want} by area"
+        );
+    }
 }
 
 #[test]
@@ -882,9 +931,9 @@ fn vgeo_files_are_read_page_by_page_and_each_page_is_checked() {
         VgeoFile::open(&path),
         Err(FormatError::Checksum { .. })
     ));
-    // Versions 2 (no pages), 3 (pages of plain streams) and 4 (cluster headers without cull
-    // words): refused with the hint to rebuild.
-    for old in [2u32, 3, 4] {
+    // Versions 2 (no pages), 3 (pages of plain streams), 4 (cluster headers without cull words)
+    // and 5 (clusters without the size code of their triangles): refused with the hint to rebuild.
+    for old in [2u32, 3, 4, 5] {
         let mut v = bytes.clone();
         v[8..12].copy_from_slice(&old.to_le_bytes());
         let err = load(&v).expect_err("an old version");

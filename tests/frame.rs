@@ -3,7 +3,10 @@
 
 mod common;
 
-use common::{assert_no_validation_errors, assets, filling_camera, gpu, load_built, shared_assets};
+use common::shapes::{mesh_from, slivers};
+use common::{
+    assert_no_validation_errors, assets, filling_camera, gpu, load_built, shared_assets, wall_mesh,
+};
 use glam::{DMat4, DVec3, Vec3};
 use vgeo::baseline::brute::Brute;
 use vgeo::builder::{BuildOptions, BuiltMesh, build};
@@ -252,6 +255,64 @@ fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_determ
         mixed1.frame.color, mixed2.frame.color,
         "two renders give different images"
     );
+    assert_no_validation_errors(&ctx);
+}
+
+/// The SW/HW split by the size of a cluster's triangles (common/cull.glsl::emit_cluster,
+/// builder::size) at the default threshold: long thin slivers (grass blades seen from the front:
+/// clusters a few hundred pixels across, triangles of a few pixels' area) go to the compute
+/// rasterizer, a wall of big triangles to hardware. By the estimate the split used before (the
+/// cluster's projected diameter over sqrt(triangles / 2)) the slivers went to hardware.
+#[test]
+fn split_by_triangle_size_sends_slivers_to_sw_and_big_triangles_to_hw() {
+    let ctx = gpu();
+    let (fov, eye) = (60f32.to_radians(), DVec3::new(0.0, 0.0, 2.0));
+    let camera = Camera::look_at(eye, DVec3::ZERO, Vec3::Y, fov, 0.05);
+    // Threshold 0: the level-0 clusters (the slivers' coarser levels may merge them).
+    let settings = FrameSettings {
+        error_px: 0.0,
+        occlusion: false,
+        ..Default::default()
+    };
+    assert_eq!(settings.hw_threshold_px, 32.0, "the default split");
+    let (p, i) = slivers(200, 1.8, 0.002, 0.01);
+    let thin = build(&mesh_from("slivers", p, i), &BuildOptions::default()).unwrap();
+    let wall = build(&wall_mesh(4), &BuildOptions::default()).unwrap();
+    let scale = vgeo::builder::cut::proj_scale(H as f32, fov) as f64;
+    for (what, built, to_hw) in [("slivers", thin, false), ("wall", wall, true)] {
+        let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &one(0)).unwrap();
+        let f = render(&mut r, &camera, &settings);
+        let c = (&f.main.counters, &f.post.counters);
+        let (sw, hw) = (c.0.sw_count + c.1.sw_count, c.0.hw_count + c.1.hw_count);
+        let covered = f.frame.depth.iter().filter(|d| **d > 0.0).count();
+        // The old estimate, on the CPU: projected diameter (at the nearest point) over
+        // sqrt(triangles / 2).
+        let old_hw = f
+            .visible()
+            .iter()
+            .filter(|[_, ci]| {
+                let c = &built.clusters[*ci as usize];
+                let (lo, hi) = (
+                    DVec3::from(c.bounds_min.map(f64::from)),
+                    DVec3::from(c.bounds_max.map(f64::from)),
+                );
+                let r = (hi - lo).length() / 2.0;
+                let dist = ((lo + hi) / 2.0 - eye).length() - r;
+                2.0 * r * scale / dist / (c.triangle_count() as f64 / 2.0).sqrt() > 32.0
+            })
+            .count();
+        eprintln!(
+            "{what}: {sw} clusters to SW, {hw} to HW ({old_hw} by the old estimate), \
+             {covered} pixels covered"
+        );
+        assert!(covered > 500, "{what}: {covered} pixels covered");
+        if to_hw {
+            assert!(hw > 0 && sw == 0, "{what}: {sw} to SW, {hw} to HW");
+        } else {
+            assert!(sw > 0 && hw == 0, "{what}: {sw} to SW, {hw} to HW");
+            assert!(old_hw > 0, "the old estimate sent none of them to HW");
+        }
+    }
     assert_no_validation_errors(&ctx);
 }
 

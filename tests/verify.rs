@@ -66,6 +66,15 @@ fn set_local_triangles(m: &mut BuiltMesh, ci: usize, tris: &[[u8; 3]]) {
     let c = &mut m.clusters[ci];
     c.triangle_offset = at as u32;
     c.counts = c.vertex_count() | (tris.len() as u32) << 8 | c.flags() << 16;
+    // The size code of the new triangles (what the builder would store).
+    let code = builder::size::cluster_size_code(
+        m.cluster_triangles(ci)
+            .iter()
+            .map(|t| t.map(|v| m.position(v))),
+        m.clusters[ci].bounds_min,
+        m.clusters[ci].bounds_max,
+    );
+    m.clusters[ci].counts |= code << 24;
     // Lay the pages out again, so that the new triangles lie in the cluster's page.
     let level = m.fallback_level(BuildOptions::default().fallback_triangles);
     builder::page::paginate(m, builder::page::PAGE_BYTES as usize, level);

@@ -2,7 +2,8 @@
 // (ClusterLocGpu: page and word) gives where its data starts in the pool, and its first
 // CLUSTER_CULL_WORDS words are what the passes need of it. Their layout, read only here:
 // words 0-2 bounds min and 3-5 bounds max (f32 bits), 6 `vertex_count | triangle_count << 8 |
-// level << 16`, 7 its group, 8 its creator group. Its LOD pairs are its groups' (cull.glsl).
+// level << 16 | size_code << 24` (8 bits each; the size code of its triangles: src/builder/size.rs),
+// 7 its group, 8 its creator group. Its LOD pairs are its groups' (cull.glsl).
 //
 // The including shader declares `cluster_locs[]` (ClusterLoc), `pages[]` (PageGpu) and `pool[]`
 // (uint) before including this file. The cluster's page must be resident.
@@ -22,9 +23,17 @@ vec3 cluster_bounds_min(uint at) {
 vec3 cluster_bounds_max(uint at) {
     return uintBitsToFloat(uvec3(pool[at + 3u], pool[at + 4u], pool[at + 5u]));
 }
-// `vertex_count | triangle_count << 8 | level << 16`.
+// `vertex_count | triangle_count << 8 | level << 16 | size_code << 24`.
 uint cluster_info(uint at) {
     return pool[at + 6u];
+}
+uint info_triangles(uint info) { return (info >> 8) & 0xffu; }
+uint info_level(uint info) { return (info >> 16) & 0xffu; }
+// The edge-length equivalent of the cluster's triangles (src/builder/size.rs:
+// sqrt(2 sum(A^2) / sum(A)) over their areas A) as a share of its bounds' diagonal, rounded up to
+// a step of 1/CLUSTER_SIZE_STEPS octave.
+float info_size_ratio(uint info) {
+    return exp2((float(info >> 24) - float(CLUSTER_SIZE_CODE_MAX)) / float(CLUSTER_SIZE_STEPS));
 }
 uint cluster_group(uint at) {
     return pool[at + 7u];
@@ -40,7 +49,7 @@ Cluster cluster_at(MeshGpu mesh, uint ci) {
     c.bounds_min = cluster_bounds_min(at);
     c.bounds_max = cluster_bounds_max(at);
     c.counts = info & 0xffffu;
-    c.level = info >> 16;
+    c.level = info_level(info);
     c.group = cluster_group(at);
     c.creator = cluster_creator(at);
     c.page = cluster_locs[ci].page;

@@ -49,9 +49,11 @@ void push_item(uint64_t item) {
     atomicExchange(queue[slot], item);
 }
 
-// Appends a drawn cluster to the visible list and to the SW or HW list. `center`/`radius`: its
-// camera-relative bounding sphere.
-void emit_cluster(uint instance, uint cluster_index, uint triangles, vec3 center, float radius) {
+// Appends a drawn cluster to the visible list and to the SW or HW list. `info`: its cull words'
+// info word (common/cluster.glsl); `center`/`radius`: its camera-relative bounding sphere (the
+// radius is half its bounds' diagonal times the instance's largest axis scale).
+void emit_cluster(uint instance, uint cluster_index, uint info, vec3 center, float radius) {
+    uint triangles = info_triangles(info);
     uint v = atomicAdd(counters.visible_count, 1u);
     if ((view.flags & VIEW_FLAG_DIRECT_VISIBLE) != 0u) {
         // The same slot on every run: the instance's base + the cluster's index in its mesh.
@@ -64,7 +66,7 @@ void emit_cluster(uint instance, uint cluster_index, uint triangles, vec3 center
     }
     visible[v] = uvec2(instance, cluster_index);
     // Clusters reaching the near plane always go to HW (the SW rasterizer cannot clip); otherwise
-    // by projected size, unless forced.
+    // by the projected size of their triangles, unless forced.
     float dist = length(center) - radius;
     bool hw;
     if (dist <= view.near) {
@@ -74,11 +76,14 @@ void emit_cluster(uint instance, uint cluster_index, uint triangles, vec3 center
     } else if ((view.flags & VIEW_FLAG_FORCE_SW) != 0u) {
         hw = false;
     } else {
-        // Projected edge length, estimated from the cluster's size on screen and its triangle count
-        // (a cluster of T triangles across a disc of diameter D has edges of about D / sqrt(T / 2)).
-        float tris = float(max(triangles, 1u));
-        float diameter_px = 2.0 * radius * view.proj_scale / dist;
-        hw = diameter_px * inversesqrt(tris * 0.5) > view.hw_threshold_px;
+        // The edge-length equivalent of its triangles (src/builder/size.rs: the side of a square
+        // grid cell of their area-weighted mean area; stored relative to the bounds' diagonal,
+        // 2 * radius / scale), scaled by the instance and projected at the sphere's nearest point
+        // (conservative: no triangle of the cluster is nearer). What the compute rasterizer's
+        // cost follows is the pixels per triangle; long thin blades (a large sphere, a small area)
+        // stay in software, large triangles go to hardware.
+        float size_px = info_size_ratio(info) * 2.0 * radius * view.proj_scale / dist;
+        hw = size_px > view.hw_threshold_px;
     }
     // The lists hold visible_capacity entries each; a cluster emitted twice (never, by the cut's
     // rule, but a direct slot is not a count) must not write past them.
@@ -192,7 +197,7 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     float scale = inst.max_scale;
     if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u) {
         // The fallback cut is the root alone only when the fallback level is the root's.
-        if ((info >> 16) > mesh.fallback_level) {
+        if (info_level(info) > mesh.fallback_level) {
             return false;
         }
     } else {
@@ -214,7 +219,7 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
         return true;
     }
     if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
-        emit_cluster(instance, ci, (info >> 8) & 0xffu, cc, cr);
+        emit_cluster(instance, ci, info, cc, cr);
     }
     return true;
 }
@@ -234,7 +239,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
     atomicAdd(counters.clusters_tested, 1u);
     bool in_cut;
     if (fallback) {
-        in_cut = (info >> 16) <= mesh.fallback_level;
+        in_cut = info_level(info) <= mesh.fallback_level;
     } else {
         uint creator = cluster_creator(at);
         float self_px = self_error_px(inst, mesh, creator, scale);
@@ -257,7 +262,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
         return;
     }
     if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
-        emit_cluster(instance, ci, (info >> 8) & 0xffu, cc, cr);
+        emit_cluster(instance, ci, info, cc, cr);
     }
 }
 

@@ -176,7 +176,8 @@ pub struct BenchSettings {
     pub stress: bool,
     /// Modes to run (of [`MODES`]); without `brute` there is no reference and no image error.
     pub modes: Vec<String>,
-    /// vgeo: clusters with longer projected edges than this (pixels) go to the hardware rasterizer.
+    /// vgeo: the SW/HW split ([`FrameSettings::hw_threshold_px`]: clusters whose triangles'
+    /// projected edge-length equivalent exceeds this many pixels go to the hardware rasterizer).
     pub hw_threshold_px: f32,
     /// vgeo: how `emit_gbuffer` runs.
     pub emit: EmitPath,
@@ -244,8 +245,10 @@ pub struct BenchArgs {
     /// no reference image, so no image error is reported.
     #[arg(long, value_delimiter = ',')]
     pub modes: Option<Vec<String>>,
-    /// vgeo: clusters whose projected edges are longer than this many pixels go to the hardware
-    /// rasterizer (default 32), for tuning the SW/HW split.
+    /// vgeo, the SW/HW split: clusters whose triangles' edge-length equivalent (sqrt(2 x their
+    /// area-weighted mean area), projected at the cluster's nearest point) exceeds this many
+    /// pixels go to the hardware rasterizer (default 32; 0: all to hardware; 100000: software
+    /// only but the near plane's clusters).
     #[arg(long)]
     pub hw_threshold: Option<f32>,
     /// vgeo: `emit_gbuffer` as `compute` (default: a dispatch per material) or `raster` (a draw
@@ -590,6 +593,7 @@ mod tests {
             cpu_ms: 1.0,
             triangles: 100,
             clusters: None,
+            hw_clusters: None,
             instances_visible: None,
             error: Some(ImageError {
                 surface_diff: 0.01,

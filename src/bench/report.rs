@@ -30,6 +30,8 @@ pub struct FrameRecord {
     pub triangles: u64,
     /// Clusters drawn (vgeo only).
     pub clusters: Option<u64>,
+    /// Of those, clusters the hardware rasterizer drew (vgeo only; the rest went to software).
+    pub hw_clusters: Option<u64>,
     /// Instances drawn: brute draws all; vgeo counts those passing frustum and occlusion culling;
     /// `None` for lod (its renderer does not report it).
     pub instances_visible: Option<u64>,
@@ -87,6 +89,8 @@ pub struct Summary {
     pub cpu_ms_mean: f64,
     pub triangles_mean: f64,
     pub clusters_mean: Option<f64>,
+    /// Clusters to the hardware rasterizer (vgeo).
+    pub hw_clusters_mean: Option<f64>,
     pub instances_visible_mean: Option<f64>,
     pub surface_diff_mean: Option<f64>,
     pub surface_diff_max: Option<f64>,
@@ -668,7 +672,10 @@ pub fn markdown(report: &BenchReport) -> String {
                 r.gpu_ms_mean,
                 r.cpu_ms_mean,
                 r.triangles_mean,
-                fmt_opt(r.clusters_mean, |c| format!("{c:.0}")),
+                match (r.clusters_mean, r.hw_clusters_mean) {
+                    (Some(c), Some(h)) => format!("{c:.0} ({h:.0} HW)"),
+                    (c, _) => fmt_opt(c, |c| format!("{c:.0}")),
+                },
                 fmt_opt(r.instances_visible_mean, |c| format!("{c:.0}")),
                 fmt_opt(r.surface_diff_mean, |x| format!("{:.3}", x * 100.0)),
                 match (r.depth_err_mean, r.depth_err_max) {

@@ -156,6 +156,7 @@ pub(super) fn run_scene(
                 cpu_ms,
                 triangles: frame.triangles,
                 clusters: None,
+                hw_clusters: None,
                 instances_visible: Some(scene.placements.len() as u64),
                 error: Some(image_error(&r, &frame)?),
             });
@@ -228,6 +229,7 @@ pub(super) fn run_scene(
                     cpu_ms,
                     triangles: frame.triangles,
                     clusters: None,
+                    hw_clusters: None,
                     instances_visible: Some(stats.drawn() as u64),
                     error,
                 });
@@ -405,6 +407,7 @@ fn vgeo_record(
         cpu_ms,
         triangles: vf.frame.triangles,
         clusters: Some((m.sw_count + m.hw_count) as u64 + (p.sw_count + p.hw_count) as u64),
+        hw_clusters: Some(m.hw_count as u64 + p.hw_count as u64),
         instances_visible: Some(m.instances_visible as u64 + p.instances_visible as u64),
         error,
     })

@@ -19,7 +19,7 @@ use super::{
 use super::{uf_find, uf_union};
 use crate::hash::FxBuild;
 use crate::mesh::Mesh;
-use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
+use crate::shared::{MAX_CLUSTER_LEVEL, MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
 
 /// Builds the cluster DAG of `mesh`. Deterministic: the same input gives the same result whatever
 /// the thread count.
@@ -1145,7 +1145,8 @@ fn build_inner(
         ((opts.group_min as usize) * 2).clamp(opts.group_min as usize, opts.group_max as usize);
 
     while working.len() > 1 {
-        if iteration >= 4096 {
+        // A level has 8 bits in the cull words (MAX_CLUSTER_LEVEL); the next would be iteration + 1.
+        if iteration >= MAX_CLUSTER_LEVEL {
             return Err(stuck(mesh, iteration, &working, &clusters));
         }
         let gmax = (opts.group_max as usize).saturating_mul(widen);
@@ -1286,7 +1287,7 @@ fn build_inner(
     let shared = Edges(Vec::new());
     while (opts.root_triangles as usize) > 0
         && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
-        && iteration < 4096
+        && iteration < MAX_CLUSTER_LEVEL
     {
         let top = working[0];
         let ctx = GroupCtx {
@@ -1767,6 +1768,11 @@ fn assemble(
             // Full u32 references until `page::paginate` gives each page its own u16 ones.
             let refs = local.clone();
             let flags = CLUSTER_FLAG_REFS_U32;
+            let size = super::size::cluster_size_code(
+                w.tris.iter().map(|t| t.map(|v| positions[v as usize])),
+                lo,
+                hi,
+            );
             let g = &wgroups[w.group as usize];
             let cluster = Cluster {
                 self_sphere: w.self_sphere,
@@ -1778,7 +1784,7 @@ fn assemble(
                 vertex_ref_offset: 0,
                 data_offset: 0,
                 triangle_offset: 0,
-                counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16,
+                counts: local.len() as u32 | (w.tris.len() as u32) << 8 | flags << 16 | size << 24,
                 group: new_gid[w.group as usize],
                 creator: if w.creator == NO_GROUP {
                     NO_GROUP

@@ -24,6 +24,7 @@ pub mod group;
 pub mod page;
 pub mod quantize;
 pub mod simplify;
+pub mod size;
 pub mod verify;
 
 /// Union-find root of `x` in `parent` (with path halving): the builder's connected pieces, seam
@@ -208,13 +209,15 @@ pub struct Cluster {
     /// [`BuiltMesh::triangles`]: `3 * triangle_count` indices of [`index_bits`]`(vertex_count)`
     /// bits each, as a little-endian bit stream (index `k` starts at bit `k * bits`).
     pub triangle_offset: u32,
-    /// `vertex_count | triangle_count << 8 | flags << 16`.
+    /// `vertex_count | triangle_count << 8 | flags << 16 | size_code << 24` (flags: 8 bits; the
+    /// size code of its triangles: [`size`]).
     pub counts: u32,
     /// The group the cluster is a member of (its `parent` pair); the root's own pseudo-group.
     pub group: u32,
     /// The group whose simplification produced the cluster ([`NO_GROUP`] at level 0).
     pub creator: u32,
-    /// DAG level: 0 for input clusters, else the creator group's iteration + 1.
+    /// DAG level: 0 for input clusters, else the creator group's iteration + 1 (at most
+    /// [`crate::shared::MAX_CLUSTER_LEVEL`]).
     pub level: u32,
     /// The page holding the cluster's vertices, references and triangles ([`BuiltMesh::pages`]).
     pub page: u32,
@@ -232,7 +235,18 @@ impl Cluster {
     }
     /// Flags ([`CLUSTER_FLAG_REFS_U32`]).
     pub fn flags(&self) -> u32 {
-        self.counts >> 16
+        (self.counts >> 16) & 0xff
+    }
+    /// The size code of its triangles (see [`size`]): their edge-length equivalent is at most
+    /// [`size::size_ratio`]`(code)` times its bounds' diagonal.
+    pub fn size_code(&self) -> u32 {
+        self.counts >> 24
+    }
+    /// The edge-length equivalent of its triangles that its size code stands for (object space;
+    /// at most 4.4 % above the measure, see [`size`]).
+    pub fn triangle_size(&self) -> f64 {
+        size::size_ratio(self.size_code())
+            * size::diagonal_squared(self.bounds_min, self.bounds_max).sqrt()
     }
     /// Number of u32 words its vertex references take.
     pub fn vertex_ref_words(&self) -> u32 {

@@ -76,7 +76,8 @@ pub struct Page {
 }
 const _: () = assert!(size_of::<Page>() == 32);
 
-/// Words of a cluster's header that culling reads: bounds (6), counts and level, group, creator.
+/// Words of a cluster's header that culling reads: bounds (6), counts, level and size code,
+/// group, creator.
 pub const CULL_WORDS: u32 = crate::shared::CLUSTER_CULL_WORDS;
 
 /// Words of a cluster's header in an encoded page.
@@ -84,7 +85,10 @@ pub fn header_words(has_uvs: bool, has_materials: bool) -> u32 {
     CULL_WORDS + 5 + has_uvs as u32 + has_materials as u32
 }
 
-/// A cluster's cull words ([`CULL_WORDS`]), from its record.
+/// A cluster's cull words ([`CULL_WORDS`]), from its record: bounds, then
+/// `vertex_count | triangle_count << 8 | level << 16 | size_code << 24` (the level has 8 bits:
+/// [`crate::shared::MAX_CLUSTER_LEVEL`], which the builder and the loader's checks keep), group,
+/// creator.
 pub fn cull_words(c: &Cluster) -> [u32; CULL_WORDS as usize] {
     let (lo, hi) = (c.bounds_min, c.bounds_max);
     [
@@ -94,7 +98,10 @@ pub fn cull_words(c: &Cluster) -> [u32; CULL_WORDS as usize] {
         hi[0].to_bits(),
         hi[1].to_bits(),
         hi[2].to_bits(),
-        c.vertex_count() | c.triangle_count() << 8 | c.level.min(0xffff) << 16,
+        c.vertex_count()
+            | c.triangle_count() << 8
+            | c.level.min(crate::shared::MAX_CLUSTER_LEVEL) << 16
+            | c.size_code() << 24,
         c.group,
         c.creator,
     ]
@@ -386,7 +393,8 @@ pub fn decode_page(
         let (cull, head) = head.split_at(CULL_WORDS as usize);
         if cull != cull_words(c) {
             return Err(bad(
-                "its cull words (bounds, counts, level, group, creator) differ from its record"
+                "its cull words (bounds, counts, level, size code, group, creator) differ from its \
+                 record"
                     .into(),
             ));
         }

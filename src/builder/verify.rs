@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use super::cut::{cut_brute, cut_bvh, proj_scale};
 use super::{BVH_FLAG_LEAF, BuiltMesh, NO_GROUP, Sphere, uf_find};
-use crate::shared::{MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
+use crate::shared::{MAX_CLUSTER_LEVEL, MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES};
 
 mod reference;
 
@@ -249,8 +249,11 @@ fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
                 "cluster {ci}: self pair is not its creator group's"
             ));
         }
-        if c.level > 0xffff {
-            s.add(format!("cluster {ci}: level {} over 65535", c.level));
+        if c.level > MAX_CLUSTER_LEVEL {
+            s.add(format!(
+                "cluster {ci}: level {} over {MAX_CLUSTER_LEVEL}",
+                c.level
+            ));
         }
         let Some(p) = m.pages.get(c.page as usize) else {
             s.add(format!("cluster {ci}: page {} out of range", c.page));
@@ -438,6 +441,19 @@ fn check_dag(m: &BuiltMesh, s: &mut Sink) {
     }
     let mut children: Vec<Vec<u32>> = vec![Vec::new(); m.groups.len()];
     for (ci, c) in m.clusters.iter().enumerate() {
+        // The SW/HW split's measure (builder::size): exactly what its triangles give.
+        let tris = m.cluster_triangles(ci);
+        let code = super::size::cluster_size_code(
+            tris.iter().map(|t| t.map(|v| m.position(v))),
+            c.bounds_min,
+            c.bounds_max,
+        );
+        if code != c.size_code() {
+            s.add(format!(
+                "cluster {ci}: size code {} but its triangles give {code}",
+                c.size_code()
+            ));
+        }
         let g = &m.groups[c.group as usize];
         if c.parent_error.to_bits() != g.error.to_bits()
             || !same_sphere(&c.parent_sphere, &g.lod_sphere)

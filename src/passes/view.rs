@@ -12,7 +12,11 @@ use crate::shared::ViewGpu;
 pub struct FrameSettings {
     /// LOD threshold: the largest projected error allowed, in pixels.
     pub error_px: f32,
-    /// Clusters whose projected size exceeds this many pixels go to the HW rasterizer.
+    /// The SW/HW split: a cluster goes to the HW rasterizer when the edge-length equivalent of
+    /// its triangles (`sqrt(2 * sum(A^2) / sum(A))` over their areas, i.e. the side of a square
+    /// grid cell of their area-weighted mean area: `builder::size`), projected at the cluster's
+    /// nearest point, exceeds this many pixels. 0: every cluster to HW; a huge value: every
+    /// cluster not reaching the near plane to SW.
     pub hw_threshold_px: f32,
     /// Zero or more of [`FrameSettings::FORCE_SW`], [`FrameSettings::FORCE_HW`],
     /// [`FrameSettings::NO_FRUSTUM`], [`FrameSettings::COUNT_OVERDRAW`].
@@ -30,13 +34,15 @@ impl FrameSettings {
     pub const NO_FRUSTUM: u32 = crate::shared::VIEW_FLAG_NO_FRUSTUM;
     /// [`FrameSettings::flags`]: count rasterizer writes per pixel (the overdraw view).
     pub const COUNT_OVERDRAW: u32 = crate::shared::VIEW_FLAG_COUNT_OVERDRAW;
+    /// The default [`FrameSettings::hw_threshold_px`] (pixels).
+    pub const DEFAULT_HW_THRESHOLD_PX: f32 = crate::shared::DEFAULT_HW_THRESHOLD_PX;
 }
 
 impl Default for FrameSettings {
     fn default() -> Self {
         Self {
             error_px: 1.0,
-            hw_threshold_px: 32.0,
+            hw_threshold_px: Self::DEFAULT_HW_THRESHOLD_PX,
             flags: 0,
             occlusion: true,
         }

@@ -88,3 +88,41 @@ pub fn append(dst: &mut (Vec<[f32; 3]>, Vec<u32>), src: (Vec<[f32; 3]>, Vec<u32>
     dst.0.extend(src.0);
     dst.1.extend(src.1.into_iter().map(|i| i + base));
 }
+
+/// A flat `n` x `n` grid of square cells of side `side` in the xy plane (z = 0) from the origin,
+/// two triangles per cell.
+pub fn flat_grid(n: u32, side: f32) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let mut p = Vec::new();
+    for y in 0..=n {
+        for x in 0..=n {
+            p.push([x as f32 * side, y as f32 * side, 0.0]);
+        }
+    }
+    let v = |x: u32, y: u32| y * (n + 1) + x;
+    let mut idx = Vec::new();
+    for y in 0..n {
+        for x in 0..n {
+            idx.extend_from_slice(&[v(x, y), v(x + 1, y), v(x + 1, y + 1)]);
+            idx.extend_from_slice(&[v(x, y), v(x + 1, y + 1), v(x, y + 1)]);
+        }
+    }
+    (p, idx)
+}
+
+/// `n` separate slivers in the xy plane (z = 0) like grass blades seen from the front: each a
+/// triangle of base `width` at `y = -length / 2` and apex at `y = length / 2`, the bases
+/// `spacing` apart along x and centred on the origin. Area of each: `length * width / 2`.
+pub fn slivers(n: u32, length: f32, width: f32, spacing: f32) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let mut p = Vec::new();
+    let mut idx = Vec::new();
+    let x0 = -(n as f32 - 1.0) * spacing / 2.0;
+    for i in 0..n {
+        let x = x0 + i as f32 * spacing;
+        let b = p.len() as u32;
+        p.push([x - width / 2.0, -length / 2.0, 0.0]);
+        p.push([x + width / 2.0, -length / 2.0, 0.0]);
+        p.push([x, length / 2.0, 0.0]);
+        idx.extend_from_slice(&[b, b + 1, b + 2]);
+    }
+    (p, idx)
+}
