@@ -139,7 +139,7 @@ pub const CLUSTER_SIZE_CODE_MAX: u32 = 255;
 /// Default SW/HW split (`FrameSettings::hw_threshold_px`, `--hw-threshold`): a cluster goes to
 /// the hardware rasterizer when the edge-length equivalent of its triangles (see
 /// `builder::size`), projected at the cluster's nearest point, exceeds this many pixels.
-pub const DEFAULT_HW_THRESHOLD_PX: f32 = 32.0;
+pub const DEFAULT_HW_THRESHOLD_PX: f32 = 64.0;
 /// Colours of the `residency` debug view, RGBA8 packed as `r | g << 8 | b << 16 | a << 24` (GLSL
 /// `unpackUnorm4x8`; the image holds these bytes exactly). Per drawn cluster, by the pages of the
 /// group it would refine into (the group that produced it, `Cluster::creator`): resident (green)

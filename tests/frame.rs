@@ -274,7 +274,7 @@ fn split_by_triangle_size_sends_slivers_to_sw_and_big_triangles_to_hw() {
         occlusion: false,
         ..Default::default()
     };
-    assert_eq!(settings.hw_threshold_px, 32.0, "the default split");
+    assert_eq!(settings.hw_threshold_px, 64.0, "the default split");
     let (p, i) = slivers(200, 1.8, 0.002, 0.01);
     let thin = build(&mesh_from("slivers", p, i), &BuildOptions::default()).unwrap();
     let wall = build(&wall_mesh(4), &BuildOptions::default()).unwrap();
