@@ -50,10 +50,13 @@ void main() {
     for (uint k = tid; k < vcount; k += RASTER_HW_MESH_WORKGROUP_SIZE) {
         PackedVertex pv = cluster_vertex(d, k);
         vec4 clip = clip_position(relative_position(inst, decode_position(mesh, pv)));
-        gl_MeshVerticesEXT[k].gl_Position = clip;
         ivec2 xy;
         float z;
         bool ok = project_fixed(clip, xy, z);
+        // A snapped vertex as raster_sw's fixed-point point (hw_position), in every triangle that
+        // uses it: where a triangle's other vertex is not snapped, the point is the same
+        // projectively (w > 0), so the hardware's clipping gives the same polygon.
+        gl_MeshVerticesEXT[k].gl_Position = ok ? hw_position(clip, xy, z) : clip;
         s_xy[k] = xy;
         s_z[k] = z;
         s_ok[k] = ok ? 1u : 0u;

@@ -46,7 +46,9 @@ void main() {
         ok = project_fixed(clip[k], xy[k], zk) && ok;
         z[k] = zk;
     }
-    gl_Position = clip[corner];
+    // Snapped: the hardware gets raster_sw's fixed-point vertex (hw_position), so both cover the
+    // same pixels; otherwise the clip position (the hardware clips at the near plane).
+    gl_Position = ok ? hw_position(clip[corner], xy[corner], z[corner]) : clip[corner];
     out_id = (visible_index << VISBUFFER_TRIANGLE_BITS) | tri;
     out_snapped = ok ? 1u : 0u;
     if (ok) {

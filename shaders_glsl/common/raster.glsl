@@ -202,6 +202,26 @@ bool project_fixed(vec4 c, out ivec2 fixed_xy, out float z) {
     return true;
 }
 
+// The position the hardware rasterizer is given for a vertex that project_fixed snapped: the
+// snapped point itself (w = 1), so that the hardware's viewport transform and its own sub-pixel
+// snap (8 bits, as raster_sw's) land on raster_sw's fixed-point vertex and both rasterizers cover
+// the same pixels. The float error of x / half_size * half_size + half_size is about 1e-7 of the
+// coordinate, far below half a sub-pixel step within RASTER_EXACT_PIXELS of the origin (where
+// the fixed-point value is exact in a float too); farther vertices (off screen) keep `clip`, the
+// same point projectively (w > 0), which the hardware snaps on its own. (Passing `clip` for
+// every vertex let the H100 round a few vertices to the neighbouring sub-pixel: 4-47 pixels of a
+// 1080p frame differed between SW and HW; bench/results/2026-11-25-session15, call 5.)
+#define RASTER_EXACT_PIXELS 16384
+vec4 hw_position(vec4 clip, ivec2 fixed_xy, float z) {
+    if (any(greaterThanEqual(abs(fixed_xy), ivec2(RASTER_EXACT_PIXELS * RASTER_ONE)))) {
+        return clip;
+    }
+    precise vec2 half_size = view.viewport.xy * 0.5;
+    precise vec2 xy = vec2(fixed_xy) / float(RASTER_ONE);
+    precise vec2 ndc = (xy - half_size) / half_size;
+    return vec4(ndc, z, 1.0);
+}
+
 // Edge function E_ab(p) = (b - a) x (p - a), exact in int64.
 int64_t edge_fn(ivec2 a, ivec2 b, ivec2 p) {
     return int64_t(b.x - a.x) * int64_t(p.y - a.y) - int64_t(b.y - a.y) * int64_t(p.x - a.x);
