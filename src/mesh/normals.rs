@@ -259,11 +259,15 @@ struct FanInput<'a> {
 struct FanScratch {
     /// (the other position of an edge at this position, local corner)
     edges: Vec<(u32, u32)>,
-    /// Union-find over the local corners.
+    /// Union-find over the local corners (a set's root is its smallest corner).
     parent: Vec<u32>,
-    /// (fan root, local corner)
-    fans: Vec<(u32, u32)>,
+    /// Per fan root: the fan's weighted normal sum, then its unit normal.
+    sum: Vec<[f64; 3]>,
+    unit: Vec<Option<[f64; 3]>>,
 }
+
+/// A position with more edge entries than this pairs them by a sort, fewer by a scan.
+const SCAN_EDGES: usize = 32;
 
 impl FanInput<'_> {
     /// The normals of the corners at position `p` (`corners`, ascending), into `out` (one per
@@ -297,42 +301,57 @@ impl FanInput<'_> {
                 s.edges.push((from, i));
             }
         }
-        s.edges.sort_unstable();
-        for run in s.edges.chunk_by(|a, b| a.0 == b.0) {
-            for (x, &(_, i)) in run.iter().enumerate() {
-                for &(_, j) in &run[x + 1..] {
-                    let (a, b) = (corners[i as usize] / 3, corners[j as usize] / 3);
-                    if dot(self.face_normal[a as usize], self.face_normal[b as usize])
-                        >= self.cos_crease
-                    {
+        // Corners whose edges from `p` end at the same other position, and whose faces meet
+        // smoothly, join: every such pair (all pairs of a non-manifold edge). A fan's handful of
+        // entries is paired by a scan, a huge fan's by a sort.
+        let smooth = |i: u32, j: u32| {
+            let (a, b) = (corners[i as usize] / 3, corners[j as usize] / 3);
+            dot(self.face_normal[a as usize], self.face_normal[b as usize]) >= self.cos_crease
+        };
+        if s.edges.len() <= SCAN_EDGES {
+            for (x, &(q, i)) in s.edges.iter().enumerate() {
+                for &(r, j) in &s.edges[x + 1..] {
+                    if q == r && smooth(i, j) {
                         union(&mut s.parent, i, j);
                     }
                 }
             }
-        }
-        s.fans.clear();
-        for i in 0..corners.len() as u32 {
-            let root = find(&mut s.parent, i);
-            s.fans.push((root, i));
-        }
-        s.fans.sort_unstable();
-        for fan in s.fans.chunk_by(|a, b| a.0 == b.0) {
-            let mut acc = [0.0f64; 3];
-            for &(_, i) in fan {
-                let c = corners[i as usize] as usize;
-                let n = self.face_normal[c / 3];
-                for (a, n) in acc.iter_mut().zip(n) {
-                    *a += n * self.weight[c];
+        } else {
+            s.edges.sort_unstable();
+            for run in s.edges.chunk_by(|a, b| a.0 == b.0) {
+                for (x, &(_, i)) in run.iter().enumerate() {
+                    for &(_, j) in &run[x + 1..] {
+                        if smooth(i, j) {
+                            union(&mut s.parent, i, j);
+                        }
+                    }
                 }
             }
-            let fan_normal = normalized(acc);
-            for &(_, i) in fan {
-                let c = corners[i as usize] as usize;
-                out[i as usize] = fan_normal
-                    .or(normalized(self.face_normal[c / 3]))
-                    .unwrap_or([0.0, 0.0, 1.0])
-                    .map(|x| x as f32);
+        }
+        // Each fan's sum over its corners in ascending order (its root, the smallest, first).
+        let k = corners.len();
+        s.sum.clear();
+        s.sum.resize(k, [0.0; 3]);
+        s.unit.clear();
+        s.unit.resize(k, None);
+        for (i, &c) in corners.iter().enumerate() {
+            let root = find(&mut s.parent, i as u32) as usize;
+            let c = c as usize;
+            let n = self.face_normal[c / 3];
+            for (a, n) in s.sum[root].iter_mut().zip(n) {
+                *a += n * self.weight[c];
             }
+        }
+        for (i, (&c, out)) in corners.iter().zip(out.iter_mut()).enumerate() {
+            let root = find(&mut s.parent, i as u32) as usize;
+            if root == i {
+                s.unit[i] = normalized(s.sum[i]);
+            }
+            let c = c as usize;
+            *out = s.unit[root]
+                .or(normalized(self.face_normal[c / 3]))
+                .unwrap_or([0.0, 0.0, 1.0])
+                .map(|x| x as f32);
         }
     }
 }
