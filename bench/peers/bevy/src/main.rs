@@ -291,6 +291,9 @@ pub struct Shared {
     pub tag: AtomicI64,
     pub times: std::sync::Mutex<FrameTimes>,
     pub png_saved: AtomicBool,
+    /// Fraction of the saved image's pixels that differ from the clear colour (f64 bits; a
+    /// sanity check that the scene was drawn at all).
+    pub png_coverage: std::sync::atomic::AtomicU64,
 }
 
 #[derive(Resource)]
@@ -457,6 +460,9 @@ fn drive(
                     Ok(()) => eprintln!("vgeo-peer-bevy: saved {}", path.display()),
                     Err(e) => eprintln!("vgeo-peer-bevy: error: PNG {}: {e}", path.display()),
                 }
+                shared
+                    .png_coverage
+                    .store(coverage(&ev.image).to_bits(), Ordering::SeqCst);
                 shared.png_saved.store(true, Ordering::SeqCst);
             });
     }
@@ -497,6 +503,23 @@ fn drive(
             });
         }
     }
+}
+
+/// Fraction of pixels away from the clear colour: linear (0.02, 0.02, 0.03) is sRGB (39, 39, 48).
+fn coverage(image: &Image) -> f64 {
+    let Some(data) = image.data.as_ref() else {
+        return f64::NAN;
+    };
+    let px = data.chunks_exact(4);
+    let n = px.len().max(1);
+    let drawn = px
+        .filter(|p| {
+            (p[0] as i32 - 39).abs() > 3
+                || (p[1] as i32 - 39).abs() > 3
+                || (p[2] as i32 - 48).abs() > 3
+        })
+        .count();
+    drawn as f64 / n as f64
 }
 
 fn save_png(path: &std::path::Path, image: &Image) -> Result<(), String> {
@@ -579,7 +602,7 @@ fn report(bench: &Bench, passes: &[(String, f64, usize)]) -> u8 {
     let missing = a.frames as usize - got.len();
     let mode = if a.plain { "plain" } else { "meshlet" };
     let json = format!(
-        "{{\n  \"peer\": \"bevy\",\n  \"bevy_version\": \"{BEVY_VERSION}\",\n  \"mode\": \"{mode}\",\n  \"adapter\": {},\n  \"timestamps\": {},\n  \"stress_n\": {},\n  \"instances\": {inst},\n  \"mesh\": {},\n  \"mesh_triangles\": {tris},\n  \"scene_triangles\": {},\n  \"width\": {},\n  \"height\": {},\n  \"frames\": {},\n  \"warmup_passes\": {},\n  \"settle_frames\": {},\n  \"cluster_buffer_slots\": {},\n  \"spacing\": {:.6},\n  \"near\": {:.6},\n  \"fov_y_deg\": 45.0,\n  \"load_s\": {:.3},\n  \"meshlet_build_s\": {:.3},\n  \"spawn_s\": {:.3},\n  \"gpu_ms\": {},\n  \"gpu_ms_stats\": {},\n  \"frame_wall_ms\": {},\n  \"frame_wall_ms_stats\": {},\n  \"missing_gpu_frames\": {missing},\n  \"passes_gpu_ms_mean\": {}\n}}\n",
+        "{{\n  \"peer\": \"bevy\",\n  \"bevy_version\": \"{BEVY_VERSION}\",\n  \"mode\": \"{mode}\",\n  \"adapter\": {},\n  \"timestamps\": {},\n  \"stress_n\": {},\n  \"instances\": {inst},\n  \"mesh\": {},\n  \"mesh_triangles\": {tris},\n  \"scene_triangles\": {},\n  \"width\": {},\n  \"height\": {},\n  \"frames\": {},\n  \"warmup_passes\": {},\n  \"settle_frames\": {},\n  \"cluster_buffer_slots\": {},\n  \"spacing\": {:.6},\n  \"near\": {:.6},\n  \"fov_y_deg\": 45.0,\n  \"load_s\": {:.3},\n  \"meshlet_build_s\": {:.3},\n  \"spawn_s\": {:.3},\n  \"gpu_ms\": {},\n  \"gpu_ms_stats\": {},\n  \"frame_wall_ms\": {},\n  \"frame_wall_ms_stats\": {},\n  \"missing_gpu_frames\": {missing},\n  \"png_frame\": {},\n  \"png_coverage\": {},\n  \"passes_gpu_ms_mean\": {}\n}}\n",
         json_str(&bench.adapter),
         times.supported,
         a.n,
@@ -600,6 +623,19 @@ fn report(bench: &Bench, passes: &[(String, f64, usize)]) -> u8 {
         stats(&got),
         list(&wall),
         stats(&bench.wall_ms),
+        if bench.png_pending {
+            a.png_frame.unwrap_or((a.frames - 1) / 2).to_string()
+        } else {
+            "null".into()
+        },
+        if bench.png_pending && bench.shared.png_saved.load(Ordering::SeqCst) {
+            format!(
+                "{:.4}",
+                f64::from_bits(bench.shared.png_coverage.load(Ordering::SeqCst))
+            )
+        } else {
+            "null".into()
+        },
         pass_list(passes),
     );
     print!("{json}");
