@@ -114,6 +114,36 @@ def binary_ply(big_endian=False):
     return bytes(b)
 
 
+def binary_layouts_ply(big_endian=False):
+    """What the importer's binary fast path reads: every scalar type, normals, uvs by an alias,
+    colours, a list in the vertex, quads, a concave hexagon and a 2-corner face with a ushort or
+    uint count, other properties and lists in the face, elements before and after."""
+    e = ">" if big_endian else "<"
+    count, ct = ("H", "ushort") if big_endian else ("I", "uint")
+    head = (
+        "ply\nformat binary_%s_endian 1.0\nobj_info layouts\nelement material 1\n"
+        "property list uchar char name\nproperty float shininess\nelement vertex 8\n"
+        "property double x\nproperty float y\nproperty short z\nproperty char nx\n"
+        "property char ny\nproperty char nz\nproperty uchar red\nproperty uchar green\n"
+        "property uchar blue\nproperty float texture_u\nproperty ushort texture_v\n"
+        "property list uchar int8 tags\nelement face 4\nproperty uchar flags\n"
+        "property list %s uint vertex_indices\nproperty list uchar float texcoord\n"
+        "element edge 1\nproperty int vertex1\nproperty uint vertex2\nend_header\n"
+        % ("big" if big_endian else "little", ct)
+    ).encode()
+    v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (2, 0, 0), (2, 2, 0), (0.5, 2, 0), (3, 3, 1)]
+    b = bytearray(head)
+    b += struct.pack(e + "B3bf", 3, 97, 98, 99, 0.5)
+    for i, p in enumerate(v):
+        b += struct.pack(e + "dfh3b3BfH", p[0], p[1], int(p[2]), 0, 0, 1, 200, i, 7, i * 0.125, i % 2)
+        b += struct.pack(e + "B%db" % (i % 3), i % 3, *range(i % 3))
+    for f in [(0, 1, 2, 3), (0, 4, 5, 6, 3, 2), (1, 2), (2, 5, 7)]:
+        b += struct.pack(e + "B" + count + "%dI" % len(f), 1, len(f), *f)
+        b += struct.pack(e + "B2f", 2, 0.5, 0.25)
+    b += struct.pack(e + "iI", 0, 1)
+    return bytes(b)
+
+
 def ascii_ply():
     return (
         "ply\nformat ascii 1.0\nelement vertex 8\nproperty double x\nproperty double y\n"
@@ -380,6 +410,8 @@ def main():
     put("import_ply", "binary_le.ply", binary_ply())
     put("import_ply", "binary_be.ply", binary_ply(big_endian=True))
     put("import_ply", "ascii.ply", ascii_ply())
+    put("import_ply", "binary_layouts_le.ply", binary_layouts_ply())
+    put("import_ply", "binary_layouts_be.ply", binary_layouts_ply(big_endian=True))
     bunny = read(os.path.join(assets, "bunny.ply")).decode()
     put("import_ply", "bunny_cut.ply", ply_cut(bunny, 24))
 

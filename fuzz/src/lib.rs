@@ -29,8 +29,14 @@ pub fn options(data: &[u8]) -> ImportOptions {
 
 /// Imports `data` as a `format` file named `name` (in memory: every file it names is missing) and
 /// checks the result: at least one mesh, each valid with a triangle; or an error that names the
-/// file.
+/// file. A PLY file the importer's fast path reads must read the same through ply-rs
+/// (`mesh::ply_fast_path_check`).
 pub fn import(format: Format, name: &str, data: &[u8]) -> Outcome {
+    if format == Format::Ply
+        && let Err(e) = mesh::ply_fast_path_check(name, data)
+    {
+        panic!("{name}: the PLY fast path and the ply-rs path differ: {e}");
+    }
     match mesh::load_bytes(data, format, name, &options(data)) {
         Ok(import) => {
             assert!(!import.meshes.is_empty(), "{name}: loaded without a mesh");

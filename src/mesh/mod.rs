@@ -425,6 +425,15 @@ pub fn load_bytes(
     import(Path::new(name), bytes, format, Siblings::none(), opts)
 }
 
+/// The PLY importer's fast path checked against its ply-rs path on `bytes` (named `name` in
+/// warnings): `Ok(true)` if the fast path read the file and the ply-rs path read exactly the same
+/// mesh and warnings, `Ok(false)` if the fast path left the file to the ply-rs path, `Err` with the
+/// first difference otherwise. For the fuzz target `import_ply` and the tests.
+#[doc(hidden)]
+pub fn ply_fast_path_check(name: &str, bytes: &[u8]) -> Result<bool, String> {
+    ply::fast_path_check(name, bytes)
+}
+
 /// The one import path of [`load`] and [`load_bytes`].
 fn import(
     path: &Path,

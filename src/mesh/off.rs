@@ -172,7 +172,7 @@ fn parse(path: &Path, text: &str, warnings: &mut Vec<String>) -> Result<Mesh, Im
             1 + lines.count()
         ));
     }
-    polygon::set_triangles(&mut mesh, &tris, skipped, path, warnings);
+    polygon::set_triangles(&mut mesh, tris, skipped, path, warnings);
     Ok(mesh)
 }
 

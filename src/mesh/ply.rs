@@ -3,6 +3,12 @@
 //! (`vertex_indices` or `vertex_index`, a list of any integer type). Other elements and properties
 //! are read past and ignored. Faces with more than three corners are triangulated with
 //! [`super::polygon::triangulate`].
+//!
+//! Binary files of the usual layouts take a fast path ([`fast`]) that reads the bytes directly and
+//! gives exactly the mesh and warnings of the ply-rs path below; it leaves every other file, and
+//! every error, to that path.
+
+mod fast;
 
 use std::path::Path;
 
@@ -233,8 +239,74 @@ pub(super) fn load(
     bytes: &[u8],
     warnings: &mut Vec<String>,
 ) -> Result<Mesh, ImportError> {
-    let mut reader = bytes;
     check_header_numbers(path, bytes)?;
+    if let Some((mesh, w)) = fast::load(path, bytes) {
+        warnings.extend(w);
+        return Ok(mesh);
+    }
+    load_ply_rs(path, bytes, warnings)
+}
+
+/// Checks the fast path against the ply-rs path on `bytes` (a file named `name`): `Ok(true)` if the
+/// fast path took the file and the ply-rs path read the same mesh and warnings, `Ok(false)` if the
+/// fast path declined it, `Err` naming the first difference otherwise. (The differential fuzz
+/// check, see [`super::ply_fast_path_check`].)
+pub(super) fn fast_path_check(name: &str, bytes: &[u8]) -> Result<bool, String> {
+    let path = Path::new(name);
+    if check_header_numbers(path, bytes).is_err() {
+        return Ok(false);
+    }
+    let Some((fast, fast_warnings)) = fast::load(path, bytes) else {
+        return Ok(false);
+    };
+    let mut warnings = Vec::new();
+    let slow = load_ply_rs(path, bytes, &mut warnings)
+        .map_err(|e| format!("the fast path read a file that the ply-rs path refuses: {e}"))?;
+    if fast_warnings != warnings {
+        return Err(format!(
+            "warnings differ: fast path {fast_warnings:?}, ply-rs path {warnings:?}"
+        ));
+    }
+    same_mesh(&fast, &slow).map(|()| true)
+}
+
+/// `Err` naming the first difference between meshes `a` (fast path) and `b` (ply-rs path); floats
+/// compare bit for bit.
+fn same_mesh(a: &Mesh, b: &Mesh) -> Result<(), String> {
+    fn bits<const N: usize>(v: &[[f32; N]]) -> Vec<[u32; N]> {
+        v.iter().map(|x| x.map(f32::to_bits)).collect()
+    }
+    fn first_diff<T: PartialEq + std::fmt::Debug>(
+        what: &str,
+        a: &[T],
+        b: &[T],
+    ) -> Result<(), String> {
+        if a.len() != b.len() {
+            return Err(format!("{what}: {} against {}", a.len(), b.len()));
+        }
+        match a.iter().zip(b).position(|(x, y)| x != y) {
+            Some(i) => Err(format!("{what} {i}: {:?} against {:?}", a[i], b[i])),
+            None => Ok(()),
+        }
+    }
+    if (&a.name, a.has_normals, a.has_uvs) != (&b.name, b.has_normals, b.has_uvs) {
+        return Err(format!(
+            "name, has_normals, has_uvs: {:?} against {:?}",
+            (&a.name, a.has_normals, a.has_uvs),
+            (&b.name, b.has_normals, b.has_uvs)
+        ));
+    }
+    first_diff("position", &bits(&a.positions), &bits(&b.positions))?;
+    first_diff("normal", &bits(&a.normals), &bits(&b.normals))?;
+    first_diff("uv", &bits(&a.uvs), &bits(&b.uvs))?;
+    first_diff("index", &a.indices, &b.indices)?;
+    first_diff("material id", &a.material_ids, &b.material_ids)?;
+    first_diff("material", &a.materials, &b.materials)
+}
+
+/// The ply-rs path: every PLY file the fast path does not take ([`check_header_numbers`] first).
+fn load_ply_rs(path: &Path, bytes: &[u8], warnings: &mut Vec<String>) -> Result<Mesh, ImportError> {
+    let mut reader = bytes;
     let perr = |what: &str, e: std::io::Error| ImportError::parse(path, format!("{what}: {e}"));
     let header = Parser::<Ignore>::new()
         .read_header(&mut reader)
@@ -424,9 +496,12 @@ pub(super) fn load(
         }
     }
     polygon::warn_fanned(fanned, path, warnings);
-    polygon::set_triangles(&mut mesh, &tris, skipped, path, warnings);
+    polygon::set_triangles(&mut mesh, tris, skipped, path, warnings);
     if !mesh.has_normals {
         mesh.normals.iter_mut().for_each(|n| *n = [0.0; 3]);
     }
     Ok(mesh)
 }
+
+#[cfg(test)]
+mod tests;

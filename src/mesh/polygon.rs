@@ -71,11 +71,12 @@ pub fn warn_fanned(faces: usize, path: &std::path::Path, warnings: &mut Vec<Stri
     }
 }
 
-/// Stores triangulated faces as the mesh's triangles (material 0) and warns about the `skipped`
-/// faces that had fewer than 3 vertices (OFF and PLY polygon lists).
+/// Stores triangulated faces as the mesh's triangles (material 0; the vector becomes the index
+/// list without a copy) and warns about the `skipped` faces that had fewer than 3 vertices (OFF
+/// and PLY polygon lists).
 pub fn set_triangles(
     mesh: &mut super::Mesh,
-    tris: &[[u32; 3]],
+    tris: Vec<[u32; 3]>,
     skipped: usize,
     path: &std::path::Path,
     warnings: &mut Vec<String>,
@@ -86,8 +87,8 @@ pub fn set_triangles(
             path.display()
         ));
     }
-    mesh.indices = tris.iter().flatten().copied().collect();
     mesh.material_ids = vec![0; tris.len()];
+    mesh.indices = tris.into_flattened();
 }
 
 /// Twice the signed area of polygon `p` (2D shoelace): positive when counter-clockwise.
