@@ -48,8 +48,7 @@ void main() {
     uint tcount = cluster_triangle_count(c);
     SetMeshOutputsEXT(vcount, tcount);
     for (uint k = tid; k < vcount; k += RASTER_HW_MESH_WORKGROUP_SIZE) {
-        PackedVertex pv = cluster_vertex(d, k);
-        vec4 clip = clip_position(relative_position(inst, decode_position(mesh, pv)));
+        vec4 clip = cluster_vertex_clip(inst, mesh, d, k);
         ivec2 xy;
         float z;
         bool ok = project_fixed(clip, xy, z);

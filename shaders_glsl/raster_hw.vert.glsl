@@ -40,8 +40,7 @@ void main() {
     vec3 z;
     bool ok = true;
     for (uint k = 0u; k < 3u; k++) {
-        PackedVertex pv = cluster_vertex(d, t[k]);
-        clip[k] = clip_position(relative_position(inst, decode_position(mesh, pv)));
+        clip[k] = cluster_vertex_clip(inst, mesh, d, t[k]);
         float zk;
         ok = project_fixed(clip[k], xy[k], zk) && ok;
         z[k] = zk;

@@ -208,8 +208,7 @@ void main() {
             s_big_count = 0u;
         }
         for (uint k = tid; k < vcount; k += RASTER_SW_WORKGROUP_SIZE) {
-            PackedVertex pv = cluster_vertex(d, k);
-            vec4 clip = clip_position(relative_position(inst, decode_position(mesh, pv)));
+            vec4 clip = cluster_vertex_clip(inst, mesh, d, k);
             ivec2 xy;
             float z;
             bool ok = project_fixed(clip, xy, z);

@@ -179,6 +179,12 @@ vec4 clip_position(vec3 rel) {
     precise vec4 c = view.view_proj * vec4(rel, 1.0);
     return c;
 }
+
+// Vertex `i` of a cluster (its data `d`) of instance `inst`, in clip space: what every rasterizer
+// projects and snaps.
+vec4 cluster_vertex_clip(InstanceVgeo inst, MeshGpu mesh, ClusterData d, uint i) {
+    return clip_position(relative_position(inst, decode_position(mesh, cluster_vertex(d, i))));
+}
 #endif
 
 // Projects a clip-space vertex to snapped fixed-point viewport coordinates (round half to even, as
