@@ -939,8 +939,8 @@ fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
 /// Sorts `v` by `key`, which orders it totally (or equal keys are equal elements): a radix sort
 /// on one thread (a fraction of a comparison sort's instructions), rayon's parallel sort on more
 /// (the radix sort is serial: on two threads it left one idle, lucy x16 built in x1.32 of the
-/// issue-11 base's time against x1.16 with the parallel sort, H100 host, session 15). The same order either way, so the build does not depend
-/// on the thread count.
+/// issue-11 base's time against x1.16 with the parallel sort, H100 host, session 15). The same
+/// order either way, so the build does not depend on the thread count.
 fn sort_total<T: Send + Copy, K: radsort::Key + Ord>(v: &mut [T], key: impl Fn(&T) -> K + Sync) {
     if rayon::current_num_threads() == 1 {
         radsort::sort_by_key(v, key);

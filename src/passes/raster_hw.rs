@@ -15,9 +15,11 @@
 //!
 //! No attachments: the fragment shader (shaders_glsl/raster_hw.frag.glsl, one source for both
 //! paths) does the same `atomicMax` into the visibility buffer as `raster_sw`. Coverage is the
-//! hardware's (same fill rule and sub-pixel precision as SW on conformant devices); depth is
-//! recomputed from the snapped vertices with `raster_sw`'s exact integer edge functions and float
-//! operations, so SW and both HW paths write bit-identical values for the pixels they cover.
+//! hardware's, of `raster_sw`'s own snapped vertices (`hw_position` in
+//! shaders_glsl/common/raster.glsl: the same fill rule and 8 sub-pixel bits, so both cover the
+//! same pixels; given the unsnapped clip position, the H100 covered 4-47 pixels of a 1080p frame
+//! differently); depth is recomputed from the snapped vertices with `raster_sw`'s exact integer
+//! edge functions and float operations, so SW and both HW paths write bit-identical values.
 //! Triangles with a vertex behind the near plane (which only HW can draw: the hardware clips
 //! them) pass their depth plane instead (2D homogeneous interpolation, `clipped_plane` in
 //! shaders_glsl/common/raster.glsl, once per triangle), and the fragment stage takes one dot
