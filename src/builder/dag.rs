@@ -11,7 +11,7 @@ use super::quantize::{
     decode_normal, decode_position, decode_uv, encode_normal, encode_position, encode_uv,
     make_quantization,
 };
-use super::simplify::{Attributes, Mode, Pieces, Simplified, simplify};
+use super::simplify::{Attributes, Mode, Pieces, Simplified, simplify, simplify_compacted};
 use super::{
     BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
     LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
@@ -666,73 +666,51 @@ fn group_error(
 struct Edges(Vec<(u64, u32, u32)>);
 
 impl Edges {
-    /// The edges of `tris`; `npid` bounds the position ids. The group's points are numbered
-    /// densely in the order of their ids, so that each directed edge gets a 32-bit key that
-    /// sorts like its global key and a radix sort orders them in linear time (a comparison
-    /// sort of 64-bit keys was a tenth of the build); a group of more than 2^15 points takes
-    /// the 64-bit keys.
-    fn of(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> Edges {
-        thread_local! {
-            static LOCAL: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// The edges of a group's triangles in its local ids ([`Local`]): `lp` names each local
+    /// vertex's point, an index into `points` (the group's position ids, ascending). Points are
+    /// numbered in the order of their ids, so each directed edge gets a 32-bit key that sorts
+    /// like its global key and a radix sort orders them in linear time (a comparison sort of
+    /// 64-bit keys was a tenth of the build); a group of more than 2^15 points takes the 64-bit
+    /// keys.
+    fn of(tris: &[[u32; 3]], lp: &[u32], points: &[u32]) -> Edges {
+        let k = points.len();
+        if k <= 1 << 15 {
+            let mut keys: Vec<u32> = Vec::with_capacity(tris.len() * 3);
+            for t in tris {
+                let l = t.map(|v| lp[v as usize]);
+                for e in 0..3 {
+                    let (a, b) = (l[e], l[(e + 1) % 3]);
+                    keys.push((a.min(b) * k as u32 + a.max(b)) << 1 | (a < b) as u32);
+                }
+            }
+            radsort::sort(&mut keys);
+            let mut out: Vec<(u64, u32, u32)> = Vec::with_capacity(keys.len());
+            let mut last = u32::MAX;
+            for key in keys {
+                if key >> 1 != last {
+                    last = key >> 1;
+                    let (a, b) = (last / k as u32, last % k as u32);
+                    let (a, b) = (points[a as usize], points[b as usize]);
+                    out.push(((a as u64) << 32 | b as u64, 0, 0));
+                }
+                let l = out.last_mut().expect("pushed above");
+                if key & 1 == 1 {
+                    l.1 += 1;
+                } else {
+                    l.2 += 1;
+                }
+            }
+            Edges(out)
+        } else {
+            let point = |v: u32| points[lp[v as usize] as usize];
+            let mut keys: Vec<u64> = Vec::with_capacity(tris.len() * 3);
+            for t in tris {
+                for e in 0..3 {
+                    keys.push(undirected(point(t[e]), point(t[(e + 1) % 3])));
+                }
+            }
+            Edges::from_keys(keys)
         }
-        LOCAL.with_borrow_mut(|local| {
-            if local.len() < npid {
-                local.resize(npid, NONE);
-            }
-            let mut points: Vec<u32> = Vec::new();
-            for &v in tris.iter().flatten() {
-                let p = pid[v as usize];
-                if local[p as usize] == NONE {
-                    local[p as usize] = 0;
-                    points.push(p);
-                }
-            }
-            let k = points.len();
-            let out = if k <= 1 << 15 {
-                radsort::sort(&mut points);
-                for (i, &p) in points.iter().enumerate() {
-                    local[p as usize] = i as u32;
-                }
-                let mut keys: Vec<u32> = Vec::with_capacity(tris.len() * 3);
-                for t in tris {
-                    let l = t.map(|v| local[pid[v as usize] as usize]);
-                    for e in 0..3 {
-                        let (a, b) = (l[e], l[(e + 1) % 3]);
-                        keys.push((a.min(b) * k as u32 + a.max(b)) << 1 | (a < b) as u32);
-                    }
-                }
-                radsort::sort(&mut keys);
-                let mut out: Vec<(u64, u32, u32)> = Vec::with_capacity(keys.len());
-                let mut last = u32::MAX;
-                for key in keys {
-                    if key >> 1 != last {
-                        last = key >> 1;
-                        let (a, b) = (last / k as u32, last % k as u32);
-                        let (a, b) = (points[a as usize], points[b as usize]);
-                        out.push(((a as u64) << 32 | b as u64, 0, 0));
-                    }
-                    let l = out.last_mut().expect("pushed above");
-                    if key & 1 == 1 {
-                        l.1 += 1;
-                    } else {
-                        l.2 += 1;
-                    }
-                }
-                Edges(out)
-            } else {
-                let mut keys: Vec<u64> = Vec::with_capacity(tris.len() * 3);
-                for t in tris {
-                    for e in 0..3 {
-                        keys.push(undirected(pid[t[e] as usize], pid[t[(e + 1) % 3] as usize]));
-                    }
-                }
-                Edges::from_keys(keys)
-            };
-            for &p in &points {
-                local[p as usize] = NONE;
-            }
-            out
-        })
     }
 
     /// Counts of directed edges given as `undirected(a, b)` keys.
@@ -896,44 +874,98 @@ impl Level0 {
     }
 }
 
-/// Of a group's triangles: whether some point has several vertices (an attribute seam), and
-/// whether the triangles form more than one connected piece (through shared points). Linear: a
-/// scratch map from position id to the first vertex seen there, per thread, cleared after use.
-fn group_shape(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> (bool, bool) {
-    thread_local! {
-        static FIRST: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
-    }
-    FIRST.with_borrow_mut(|first| {
-        if first.len() < npid {
-            first.resize(npid, NONE);
+/// A group's triangles in local ids, made once per group so that every later pass (shape, edges,
+/// simplification, degenerate triangles) reads small arrays that stay in cache, instead of
+/// looking up each corner's global vertex and position id in mesh-sized maps (those misses
+/// were about a tenth of a one-thread build).
+struct Local {
+    /// The distinct global vertices, in first-use order ([`super::simplify::compact`]).
+    verts: Vec<u32>,
+    /// The triangles as indices into `verts`, flat.
+    indices: Vec<u32>,
+    /// The group's position ids, ascending.
+    points: Vec<u32>,
+    /// Per local vertex, its point (an index into `points`).
+    lp: Vec<u32>,
+}
+
+impl Local {
+    fn new(tris: &[[u32; 3]], pid: &[u32], nverts: usize) -> Local {
+        let (verts, indices) = super::simplify::compact(tris, nverts);
+        let vpid: Vec<u32> = verts.iter().map(|&v| pid[v as usize]).collect();
+        let mut points = vpid.clone();
+        radsort::sort(&mut points);
+        points.dedup();
+        let lp = vpid
+            .iter()
+            .map(|p| points.binary_search(p).expect("a point of the group") as u32)
+            .collect();
+        Local {
+            verts,
+            indices,
+            points,
+            lp,
         }
-        let mut seam = false;
-        // Union-find over the triangles: each point records the first triangle that uses it.
+    }
+
+    fn tris(&self) -> &[[u32; 3]] {
+        bytemuck::cast_slice(&self.indices)
+    }
+
+    /// Whether some point has several vertices (an attribute seam), and whether the triangles
+    /// form more than one connected piece (through shared points): a union-find over the
+    /// triangles, each point recording the first triangle that uses it.
+    fn shape(&self) -> (bool, bool) {
+        let seam = self.verts.len() != self.points.len();
+        let tris = self.tris();
         let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
-        let mut owner: Vec<(u32, u32)> = Vec::new();
+        let mut owner = vec![NONE; self.points.len()];
         for (ti, t) in tris.iter().enumerate() {
             for &v in t {
-                let f = &mut first[pid[v as usize] as usize];
-                if *f == NONE {
-                    *f = owner.len() as u32;
-                    owner.push((v, ti as u32));
+                let o = &mut owner[self.lp[v as usize] as usize];
+                if *o == NONE {
+                    *o = ti as u32;
                 } else {
-                    let (fv, ft) = owner[*f as usize];
-                    seam |= fv != v;
-                    uf_union(&mut parent, ft, ti as u32);
+                    let first = *o;
+                    uf_union(&mut parent, first, ti as u32);
                 }
-            }
-        }
-        for t in tris {
-            for &v in t {
-                first[pid[v as usize] as usize] = NONE;
             }
         }
         let pieces = (0..tris.len() as u32)
             .filter(|&t| uf_find(&mut parent, t) == t)
             .count();
         (seam, pieces > 1)
-    })
+    }
+
+    /// Per local vertex, the first local vertex at its point (see `Pieces::FirstOfPosition`).
+    fn first_of_position(&self) -> Vec<u32> {
+        let mut first = vec![NONE; self.points.len()];
+        self.lp
+            .iter()
+            .enumerate()
+            .map(|(v, &p)| {
+                if first[p as usize] == NONE {
+                    first[p as usize] = v as u32;
+                }
+                first[p as usize]
+            })
+            .collect()
+    }
+
+    /// `tris` (local ids) without the triangles that have two corners at one point.
+    fn drop_degenerate(&self, tris: &mut Vec<[u32; 3]>) {
+        tris.retain(|t| {
+            let p = t.map(|v| self.lp[v as usize]);
+            p[0] != p[1] && p[1] != p[2] && p[0] != p[2]
+        });
+    }
+
+    /// `tris` (local ids) in global vertex indices.
+    fn global(&self, tris: &[[u32; 3]]) -> Vec<[u32; 3]> {
+        tris.iter()
+            .map(|t| t.map(|v| self.verts[v as usize]))
+            .collect()
+    }
 }
 
 /// Sorts `v` by `key`, which orders it totally (or equal keys are equal elements): a radix sort
@@ -1500,7 +1532,8 @@ impl GroupCtx<'_> {
         // Attempts in order; the second locks the group's open borders too (non-manifold and
         // open-border input can otherwise fold a border edge onto another).
         // The last group (nothing to regroup with) also tries gentler targets before sloppy.
-        let (seams, pieces) = group_shape(&tris, self.pid, self.owner.len());
+        let local = Local::new(&tris, self.pid, self.positions.len());
+        let (seams, pieces) = local.shape();
         let mut attempts = vec![(Mode::Locked, false, target), (Mode::Locked, true, target)];
         // Pruning removes whole connected pieces: of a group in one piece it leaves nothing.
         if pieces {
@@ -1522,7 +1555,7 @@ impl GroupCtx<'_> {
             attempts.push((Mode::Sloppy, true, target));
             attempts.push((Mode::Sloppy, false, target));
         }
-        let in_edges = Edges::of(&tris, self.pid, self.owner.len());
+        let in_edges = Edges::of(local.tris(), &local.lp, &local.points);
         // Open-border / non-manifold points of the group (computed when first needed).
         // Open-border / non-manifold points of the group.
         let border: Vec<u32> = {
@@ -1542,18 +1575,25 @@ impl GroupCtx<'_> {
         // once, before any fold has locked more points; the sequence below takes these results
         // while no fold has (the same inputs give the same result), so the output is the same
         // as without, in the time of the slowest attempt rather than their sum.
-        // One attempt: the group's locks, the open borders when asked, and `extra` points.
+        let first_of_position = if pieces {
+            local.first_of_position()
+        } else {
+            Vec::new()
+        };
+        // One attempt: the group's locks, the open borders when asked, and `extra` points. Its
+        // triangles are in the group's local ids.
         let run = |mode: Mode, lock_border: bool, goal: usize, extra: &[u32]| {
             let lock = |v: u32| {
                 locked(v)
                     || (lock_border && locked_border(v))
                     || extra.binary_search(&self.pid[v as usize]).is_ok()
             };
-            simplify(
-                &tris,
+            simplify_compacted(
+                &local.verts,
+                &local.indices,
                 self.positions,
                 if pieces {
-                    Pieces::ByPid(self.pid)
+                    Pieces::FirstOfPosition(&first_of_position)
                 } else {
                     Pieces::One
                 },
@@ -1593,7 +1633,7 @@ impl GroupCtx<'_> {
                 _ => run(mode, lock_border, goal, &extra),
             };
             let (mut t, e) = (r.tris, (r.error, r.coverage));
-            drop_degenerate(&mut t, self.pid);
+            local.drop_degenerate(&mut t);
             if !(strict(&t) || candidate.is_none() && lenient(&t)) {
                 // Too little reduction to be taken, folds or not; locking a fold's points for
                 // another round would only reduce less, and so would the same attempt with the
@@ -1608,7 +1648,7 @@ impl GroupCtx<'_> {
             // No overlap (verify's rule): an edge used more than once in one direction must be
             // balanced by the other direction or be used exactly as in the input; otherwise it
             // is a fold, visible in every cut that shows it.
-            let out_edges = Edges::of(&t, self.pid, self.owner.len());
+            let out_edges = Edges::of(&t, &local.lp, &local.points);
             let mut folded: Vec<u32> = out_edges
                 .0
                 .iter()
@@ -1634,8 +1674,8 @@ impl GroupCtx<'_> {
                 // Lock the fold's vertices and their input neighbours, and retry.
                 folded.sort_unstable();
                 folded.dedup();
-                for tri in &tris {
-                    let p = tri.map(|v| self.pid[v as usize]);
+                for tri in local.tris() {
+                    let p = tri.map(|v| local.points[local.lp[v as usize] as usize]);
                     if p.iter().any(|x| folded.binary_search(x).is_ok()) {
                         extra.extend_from_slice(&p);
                     }
@@ -1662,10 +1702,11 @@ impl GroupCtx<'_> {
                 v.len() <= max_verts
             };
             if fits && members.len() > 1 {
-                result = Some((tris.clone(), (0.0, 0.0), true));
+                result = Some((local.tris().to_vec(), (0.0, 0.0), true));
             }
         }
         let (t, e, fallback) = result?;
+        let t = local.global(&t);
         let members_pos = members
             .iter()
             .map(|&m| self.clusters[m as usize].pos_error)

@@ -172,6 +172,9 @@ pub(crate) enum Pieces<'a> {
     /// Triangles join at shared position ids (`pid[v]`, equal for the vertices that share a
     /// position).
     ByPid(&'a [u32]),
+    /// Per compacted vertex, the first compacted vertex at its position (as
+    /// `first_of_position` gives it): only for [`simplify_compacted`], whose caller has it.
+    FirstOfPosition(&'a [u32]),
     /// The caller knows the input is one piece by that rule (the builder's groups learn it from
     /// their shape): the coverage error compares total areas, no union-find.
     One,
@@ -195,6 +198,45 @@ pub(crate) fn simplify(
     // Compact vertex buffer of the group (keeps meshopt's work proportional to the group), in
     // first-use order.
     let (verts, indices) = compact(tris, positions.len());
+    let r = simplify_compacted(
+        &verts,
+        &indices,
+        positions,
+        pieces,
+        attrs,
+        locked,
+        target_tris,
+        target_error,
+        mode,
+    );
+    Simplified {
+        tris: r
+            .tris
+            .iter()
+            .map(|t| t.map(|i| verts[i as usize]))
+            .collect(),
+        error: r.error,
+        coverage: r.coverage,
+    }
+}
+
+/// [`simplify`] of triangles already compacted by [`compact`]: `verts` (distinct global vertices
+/// in first-use order) and `indices` (the triangles as indices into `verts`). The result's
+/// triangles index `verts` too. Callers that look at the group's triangles several times (the
+/// builder's groups) compact once and stay in these small local ids, which stay in cache where
+/// global ids missed it on every corner.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn simplify_compacted(
+    verts: &[u32],
+    indices: &[u32],
+    positions: &[[f32; 3]],
+    pieces: Pieces,
+    attrs: Option<&Attributes>,
+    locked: &dyn Fn(u32) -> bool,
+    target_tris: usize,
+    target_error: f32,
+    mode: Mode,
+) -> Simplified {
     let pos: Vec<[f32; 3]> = verts.iter().map(|&v| positions[v as usize]).collect();
     let lock: Vec<u8> = verts.iter().map(|&v| locked(v) as u8).collect();
     // The group's attributes, compacted like the positions; none when no weight is positive.
@@ -286,22 +328,19 @@ pub(crate) fn simplify(
     };
     let count = count.min(dest.len());
     let coverage = match pieces {
-        Pieces::One => one_piece_coverage_error(&indices, &dest[..count], &pos),
+        Pieces::One => one_piece_coverage_error(indices, &dest[..count], &pos),
         Pieces::ByPid(p) => {
-            let first = first_of_position(&verts, p);
-            coverage_error(&indices, &dest[..count], &pos, Some(&first))
+            let first = first_of_position(verts, p);
+            coverage_error(indices, &dest[..count], &pos, Some(&first))
         }
-        Pieces::ByPosition => coverage_error(&indices, &dest[..count], &pos, None),
+        Pieces::FirstOfPosition(first) => {
+            coverage_error(indices, &dest[..count], &pos, Some(first))
+        }
+        Pieces::ByPosition => coverage_error(indices, &dest[..count], &pos, None),
     };
     let tris: Vec<[u32; 3]> = dest[..count]
         .chunks_exact(3)
-        .map(|t| {
-            [
-                verts[t[0] as usize],
-                verts[t[1] as usize],
-                verts[t[2] as usize],
-            ]
-        })
+        .map(|t| [t[0], t[1], t[2]])
         .collect();
     let finite = |e: f32| if e.is_finite() { e.max(0.0) } else { f32::MAX };
     Simplified {
