@@ -1267,7 +1267,7 @@ fn build_inner(
             opts,
             min_error,
             single,
-            spare_threads: member_groups.len() * 2 <= rayon::current_num_threads(),
+            speculate: rayon::current_num_threads() / member_groups.len().max(1),
             level0: &level0,
             shared: &shared,
         };
@@ -1332,7 +1332,7 @@ fn build_inner(
             opts,
             min_error,
             single: true,
-            spare_threads: rayon::current_num_threads() > 1,
+            speculate: rayon::current_num_threads(),
             level0: &level0,
             shared: &shared,
         };
@@ -1443,8 +1443,11 @@ struct GroupCtx<'a> {
     opts: &'a BuildOptions,
     min_error: f32,
     single: bool,
-    /// Fewer groups than threads this iteration: a group may simplify its attempts in parallel.
-    spare_threads: bool,
+    /// How many of a group's first attempts it may simplify at once, in parallel, before the
+    /// usual sequence (the threads per group this iteration; below 2, none). More than the
+    /// spare threads made a one-group level slower: on two threads, nine attempts where the
+    /// first one was taken cost 3 ms of bunny's 75.
+    speculate: usize,
     level0: &'a Level0,
     /// Use counts of the working set's edges between two shared points.
     shared: &'a Edges,
@@ -1571,10 +1574,10 @@ impl GroupCtx<'_> {
             b
         };
         let locked_border = |v: u32| border.binary_search(&self.pid[v as usize]).is_ok();
-        // With threads to spare (few groups this iteration), every attempt is simplified at
-        // once, before any fold has locked more points; the sequence below takes these results
-        // while no fold has (the same inputs give the same result), so the output is the same
-        // as without, in the time of the slowest attempt rather than their sum.
+        // With threads to spare (few groups this iteration), the first `speculate` attempts are
+        // simplified at once, before any fold has locked more points; the sequence below takes
+        // these results while no fold has (the same inputs give the same result), so the output
+        // is the same as without, in the time of the slowest attempt rather than their sum.
         let first_of_position = if pieces {
             local.first_of_position()
         } else {
@@ -1604,14 +1607,15 @@ impl GroupCtx<'_> {
                 mode,
             )
         };
-        let mut speculated: Vec<Option<Simplified>> = if self.spare_threads {
-            attempts
+        let mut speculated: Vec<Option<Simplified>> = vec![None; attempts.len()];
+        if self.speculate >= 2 {
+            let k = self.speculate.min(attempts.len());
+            attempts[..k]
                 .par_iter()
                 .map(|&(mode, lock_border, goal)| Some(run(mode, lock_border, goal, &[])))
-                .collect()
-        } else {
-            vec![None; attempts.len()]
-        };
+                .collect_into_vec(&mut speculated);
+            speculated.resize(attempts.len(), None);
+        }
         let mut result = None;
         // Position ids locked because an attempt folded edges at them (grows per round).
         let mut extra: Vec<u32> = Vec::new();
