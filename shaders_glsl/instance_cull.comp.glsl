@@ -14,7 +14,7 @@
 layout(local_size_x = INSTANCE_CULL_WORKGROUP_SIZE) in;
 
 void instance_main(uint i) {
-    atomicAdd(counters.instances_tested, 1u);
+    CULL_STAT(instances_tested, 1u)
     InstanceVgeo inst = instances[i];
     MeshGpu mesh = meshes[inst.mesh];
     vec3 c = relative_position(inst, view, mesh.bounds_center);
@@ -27,7 +27,7 @@ void instance_main(uint i) {
         post_instances[atomicAdd(counters.post_instance_count, 1u)] = i;
         return;
     }
-    atomicAdd(counters.instances_visible, 1u);
+    CULL_STAT(instances_visible, 1u)
     if (!emit_root_if_whole_cut(i, inst, mesh)) {
         walk_or_push(i, inst, mesh);
     }
@@ -51,12 +51,12 @@ void main() {
         InstanceVgeo inst = instances[i];
         MeshGpu mesh = meshes[inst.mesh];
         vec3 rr = vec3(mesh.bounds_radius);
-        atomicAdd(counters.instances_tested, 1u);
+        CULL_STAT(instances_tested, 1u)
         if (hzb_occluded(inst, mesh.bounds_center - rr, mesh.bounds_center + rr)) {
-            atomicAdd(counters.occluded_instances, 1u);
+            CULL_STAT(occluded_instances, 1u)
             continue;
         }
-        atomicAdd(counters.instances_visible, 1u);
+        CULL_STAT(instances_visible, 1u)
         if (!emit_root_if_whole_cut(i, inst, mesh)) {
             walk_or_push(i, inst, mesh);
         }
@@ -73,7 +73,7 @@ void main() {
         vec3 bmin = cluster_bounds_min(at);
         vec3 bmax = cluster_bounds_max(at);
         if (hzb_occluded(inst, bmin, bmax)) {
-            atomicAdd(counters.occluded_clusters, 1u);
+            CULL_STAT(occluded_clusters, 1u)
             continue;
         }
         vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);

@@ -34,7 +34,7 @@ use crate::passes::{FrameBuffers, VisPath, visbuffer};
 use crate::render::{Frame, Light, Placement};
 use crate::scene_gpu::GpuScene;
 use crate::shared::{
-    CullCounters, MESH_MAX_CLUSTERS, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW,
+    CullCounters, MESH_MAX_CLUSTERS, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_CULL_STATS,
     VIEW_FLAG_DIRECT_VISIBLE, VIEW_FLAG_HW_MESH, ViewGpu,
 };
 
@@ -561,7 +561,8 @@ impl VgeoRenderer {
         light: &Light,
     ) -> GpuResult<Vec<(String, f64)>> {
         let cams = std::slice::from_ref(camera);
-        let mut frames = self.run_frames(cams, width, height, settings, mode, light)?;
+        // Its counters are read back (`render`): the cull keeps its statistics.
+        let mut frames = self.run_frames(cams, width, height, settings, mode, light, true)?;
         Ok(frames.pop().unwrap_or_default())
     }
 
@@ -579,9 +580,13 @@ impl VgeoRenderer {
         mode: ViewMode,
         light: &Light,
     ) -> GpuResult<Vec<Vec<(String, f64)>>> {
-        self.run_frames(cameras, width, height, settings, mode, light)
+        // Nothing reads these frames' counters: the cull skips its statistics.
+        self.run_frames(cameras, width, height, settings, mode, light, false)
     }
 
+    /// `stats`: the cull keeps its statistics ([`VIEW_FLAG_CULL_STATS`]), for frames whose
+    /// counters are read.
+    #[allow(clippy::too_many_arguments)]
     fn run_frames(
         &mut self,
         cameras: &[Camera],
@@ -590,6 +595,7 @@ impl VgeoRenderer {
         settings: &FrameSettings,
         mode: ViewMode,
         light: &Light,
+        stats: bool,
     ) -> GpuResult<Vec<Vec<(String, f64)>>> {
         let Some(first) = cameras.first() else {
             return Ok(Vec::new());
@@ -600,6 +606,9 @@ impl VgeoRenderer {
         }
         if mode == ViewMode::Overdraw {
             settings.flags |= VIEW_FLAG_COUNT_OVERDRAW;
+        }
+        if stats {
+            settings.flags |= VIEW_FLAG_CULL_STATS;
         }
         let counting = settings.flags & VIEW_FLAG_COUNT_OVERDRAW != 0;
         self.write_view(first, width, height, &settings)?;
@@ -843,7 +852,9 @@ impl VgeoRenderer {
         height: u32,
         settings: &FrameSettings,
     ) -> GpuResult<CullResult> {
-        self.write_view(camera, width, height, settings)?;
+        let mut settings = *settings;
+        settings.flags |= VIEW_FLAG_CULL_STATS;
+        self.write_view(camera, width, height, &settings)?;
         let fb = present(self.fb.as_ref(), "frame buffers")?;
         let hzb = &present(self.pyramid.as_ref(), "HZB")?.hzb;
         let mut timer = Timer::new(&self.ctx, 8)?;

@@ -9,6 +9,10 @@
 #include "lod.glsl"
 #include "hzb.glsl"
 
+// A statistic of CullCounters (nothing on the GPU reads it), kept only in frames whose counters
+// are read back (VIEW_FLAG_CULL_STATS, src/shared.rs).
+#define CULL_STAT(counter, n) if ((view.flags & VIEW_FLAG_CULL_STATS) != 0u) { atomicAdd(counters.counter, n); }
+
 // Whether a camera-relative sphere touches the frustum (far plane at infinity).
 bool sphere_in_frustum(ViewGpu v, vec3 c, float r) {
     for (int i = 0; i < 5; i++) {
@@ -97,7 +101,7 @@ void emit_cluster(uint instance, uint cluster_index, uint info, vec3 center, flo
     } else {
         sw_list[slot] = v;
     }
-    atomicAdd(counters.triangles, triangles);
+    CULL_STAT(triangles, triangles)
 }
 
 // The HZB test of a cluster in the cut: occluded in the main phase, it waits in `post_clusters`
@@ -114,7 +118,7 @@ bool cluster_occluded(uint instance, InstanceVgeo inst, vec3 bmin, vec3 bmax, ui
             atomicAdd(counters.visible_overflow, 1u);
         }
     } else {
-        atomicAdd(counters.occluded_clusters, 1u);
+        CULL_STAT(occluded_clusters, 1u)
     }
     return true;
 }
@@ -210,7 +214,7 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
         }
     }
     mark_used(mesh, ci);
-    atomicAdd(counters.clusters_tested, 1u);
+    CULL_STAT(clusters_tested, 1u)
     vec3 bmin = cluster_bounds_min(at);
     vec3 bmax = cluster_bounds_max(at);
     vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
@@ -236,7 +240,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
     bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
     uint at = cluster_word(mesh, ci);
     uint info = cluster_info(at);
-    atomicAdd(counters.clusters_tested, 1u);
+    CULL_STAT(clusters_tested, 1u)
     bool in_cut;
     if (fallback) {
         in_cut = info_level(info) <= mesh.fallback_level;
@@ -295,7 +299,7 @@ void process_node(uint64_t item, bool local) {
         return;
     }
 #endif
-    atomicAdd(counters.nodes_visited, 1u);
+    CULL_STAT(nodes_visited, 1u)
     InstanceVgeo inst = instances[instance];
     MeshGpu mesh = meshes[inst.mesh];
     BvhNode node = bvh[node_index];
@@ -320,7 +324,7 @@ void process_node(uint64_t item, bool local) {
                 atomicAdd(counters.queue_overflow, 1u);
             }
         } else {
-            atomicAdd(counters.occluded_nodes, 1u);
+            CULL_STAT(occluded_nodes, 1u)
         }
         return;
     }
@@ -361,7 +365,7 @@ void process_node(uint64_t item, bool local) {
         if (!fallback) {
             vec3 pcen = relative_position(inst, view, group.lod_sphere.xyz);
             if (lod_error_px(group.error * scale, pcen, group.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
-                atomicAdd(counters.clusters_tested, group.cluster_count);
+                CULL_STAT(clusters_tested, group.cluster_count)
                 continue;
             }
         }
@@ -403,7 +407,7 @@ void walk_or_push_item(uint64_t item, InstanceVgeo inst, MeshGpu mesh) {
         push_item(item);
         return;
     }
-    atomicAdd(counters.local_walks, 1u);
+    CULL_STAT(local_walks, 1u)
     uint64_t instance = item & 0xffffffff00000000ul;
     walk_sp = 0u;
     process_node(item, true);

@@ -429,7 +429,9 @@ impl VgeoRenderer {
             ]
         });
 
-        let settings = frame.settings;
+        let mut settings = frame.settings;
+        // `View::try_stats` reads this frame's counters back: the cull keeps its statistics.
+        settings.flags |= crate::shared::VIEW_FLAG_CULL_STATS;
         let cam = frame.camera;
         let levels = view.pyramid.levels.len() as u32;
         let current = occlusion_of(cam, width, height, levels, settings.occlusion);
