@@ -1,8 +1,9 @@
 #!/bin/bash
-# Session 16, calls 6 and 8 (device, 1920x1080, 1 px): the cull's statistics. N = .gpu/vgeo-N.gz
+# Session 16, calls 6, 8 and 9 (device, 1920x1080, 1 px): the cull's statistics. N = .gpu/vgeo-N.gz
 # (before: an atomic per test), S = .gpu/vgeo-S.gz. Call 6: S summed them per invocation and added
 # them once at its end (it hung on the device; not kept). Call 8: S keeps them only in frames
-# whose counters are read back (VIEW_FLAG_CULL_STATS), not in timed paths. Per binary and round:
+# whose counters are read back (VIEW_FLAG_CULL_STATS), not in timed paths. Call 9: the same on
+# an H100 (kind nvidia-h100-x1) with SCENES=outdoor,indoor,foliage,drawcalls. Per binary and round:
 # vgeo bench on stress N=20, 100 (4 frames) and foliage, outdoor (8 frames); the close blade and
 # the empty frame (render --stats, 8 frames). Then the --stats lines of both (the same counts are
 # expected) and their images (view triangles; the same pixels are expected).
@@ -16,7 +17,7 @@ for r in 1 2; do
   for b in N S; do
     d=/tmp/s-$b-r$r
     timeout 60 /tmp/vgeo-$b bench --suite full --scenes stress --stress-n 20,100 --frames 4 --modes vgeo --sweep 1 --quiet --out $d-t > $d-t.log 2>&1
-    timeout 60 /tmp/vgeo-$b bench --suite full --scenes foliage,outdoor --frames 8 --modes vgeo --sweep 1 --quiet --out $d-s > $d-s.log 2>&1
+    timeout 60 /tmp/vgeo-$b bench --suite full --scenes ${SCENES:-foliage,outdoor} --frames 8 --modes vgeo --sweep 1 --quiet --out $d-s > $d-s.log 2>&1
     echo "== $b r$r t=$((SECONDS - T0))" >> $OUT/stats.txt
     for x in t s; do
       python3 - $d-$x/bench.json >> $OUT/stats.txt 2>&1 <<'PY'
