@@ -421,21 +421,55 @@ impl Parter<'_> {
                 self.pid_pos,
                 max_tris,
                 max_verts,
-                if level0 || self.kind == Partitioner::Meshopt {
-                    // A group's clusters are split into full clusters only (SAH at multiples of
-                    // the cluster size): meshoptimizer then tests a split per cluster instead of
-                    // per triangle, and the coarse levels get fewer clusters with tighter bounds
-                    // in sum (measured on lucy and bunny). Level 0 keeps the freer split: its
-                    // bounds were looser with full clusters only.
-                    Clustering::Spatial { full: !level0 }
-                } else {
-                    Clustering::Flex
-                },
+                self.clustering(level0),
             ),
             Partitioner::Metis => {
                 metis_cluster_triangles(tris, self.pid, self.positions, max_tris, max_verts)
             }
         }
+    }
+
+    /// meshoptimizer's clusterizer for the input's clusters (`level0`) or a group's.
+    fn clustering(&self, level0: bool) -> Clustering {
+        if level0 || self.kind == Partitioner::Meshopt {
+            // A group's clusters are split into full clusters only (SAH at multiples of the
+            // cluster size): meshoptimizer then tests a split per cluster instead of per
+            // triangle, and the coarse levels get fewer clusters with tighter bounds in sum
+            // (measured on lucy and bunny). Level 0 keeps the freer split: its bounds were looser
+            // with full clusters only.
+            Clustering::Spatial { full: !level0 }
+        } else {
+            Clustering::Flex
+        }
+    }
+
+    /// Clusters of a group's simplified triangles `tris`, given in the group's local ids
+    /// ([`Local`]): the same partition as [`Parter::clusters`] of their global form (meshoptimizer's
+    /// partitioners compact by point in first-use order either way), read from the group's small
+    /// arrays instead of the mesh's.
+    fn group_clusters(
+        &self,
+        local: &Local,
+        tris: &[[u32; 3]],
+        max_tris: usize,
+        max_verts: usize,
+    ) -> Vec<Vec<u32>> {
+        if self.kind == Partitioner::Metis {
+            return self.clusters(&local.global(tris), max_tris, max_verts, false);
+        }
+        let point_pos: Vec<[f32; 3]> = local
+            .points
+            .iter()
+            .map(|&p| self.pid_pos[p as usize])
+            .collect();
+        super::fastpart::cluster_triangles(
+            tris,
+            &local.lp,
+            &point_pos,
+            max_tris,
+            max_verts,
+            self.clustering(false),
+        )
     }
 
     fn groups(
@@ -1710,7 +1744,6 @@ impl GroupCtx<'_> {
             }
         }
         let (t, e, fallback) = result?;
-        let t = local.global(&t);
         let members_pos = members
             .iter()
             .map(|&m| self.clusters[m as usize].pos_error)
@@ -1718,9 +1751,13 @@ impl GroupCtx<'_> {
         let (error, pos_error) = group_error(e.0, e.1, members_pos, members_max, self.min_error);
         let parts = self
             .parter
-            .clusters(&t, max_tris, max_verts, false)
+            .group_clusters(&local, &t, max_tris, max_verts)
             .into_iter()
-            .map(|p| p.iter().map(|&i| t[i as usize]).collect())
+            .map(|p| {
+                p.iter()
+                    .map(|&i| t[i as usize].map(|v| local.verts[v as usize]))
+                    .collect()
+            })
             .collect();
         Some(Outcome {
             parts,
