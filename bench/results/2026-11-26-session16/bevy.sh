@@ -1,12 +1,13 @@
 #!/bin/bash
-# Session 16, call 2 (device machine, 1920x1080): issue 14 item 7, vgeo against Bevy 0.19.1's
+# Session 16, calls 2 and 10 (device machine, 1920x1080): issue 14 item 7, vgeo against Bevy 0.19.1's
 # virtual geometry (meshlets) on the stress scene, in one call. First `vgeo bench --scenes stress`
-# (main at 6b555f9, .gpu/vgeo-M.gz) at N = 8, 20, 50, 100, 16 frames of the path, 1 px; then the
+# (VGEO_GZ, default .gpu/vgeo-M.gz: main at 6b555f9 in call 2 on an H200; call 10 on an H100 with
+# VGEO_GZ=.gpu/vgeo-S.gz, main at 59f10e4) at N = 8, 20, 50, 100, 16 frames of the path, 1 px; then the
 # Bevy harness (.gpu/vgeo-peer-bevy.gz, bench/peers/bevy/run.sh) over the same N, mesh and path.
 # Results: $OUT/vgeo-stress.txt, $OUT/bevy.tgz (summary.md, per-N json/log/png).
 for f in .gpu/*.deb; do dpkg -x $f / >/dev/null; done; ldconfig
 if [ -d .gpu/assets ]; then mkdir -p ../shared && ln -sfn $PWD/.gpu/assets ../shared/assets; fi
-gunzip -c .gpu/vgeo-M.gz > /tmp/vgeo; chmod +x /tmp/vgeo
+gunzip -c ${VGEO_GZ:-.gpu/vgeo-M.gz} > /tmp/vgeo; chmod +x /tmp/vgeo
 T0=$SECONDS
 nvidia-smi --query-gpu=name,driver_version --format=csv > $OUT/vgeo-stress.txt 2>&1
 timeout 60 /tmp/vgeo bench --suite full --scenes stress --stress-n 8 --frames 8 --modes vgeo --sweep 1 --quiet --out /tmp/warm > /dev/null 2>&1
