@@ -834,6 +834,23 @@ impl VgeoRenderer {
         }
     }
 
+    /// Both phases' cull counters as the last frame left them (main, post); `None` before the
+    /// first frame. For tests: a timed path's frames keep no statistics
+    /// ([`VIEW_FLAG_CULL_STATS`]).
+    #[doc(hidden)]
+    pub fn last_cull_counters(&self) -> GpuResult<Option<(CullCounters, CullCounters)>> {
+        let Some(fb) = self.fb.as_ref() else {
+            return Ok(None);
+        };
+        let read = |phase| -> GpuResult<CullCounters> {
+            let (buf, _, _) = fb.phase_lists(phase);
+            Ok(*bytemuck::from_bytes(
+                &buf.download()?[..size_of::<CullCounters>()],
+            ))
+        };
+        Ok(Some((read(Phase::Main)?, read(Phase::Post)?)))
+    }
+
     /// The HZB of vgeo's own view as the last frame left it (built from that frame's final
     /// visibility buffer), every level one after another (`depth_pyramid::hzb_levels`); `None`
     /// before the first frame. For tests.

@@ -503,7 +503,29 @@ fn a_timed_path_renders_the_same_frames_in_one_submission() {
             assert!(t.iter().all(|(_, ms)| ms.is_finite() && *ms >= 0.0));
         }
     }
+    // Nothing reads a timed path's counters, so its cull keeps no statistics
+    // (VIEW_FLAG_CULL_STATS), only what the rasterizers need; a read-back frame keeps both.
+    let (m, _) = path
+        .last_cull_counters()
+        .expect("counters")
+        .expect("a frame ran");
+    assert!(m.sw_count + m.hw_count > 0, "the timed frame drew");
+    assert_eq!(
+        (
+            m.instances_tested,
+            m.nodes_visited,
+            m.clusters_tested,
+            m.triangles
+        ),
+        (0, 0, 0, 0),
+        "statistics in a timed frame"
+    );
     let got = render(&mut path, &cams[2], &settings);
+    let c = &got.main.counters;
+    assert!(
+        c.instances_tested > 0 && c.clusters_tested > 0 && c.triangles > 0,
+        "statistics in a read-back frame: {c:?}"
+    );
     assert_eq!(
         got.main.counters.post_instance_count,
         want.main.counters.post_instance_count
