@@ -842,13 +842,10 @@ impl VgeoRenderer {
         let Some(fb) = self.fb.as_ref() else {
             return Ok(None);
         };
-        let read = |phase| -> GpuResult<CullCounters> {
-            let (buf, _, _) = fb.phase_lists(phase);
-            Ok(*bytemuck::from_bytes(
-                &buf.download()?[..size_of::<CullCounters>()],
-            ))
-        };
-        Ok(Some((read(Phase::Main)?, read(Phase::Post)?)))
+        Ok(Some((
+            read_counters(fb, Phase::Main)?,
+            read_counters(fb, Phase::Post)?,
+        )))
     }
 
     /// The HZB of vgeo's own view as the last frame left it (built from that frame's final
@@ -1007,13 +1004,20 @@ impl VgeoFrame {
     }
 }
 
+/// A phase's cull counters as the last frame left them.
+fn read_counters(fb: &FrameBuffers, phase: Phase) -> GpuResult<CullCounters> {
+    let (buf, _, _) = fb.phase_lists(phase);
+    Ok(*bytemuck::from_bytes(
+        &buf.download()?[..size_of::<CullCounters>()],
+    ))
+}
+
 /// Reads one phase's counters, its SW and HW lists and the visible entries they name (in list
 /// order: SW, then HW). With direct slots the visible list has holes, so entries are found through
 /// the lists, never by position.
 fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> GpuResult<CullResult> {
-    let (counters_buf, sw_buf, hw_buf) = fb.phase_lists(phase);
-    let counters: CullCounters =
-        *bytemuck::from_bytes(&counters_buf.download()?[..size_of::<CullCounters>()]);
+    let (_, sw_buf, hw_buf) = fb.phase_lists(phase);
+    let counters = read_counters(fb, phase)?;
     let list = |b: &Buffer, n: u32| -> GpuResult<Vec<u32>> {
         let n = (n.min(fb.visible_capacity)) as usize;
         Ok(words(&b.download_prefix(4 * n as u64)?))

@@ -973,25 +973,7 @@ impl Local {
 
     /// Per local vertex, the first local vertex at its point (see `Pieces::FirstOfPosition`).
     fn first_of_position(&self) -> Vec<u32> {
-        let mut first = vec![NONE; self.points.len()];
-        self.lp
-            .iter()
-            .enumerate()
-            .map(|(v, &p)| {
-                if first[p as usize] == NONE {
-                    first[p as usize] = v as u32;
-                }
-                first[p as usize]
-            })
-            .collect()
-    }
-
-    /// `tris` (local ids) without the triangles that have two corners at one point.
-    fn drop_degenerate(&self, tris: &mut Vec<[u32; 3]>) {
-        tris.retain(|t| {
-            let p = t.map(|v| self.lp[v as usize]);
-            p[0] != p[1] && p[1] != p[2] && p[0] != p[2]
-        });
+        super::simplify::first_of_points(self.lp.iter().copied())
     }
 
     /// `tris` (local ids) in global vertex indices.
@@ -1015,6 +997,8 @@ fn sort_total<T: Send + Copy, K: radsort::Key + Ord>(v: &mut [T], key: impl Fn(&
     }
 }
 
+/// `tris` without the triangles that have two corners at one point (`pid`: a vertex's point; the
+/// mesh's position ids, or a group's `Local::lp`).
 fn drop_degenerate(tris: &mut Vec<[u32; 3]>, pid: &[u32]) {
     tris.retain(|t| {
         let p = [pid[t[0] as usize], pid[t[1] as usize], pid[t[2] as usize]];
@@ -1671,7 +1655,7 @@ impl GroupCtx<'_> {
                 _ => run(mode, lock_border, goal, &extra),
             };
             let (mut t, e) = (r.tris, (r.error, r.coverage));
-            local.drop_degenerate(&mut t);
+            drop_degenerate(&mut t, &local.lp);
             if !(strict(&t) || candidate.is_none() && lenient(&t)) {
                 // Too little reduction to be taken, folds or not; locking a fold's points for
                 // another round would only reduce less, and so would the same attempt with the

@@ -39,12 +39,18 @@ thread_local! {
 /// Per vertex of `verts` (distinct global vertices), the first of them with the same position
 /// id (`pid`, indexed by global vertex): vertices with equal entries share a position.
 fn first_of_position(verts: &[u32], pid: &[u32]) -> Vec<u32> {
+    first_of_points(verts.iter().map(|&v| pid[v as usize]))
+}
+
+/// Per entry of `points` (a point id per vertex, in vertex order), the index of the first entry
+/// with the same point id.
+pub(crate) fn first_of_points(points: impl ExactSizeIterator<Item = u32>) -> Vec<u32> {
     SCRATCH.with(|cell| {
         let mut map = cell.borrow_mut();
-        let mut first = Vec::with_capacity(verts.len());
+        let mut first = Vec::with_capacity(points.len());
         let mut touched = Vec::new();
-        for (local, &v) in verts.iter().enumerate() {
-            let p = pid[v as usize] as usize;
+        for (local, p) in points.enumerate() {
+            let p = p as usize;
             if map.len() <= p {
                 map.resize(p + 1, u32::MAX);
             }
