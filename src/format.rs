@@ -16,7 +16,9 @@
 //! version 4's cluster headers lacked the cull words (bounds, counts, level, groups) that let the
 //! GPU read a cluster from its page alone, version 5's clusters lacked the size code of their
 //! triangles (`builder::size`, bits 24-31 of the counts and of the cull words' info word, where
-//! the level now has 8 bits) by which the frame splits them between the rasterizers.
+//! the level now has 8 bits) by which the frame splits them between the rasterizers, and
+//! version 6 stored a cluster's triangles as plain packed indices rather than the max-delta code
+//! (`builder::tricode`) with its canonical triangle order.
 //!
 //! [`load`] and [`VgeoFile`] check everything before use: magic, version, lengths, checksums,
 //! section bounds, element sizes, and every index inside the data (so a loaded mesh can be indexed
@@ -37,7 +39,7 @@ use crate::mesh::Material;
 /// File magic.
 pub const MAGIC: [u8; 8] = *b"VGEO\0\r\n\x1a";
 /// Current format version.
-pub const VERSION: u32 = 6;
+pub const VERSION: u32 = 7;
 const HEADER_LEN: usize = 32;
 const ENTRY_LEN: usize = 24;
 const MAX_SECTIONS: u32 = 64;
@@ -73,9 +75,9 @@ pub enum FormatError {
     /// Not a .vgeo file.
     BadMagic,
     #[error(
-        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 5 and \
-         older predate the clusters' triangle size that splits the rasterizers (version 4 and older \
-         also pages that carry their clusters' cull data): rebuild them with `vgeo build`)"
+        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 6 and \
+         older store their triangles in a longer code (version 5 and older also lack the \
+         clusters' triangle size that splits the rasterizers): rebuild them with `vgeo build`)"
     )]
     /// A format version this build does not read.
     Version(u32),

@@ -130,6 +130,12 @@ pub const PAGE_BYTES: u32 = 131072;
 /// f32 bits), `vertex_count | triangle_count << 8 | level << 16 | size_code << 24`, group, creator
 /// group (`src/builder/page.rs`); the vertex code follows them.
 pub const CLUSTER_CULL_WORDS: u32 = 9;
+/// Bits of a grid coordinate (`builder::quantize::POSITION_BITS`). In an encoded cluster's header
+/// the bits above them in its smallest x coordinate carry its triangle code's header, the corner
+/// offsets' width (`builder::tricode`).
+pub const CLUSTER_COORD_BITS: u32 = 21;
+/// Triangles per word of the triangle code's steps (`builder::tricode`).
+pub const TRIANGLE_CODE_BLOCK: u32 = 12;
 /// Most DAG levels of a mesh: a cluster's level has 8 bits in its cull words (the builder stops
 /// with `BuildError::Stuck` before; a level takes at least a 15 % reduction, so 255 levels would
 /// need more than 2^32 triangles).

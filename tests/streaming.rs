@@ -152,7 +152,7 @@ fn streamed_frames_are_crack_free_within_budget_and_settle_to_the_all_resident_i
     let ctx = gpu();
     let mut one = bunny();
     // Only the root's page always resident, so that the budget is mostly slots.
-    paginate(&mut one, 16384, u32::MAX);
+    paginate(&mut one, 12288, u32::MAX);
     let meshes: Vec<BuiltMesh> = (0..ROW)
         .map(|i| BuiltMesh {
             name: format!("bunny {i}"),

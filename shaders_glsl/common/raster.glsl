@@ -25,7 +25,7 @@
 // start, the per-field bit widths and the minimums its vertices are coded from.
 struct ClusterData {
     uint vertex_word;    // first word of the vertex bit stream
-    uint triangle_word;  // first word of the packed triangles
+    uint triangle_word;  // first word of the triangle code (tricode.rs)
     uint vertex_bits;
     uint wx;             // bit widths: position x, y, z, normal (per component), uv (per
     uint wy;             // component), material
@@ -34,6 +34,7 @@ struct ClusterData {
     uint wu;
     uint wm;
     uvec3 position_min;
+    uint triangle_head;  // the triangle code's header: the corner offsets' width (tricode.rs)
     uint normal_min;     // two i16
     uint uv_min;         // two u16
     uint material_min;
@@ -68,7 +69,10 @@ uint64_t pool_bits64(uint word0, uint bit) {
 ClusterData cluster_data(MeshGpu mesh, Cluster c) {
     ClusterData d;
     uint at = pages[mesh.page_offset + c.page].word + c.data_offset + CLUSTER_CULL_WORDS;
-    d.position_min = uvec3(pool[at], pool[at + 1u], pool[at + 2u]);
+    // The smallest coordinates, x's high bits the triangle code's header.
+    uint px = pool[at];
+    d.position_min = uvec3(px & ((1u << CLUSTER_COORD_BITS) - 1u), pool[at + 1u], pool[at + 2u]);
+    d.triangle_head = px >> CLUSTER_COORD_BITS;
     uint w = pool[at + 3u];
     d.normal_min = pool[at + 4u];
     uint h = at + 5u;
@@ -137,14 +141,28 @@ uint cluster_material(ClusterData d, uint i) {
     return d.material_min + pool_field(d.vertex_word, bit, d.wm);
 }
 
-// The three local vertex indices of the cluster's triangle `t`. Indices are bit-packed per cluster
-// (src/builder/mod.rs `pack_indices`): `index_bits(vertex_count)` bits each, little-endian.
+// The three local vertex indices of the cluster's triangle `t`, from its max-delta code
+// (src/builder/tricode.rs): header `w` (from the cluster's code, `triangle_head`), then a word per
+// TRIANGLE_CODE_BLOCK triangles (2-bit steps of the largest index, the block's base in bits
+// 24-31), then two `w`-bit corner offsets per triangle. The largest index is the block's base
+// plus the steps up to `t` (a population count); header 0: plain packed indices
+// (`index_bits(vertex_count)` bits each).
 uvec3 cluster_triangle(ClusterData d, Cluster c, uint t) {
-    uint vc = max(cluster_vertex_count(c), 1u);
-    uint bits = uint(max(findMSB(vc - 1u) + 1, 1));
-    uint mask = (1u << bits) - 1u;
-    uint v = pool_field(d.triangle_word, 3u * t * bits, 3u * bits);
-    return uvec3(v & mask, (v >> bits) & mask, (v >> (2u * bits)) & mask);
+    uint w = d.triangle_head;
+    if (w == 0u) {
+        uint vc = max(cluster_vertex_count(c), 1u);
+        uint bits = uint(max(findMSB(vc - 1u) + 1, 1));
+        uint mask = (1u << bits) - 1u;
+        uint v = pool_field(d.triangle_word, 3u * t * bits, 3u * bits);
+        return uvec3(v & mask, (v >> bits) & mask, (v >> (2u * bits)) & mask);
+    }
+    uint b = t / TRIANGLE_CODE_BLOCK;
+    uint x = pool[d.triangle_word + b];
+    uint steps = x & ((1u << (2u * (t - b * TRIANGLE_CODE_BLOCK) + 2u)) - 1u);
+    uint m = (x >> 24u) + bitCount(steps) + bitCount(steps & 0x00aaaaaau) - 1u;
+    uint blocks = (cluster_triangle_count(c) + TRIANGLE_CODE_BLOCK - 1u) / TRIANGLE_CODE_BLOCK;
+    uint o = pool_field(d.triangle_word + blocks, 2u * w * t, 2u * w);
+    return uvec3(m, m - 1u - (o & low_mask(w)), m - 1u - (o >> w));
 }
 
 // Object-space position of a vertex: origin + code * step.

@@ -1828,7 +1828,18 @@ fn assemble(
                     hi[k] = hi[k].max(p[k]);
                 }
             }
-            let local_idx: Vec<u8> = local_idx.iter().map(|&l| l as u8).collect();
+            // The canonical triangle order, which the page's triangle code needs.
+            let mut local_tris: Vec<[u32; 3]> = local_idx
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect();
+            // (A triangle whose corners have several materials keeps its first corner, whose
+            // material is the triangle's.)
+            let material = |l: u32| vmat.get(local[l as usize] as usize).copied();
+            super::tricode::canonical_order(&mut local_tris, &|t| {
+                material(t[0]) == material(t[1]) && material(t[0]) == material(t[2])
+            });
+            let local_idx: Vec<u8> = local_tris.iter().flatten().map(|&l| l as u8).collect();
             let mut tri_bytes = Vec::new();
             super::pack_indices(&local_idx, local.len() as u32, &mut tri_bytes);
             // Full u32 references until `page::paginate` gives each page its own u16 ones.

@@ -25,6 +25,7 @@ pub mod page;
 pub mod quantize;
 pub mod simplify;
 pub mod size;
+pub mod tricode;
 pub mod verify;
 
 /// Union-find root of `x` in `parent` (with path halving): the builder's connected pieces, seam
@@ -498,18 +499,21 @@ impl BuiltMesh {
         }
     }
 
-    /// Triangles of cluster `ci` as global vertex indices.
-    pub fn cluster_triangles(&self, ci: usize) -> Vec<[u32; 3]> {
-        let c = &self.clusters[ci];
+    /// Triangles of cluster `c` as its local vertex indices.
+    pub fn cluster_local_triangles(&self, c: &Cluster) -> Vec<[u32; 3]> {
         let bytes = &self.triangles[c.triangle_offset as usize..];
         let bits = index_bits(c.vertex_count());
         (0..c.triangle_count() as usize)
-            .map(|t| {
-                std::array::from_fn(|k| {
-                    let l = unpack_index(bytes, bits, 3 * t + k).unwrap_or(0);
-                    self.vertex_ref(c, l)
-                })
-            })
+            .map(|t| std::array::from_fn(|k| unpack_index(bytes, bits, 3 * t + k).unwrap_or(0)))
+            .collect()
+    }
+
+    /// Triangles of cluster `ci` as global vertex indices.
+    pub fn cluster_triangles(&self, ci: usize) -> Vec<[u32; 3]> {
+        let c = &self.clusters[ci];
+        self.cluster_local_triangles(c)
+            .into_iter()
+            .map(|t| t.map(|l| self.vertex_ref(c, l)))
             .collect()
     }
 

@@ -15,14 +15,16 @@
 //! - a header of [`header_words`] u32 words: first what culling reads ([`CULL_WORDS`]: the
 //!   cluster's bounds, min then max, as f32 bits; `vertex_count | triangle_count << 8 | level <<
 //!   16`; its group; its creator group), then its code: the smallest grid coordinates of its
-//!   positions (3 words), the bit widths `x | y << 5 | z << 10 | normal << 15 | uv << 20 |
+//!   positions (3 words; x's bits above [`crate::shared::CLUSTER_COORD_BITS`] hold the triangle
+//!   code's header, [`super::tricode`]), the bit widths `x | y << 5 | z << 10 | normal << 15 | uv << 20 |
 //!   material << 25`, the smallest octahedral normal components (two i16), the smallest UV
 //!   components (two u16, meshes with UVs) and the smallest material (meshes with a material
 //!   stream);
 //! - its vertices, each `vertex_bits` bits (the widths summed, normal and UV components twice)
 //!   of offsets from those minimums, as one little-endian bit stream (vertex `i` at bit
 //!   `i * vertex_bits`; fields x, y, z, normal x, normal y, u, v, material);
-//! - its packed triangles ([`super::pack_indices`]), word-aligned.
+//! - its triangles in the max-delta code of [`super::tricode`] (about 14 bits a triangle), after
+//!   the builder's canonical triangle order.
 //!
 //! After the last cluster a page has one spare zero word, so that a reader may always fetch the
 //! word after a field's first (the GPU reads every field as two words, without a branch).
@@ -197,18 +199,18 @@ fn normal_parts(code: u32) -> [i32; 2] {
     [code as u16 as i16 as i32, (code >> 16) as u16 as i16 as i32]
 }
 
-/// Encoded words of a cluster of `vertex_count` vertices and `triangle_count` triangles under
-/// `code`.
+/// Encoded words of a cluster of `vertex_count` vertices under `code` whose triangles take
+/// `triangle_words` ([`super::tricode::encode`]).
 pub fn cluster_words(
     code: &ClusterCode,
     vertex_count: u32,
-    triangle_count: u32,
+    triangle_words: usize,
     has_uvs: bool,
     has_materials: bool,
 ) -> usize {
     header_words(has_uvs, has_materials) as usize
         + (vertex_count as usize * code.vertex_bits() as usize).div_ceil(32)
-        + super::packed_triangle_bytes(vertex_count, triangle_count) / 4
+        + triangle_words
 }
 
 /// Appends bits to a u32 stream.
@@ -268,8 +270,10 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
     let (has_uvs, has_mats) = (m.has_uvs, m.has_material_stream());
     let verts = cluster_vertices(m, c);
     let code = ClusterCode::of(&verts, has_uvs, has_mats);
+    let (tri_head, tri_words) =
+        super::tricode::encode(&m.cluster_local_triangles(c), c.vertex_count());
     out.extend_from_slice(&cull_words(c));
-    out.extend_from_slice(&code.position_min);
+    out.extend_from_slice(&join_triangle_head(code.position_min, tri_head));
     out.push(code.widths);
     out.push(code.normal_min);
     if has_uvs {
@@ -296,13 +300,27 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
         w.put(*mat as u32 - code.material_min, wm);
     }
     out.resize(start + vertex_words, 0);
-    let t = c.triangle_offset as usize;
-    let len = super::packed_triangle_bytes(c.vertex_count(), c.triangle_count());
-    out.extend(
-        m.triangles[t..t + len]
-            .chunks_exact(4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-    );
+    out.extend(tri_words);
+}
+
+/// The smallest grid coordinates with the triangle code's header in x's spare high bits
+/// (above [`crate::shared::CLUSTER_COORD_BITS`]).
+fn join_triangle_head(min: [u32; 3], head: u32) -> [u32; 3] {
+    [
+        min[0] | head << crate::shared::CLUSTER_COORD_BITS,
+        min[1],
+        min[2],
+    ]
+}
+
+/// The inverse of [`join_triangle_head`] (high bits of y and z are left for the coordinate
+/// check to refuse).
+fn split_triangle_head(words: [u32; 3]) -> ([u32; 3], u32) {
+    let b = crate::shared::CLUSTER_COORD_BITS;
+    (
+        [words[0] & ((1 << b) - 1), words[1], words[2]],
+        words[0] >> b,
+    )
 }
 
 /// The encoded bytes of the page holding `clusters` (its clusters in index order, as
@@ -354,7 +372,8 @@ pub struct PageStreams {
 /// Decodes a page's encoded bytes (the inverse of [`encode_page`]) into its logical streams:
 /// `clusters` are the page's clusters in index order. An error says what does not fit: a cluster
 /// whose data does not start where the previous ended, data past the end or bytes left over, a
-/// coordinate off the mesh's grid, a local index not below the cluster's vertex count.
+/// coordinate off the mesh's grid, a code that is not the minimal one of its vertices or of its
+/// triangles ([`super::tricode`]), a local index not below the cluster's vertex count.
 pub fn decode_page(
     bytes: &[u8],
     clusters: &[&Cluster],
@@ -398,8 +417,9 @@ pub fn decode_page(
                     .into(),
             ));
         }
+        let (position_min, tri_head) = split_triangle_head([head[0], head[1], head[2]]);
         let mut code = ClusterCode {
-            position_min: [head[0], head[1], head[2]],
+            position_min,
             widths: head[3],
             normal_min: head[4],
             uv_min: 0,
@@ -427,17 +447,15 @@ pub fn decode_page(
         let vbits = code.vertex_bits() as usize;
         let vstart = at + hw;
         let vwords = (vc as usize * vbits).div_ceil(32);
-        let twords = super::packed_triangle_bytes(vc, tc) / 4;
-        let end = vstart + vwords + twords;
-        if end > words.len() {
+        if vstart + vwords > words.len() {
             return Err(bad(format!(
                 "{} words past the page's end",
-                end - words.len()
+                vstart + vwords - words.len()
             )));
         }
         let vw = &words[vstart..vstart + vwords];
         let nmin = normal_parts(code.normal_min);
-        let mut local = Vec::with_capacity(vc as usize);
+        let mut refs_local = Vec::with_capacity(vc as usize);
         let mut decoded = Vec::with_capacity(vc as usize);
         for i in 0..vc as usize {
             let mut bit = i * vbits;
@@ -480,7 +498,7 @@ pub fn decode_page(
                     st.materials.push(mat as u16);
                 }
             }
-            local.push(s);
+            refs_local.push(s);
         }
         if st.vertices.len() > MAX_PAGE_VERTICES {
             return Err(format!("more than {MAX_PAGE_VERTICES} vertices"));
@@ -492,17 +510,15 @@ pub fn decode_page(
                 "its header is not the minimal code of its vertices".into()
             ));
         }
-        let tri: Vec<u8> = bytemuck::cast_slice(&words[vstart + vwords..end]).to_vec();
-        let ib = super::index_bits(vc);
-        if let Some(l) = (0..3 * tc as usize)
-            .map(|j| super::unpack_index(&tri, ib, j).unwrap_or(u32::MAX))
-            .find(|&l| l >= vc)
-        {
-            return Err(bad(format!("local index {l} >= vertex count {vc}")));
-        }
+        let (tris, twords) =
+            super::tricode::decode(tri_head, &words[vstart + vwords..], tc, vc).map_err(&bad)?;
+        let end = vstart + vwords + twords;
+        let local: Vec<u8> = tris.iter().flatten().map(|&l| l as u8).collect();
+        let mut tri = Vec::new();
+        super::pack_indices(&local, vc, &mut tri);
         st.cluster_starts
             .push((st.refs.len() as u32, st.triangles.len() as u32));
-        for pair in local.chunks(2) {
+        for pair in refs_local.chunks(2) {
             st.refs
                 .push(pair[0] | pair.get(1).copied().unwrap_or(0) << 16);
         }
@@ -555,10 +571,11 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
             .par_iter()
             .map(|c| {
                 let code = ClusterCode::of(&cluster_vertices(mm, c), has_uvs, has_mats);
+                let tris = mm.cluster_local_triangles(c);
                 4 * cluster_words(
                     &code,
                     c.vertex_count(),
-                    c.triangle_count(),
+                    super::tricode::encode(&tris, c.vertex_count()).1.len(),
                     has_uvs,
                     has_mats,
                 )

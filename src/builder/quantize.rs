@@ -9,7 +9,7 @@
 use super::Quantization;
 
 /// Most bits per position axis (the packed code holds 3 x 21 bits).
-pub const POSITION_BITS: u32 = 21;
+pub const POSITION_BITS: u32 = crate::shared::CLUSTER_COORD_BITS;
 const POSITION_MAX: u64 = (1 << POSITION_BITS) - 1;
 /// Fewest bits per position axis [`auto_position_bits`] chooses.
 pub const AUTO_POSITION_BITS_MIN: u32 = 16;

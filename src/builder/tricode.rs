@@ -1,0 +1,310 @@
+//! A cluster's triangles as stored in an encoded page: the *max-delta* code.
+//!
+//! The builder gives every cluster a canonical triangle order ([`canonical_order`]): its vertices
+//! are numbered in order of first use, each triangle is rotated (winding kept) so that its first
+//! corner is its largest local index `m`, and the triangles are sorted by `m` (stably). Then `m`
+//! never decreases from one triangle to the next and grows by at most 3 (a triangle that brings
+//! `k` new vertices has the newest as its largest), so a triangle is stored as
+//!
+//! - `Δ = m - m_prev` in 2 bits (`m_prev` = -1 before the first triangle), and
+//! - its two other corners as `m - 1 - corner`, each in `w` bits (`w` per cluster: the fewest that
+//!   hold every such offset, at least 1),
+//!
+//! 12-15 bits a triangle instead of 3 x 7 for plain packed indices. Any triangle is decoded
+//! without the ones before it: the `Δ`s sit in one word per block of 12 triangles with the
+//! block's base, and a triangle's `m` is that base plus a population count of the `Δ` bits up to
+//! it.
+//!
+//! Layout: a header `w`, which the page stores in the spare high bits of the cluster's smallest
+//! grid coordinates ([`crate::shared::CLUSTER_COORD_BITS`]), so that a reader has it with the rest
+//! of the cluster's code; then u32 words, little-endian:
+//! - one word per block of 12 triangles: their 2-bit `Δ`s (triangle `t` at bit `2 (t % 12)`) and,
+//!   in bits 24-31, the block's base, `m + 1` at the end of the block before (0 for the first);
+//! - the corner offsets: triangle `t`'s two `w`-bit fields at bit `2 w t` of one bit stream.
+//!
+//! A cluster whose triangles are not in canonical order (only hand-made test meshes), or whose
+//! code would not be shorter (a few triangles), has header 0 and its plain packed indices
+//! ([`super::pack_indices`]). The GPU's decoder is `cluster_triangle` in
+//! `shaders_glsl/common/raster.glsl`; [`decode`] is the CPU's.
+
+/// Triangles per word of `Δ`s (24 bits, the block's base in the other 8).
+const BLOCK: usize = crate::shared::TRIANGLE_CODE_BLOCK as usize;
+const _: () = assert!(2 * BLOCK + 8 <= 32);
+
+/// Bits needed for values `0 ..= x`.
+fn width(x: u32) -> u32 {
+    32 - x.leading_zeros()
+}
+
+/// Puts a cluster's triangles (local indices, vertices numbered in order of first use by these
+/// triangles in this order) in canonical order: each rotated to start at its largest index,
+/// then sorted stably by that index. A triangle for which `rotatable` is false keeps its first
+/// corner (a triangle's material is its first vertex's: one whose corners have several materials
+/// would change); if its largest index is not first, the cluster is not canonical and keeps plain
+/// packed indices ([`encode`]).
+pub fn canonical_order(tris: &mut [[u32; 3]], rotatable: &dyn Fn(&[u32; 3]) -> bool) {
+    for t in tris.iter_mut() {
+        if rotatable(t) {
+            let r = (0..3)
+                .max_by_key(|&k| (t[k], std::cmp::Reverse(k)))
+                .unwrap_or(0);
+            *t = [t[r], t[(r + 1) % 3], t[(r + 2) % 3]];
+        }
+    }
+    tris.sort_by_key(|t| t.iter().copied().max().unwrap_or(0));
+}
+
+/// The max-delta code of `tris`, header first (`None` when they are not in canonical order).
+fn encode_max_delta(tris: &[[u32; 3]]) -> Option<Vec<u32>> {
+    if tris.is_empty() {
+        return None;
+    }
+    let mut prev = -1i64;
+    let mut widest = 0u32;
+    for t in tris {
+        let d = t[0] as i64 - prev;
+        if !(0..=3).contains(&d) || t[1] >= t[0] || t[2] >= t[0] || t[0] > 255 {
+            return None;
+        }
+        prev = t[0] as i64;
+        widest = widest.max(t[0] - 1 - t[1]).max(t[0] - 1 - t[2]);
+    }
+    let w = width(widest).max(1);
+    let mut out = vec![w];
+    let mut prev = -1i64;
+    for (i, t) in tris.iter().enumerate() {
+        if i % BLOCK == 0 {
+            out.push(((prev + 1) as u32) << 24);
+        }
+        let d = (t[0] as i64 - prev) as u32;
+        *out.last_mut().expect("a block word") |= d << (2 * (i % BLOCK));
+        prev = t[0] as i64;
+    }
+    let mut bits = BitStream::default();
+    for t in tris {
+        bits.put(t[0] - 1 - t[1], w);
+        bits.put(t[0] - 1 - t[2], w);
+    }
+    out.extend(bits.words);
+    Some(out)
+}
+
+/// A cluster's triangles in stored form, its header and its words: the max-delta code, or
+/// header 0 and the plain packed indices (`vertex_count` sets their width) when `tris` are not in
+/// canonical order or the code would not be shorter (a few triangles).
+pub fn encode(tris: &[[u32; 3]], vertex_count: u32) -> (u32, Vec<u32>) {
+    let plain_words = super::packed_triangle_bytes(vertex_count, tris.len() as u32) / 4;
+    if let Some(code) = encode_max_delta(tris).filter(|c| c.len() - 1 < plain_words) {
+        return (code[0], code[1..].to_vec());
+    }
+    let local: Vec<u8> = tris.iter().flatten().map(|&v| v as u8).collect();
+    let mut bytes = Vec::new();
+    super::pack_indices(&local, vertex_count, &mut bytes);
+    let words = bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    (0, words)
+}
+
+/// Decodes `triangle_count` triangles of a cluster of `vertex_count` vertices, whose header
+/// is `head`, from the start of `words`, and returns them with the words they took. An error says
+/// what does not fit: data past the end, an index not below the vertex count, a code that is not
+/// the one [`encode`] gives for its triangles.
+pub fn decode(
+    head: u32,
+    words: &[u32],
+    triangle_count: u32,
+    vertex_count: u32,
+) -> Result<(Vec<[u32; 3]>, usize), String> {
+    let tc = triangle_count as usize;
+    let w = head & 0xff;
+    let tris: Vec<[u32; 3]> = if w == 0 {
+        let n = super::packed_triangle_bytes(vertex_count, triangle_count) / 4;
+        let body = words
+            .get(..n)
+            .ok_or("packed triangles past the page's end")?;
+        let bytes: &[u8] = bytemuck::cast_slice(body);
+        let bits = super::index_bits(vertex_count);
+        (0..tc)
+            .map(|t| {
+                std::array::from_fn(|k| {
+                    super::unpack_index(bytes, bits, 3 * t + k).unwrap_or(u32::MAX)
+                })
+            })
+            .collect()
+    } else {
+        if w > 8 || tc == 0 {
+            return Err(format!(
+                "triangle code width {w} for {tc} triangles (1..=8 and at least 1 expected)"
+            ));
+        }
+        let stream = tc.div_ceil(BLOCK);
+        let n = stream + (2 * w as usize * tc).div_ceil(32);
+        let body = words.get(..n).ok_or("triangle code past the page's end")?;
+        (0..tc)
+            .map(|t| {
+                let m = max_index(body, t);
+                let f = |k: usize| get(&body[stream..], (2 * t + k) * w as usize, w);
+                [m, m.wrapping_sub(1 + f(0)), m.wrapping_sub(1 + f(1))]
+            })
+            .collect()
+    };
+    if let Some(l) = tris.iter().flatten().find(|&&l| l >= vertex_count) {
+        return Err(format!("local index {l} >= vertex count {vertex_count}"));
+    }
+    let (again_head, again) = encode(&tris, vertex_count);
+    if again_head != head || words.get(..again.len()) != Some(&again[..]) {
+        return Err("the triangle code is not the one its triangles give".into());
+    }
+    Ok((tris, again.len()))
+}
+
+/// Triangle `t`'s largest index: its block's base plus the block's `Δ`s up to it (as the GPU
+/// computes it).
+fn max_index(code: &[u32], t: usize) -> u32 {
+    let x = code[t / BLOCK];
+    let steps = x & low_mask(2 * (t % BLOCK) as u32 + 2);
+    // A 2-bit field's value is its set bits plus its set high bit.
+    ((x >> 24) + steps.count_ones() + (steps & 0x00aa_aaaa).count_ones()).wrapping_sub(1)
+}
+
+fn low_mask(bits: u32) -> u32 {
+    if bits >= 32 {
+        u32::MAX
+    } else {
+        (1 << bits) - 1
+    }
+}
+
+/// `bits` bits at bit `bit` of `words` (0 past the end).
+fn get(words: &[u32], bit: usize, bits: u32) -> u32 {
+    let w = bit / 32;
+    let sh = bit % 32;
+    let lo = words.get(w).copied().unwrap_or(0) as u64;
+    let hi = words.get(w + 1).copied().unwrap_or(0) as u64;
+    (((lo | hi << 32) >> sh) as u32) & low_mask(bits)
+}
+
+/// An appendable little-endian bit stream of u32 words.
+#[derive(Default)]
+struct BitStream {
+    words: Vec<u32>,
+    bit: usize,
+}
+
+impl BitStream {
+    fn put(&mut self, value: u32, bits: u32) {
+        let v = (value & low_mask(bits)) as u64;
+        let w = self.bit / 32;
+        let sh = self.bit % 32;
+        self.words
+            .resize((self.bit + bits as usize).div_ceil(32).max(w + 1), 0);
+        self.words[w] |= (v << sh) as u32;
+        if sh + bits as usize > 32 {
+            self.words[w + 1] |= (v << sh >> 32) as u32;
+        }
+        self.bit += bits as usize;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A strip of `n` triangles over vertices numbered in order of first use.
+    fn strip(n: u32) -> Vec<[u32; 3]> {
+        (0..n)
+            .map(|i| {
+                if i % 2 == 0 {
+                    [i, i + 1, i + 2]
+                } else {
+                    [i + 1, i, i + 2]
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn canonical_triangles_round_trip_in_fewer_words() {
+        for n in [1, 2, 11, 12, 13, 31, 64, 100, 128] {
+            let mut t = strip(n);
+            let vc = n + 2;
+            canonical_order(&mut t, &|_| true);
+            let (head, code) = encode(&t, vc);
+            assert_eq!(head == 0, n < 11, "{n}: {head:#x} {code:?}");
+            let (back, used) = decode(head, &code, n, vc).expect("decode");
+            assert_eq!(back, t, "{n}");
+            assert_eq!(used, code.len());
+            let plain = super::super::packed_triangle_bytes(vc, n) / 4;
+            assert!(code.len() <= plain, "{n}: {} words vs {plain}", code.len());
+        }
+    }
+
+    #[test]
+    fn canonical_order_keeps_winding_and_bounds_the_steps() {
+        // A fan and a grid: every triangle keeps its cyclic order; m grows by at most 3.
+        let mut t: Vec<[u32; 3]> = (1..20).map(|i| [0, i, i + 1]).collect();
+        t.extend([[30, 25, 21], [22, 30, 21]]);
+        let mut labels = std::collections::HashMap::new();
+        let mut l: Vec<[u32; 3]> = t
+            .iter()
+            .map(|t| {
+                t.map(|v| {
+                    let n = labels.len() as u32;
+                    *labels.entry(v).or_insert(n)
+                })
+            })
+            .collect();
+        let before = l.clone();
+        canonical_order(&mut l, &|_| true);
+        let cyc = |t: [u32; 3]| (0..3).map(|r| [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]).min();
+        let mut a: Vec<_> = before.iter().map(|&t| cyc(t)).collect();
+        let mut b: Vec<_> = l.iter().map(|&t| cyc(t)).collect();
+        a.sort();
+        b.sort();
+        assert_eq!(a, b);
+        let (head, code) = encode(&l, labels.len() as u32);
+        assert_ne!(head, 0);
+        assert_eq!(
+            decode(head, &code, l.len() as u32, labels.len() as u32)
+                .unwrap()
+                .0,
+            l
+        );
+    }
+
+    #[test]
+    fn a_triangle_that_may_not_rotate_keeps_its_first_corner() {
+        let mut t = strip(20);
+        // Triangle 5 ([6, 5, 7]) keeps 6 first: the cluster is stored plain, with that corner.
+        canonical_order(&mut t, &|t| t.iter().copied().min() != Some(5));
+        assert!(t.contains(&[6, 5, 7]));
+        let (head, code) = encode(&t, 22);
+        assert_eq!(head, 0);
+        assert_eq!(decode(head, &code, 20, 22).unwrap().0, t);
+    }
+
+    #[test]
+    fn other_orders_are_stored_plain_and_bad_codes_refused() {
+        let t = vec![[0, 1, 2], [2, 1, 3], [0, 2, 1]];
+        let (head, code) = encode(&t, 4);
+        assert_eq!(head, 0);
+        assert_eq!(decode(head, &code, 3, 4).unwrap().0, t);
+        let mut c = strip(40);
+        canonical_order(&mut c, &|_| true);
+        let (head, good) = encode(&c, 42);
+        assert!(decode(head, &good, 40, 42).is_ok());
+        // An index past the vertex count.
+        assert!(decode(head, &good, 40, 30).is_err());
+        // A wider code than needed.
+        assert!(decode((head & !0xff) | 8, &good, 40, 42).is_err());
+        // Truncated.
+        assert!(decode(head, &good[..3], 40, 42).is_err());
+        // A corner offset that reaches below 0.
+        let mut under = good.clone();
+        let last = under.len() - 1;
+        under[last] = u32::MAX;
+        assert!(decode(head, &under, 40, 42).is_err());
+    }
+}
