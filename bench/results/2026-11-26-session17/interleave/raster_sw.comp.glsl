@@ -1,0 +1,262 @@
+#version 460
+// Pass `raster_sw`: the compute rasterizer for small triangles. One workgroup per SW cluster
+// (grid-stride over CullCounters.sw_count), the cluster's vertices decoded, transformed and snapped
+// into shared memory, then one thread per triangle: fixed-point edge functions (SUBPIXEL_BITS) with
+// the top-left rule exactly as src/reference/raster.rs, depth from the snapped positions, atomicMax
+// into the visibility buffer. Small triangles walk their bounding box with int32 edge functions,
+// larger ones walk scanlines (the covered span of each row solved from the edge functions, int64),
+// and those whose box exceeds RASTER_SW_BIG_BOX_PIXELS are left to the whole workgroup after the
+// per-thread pass (pieces of rows, one per invocation), so one large triangle does not hold its
+// cluster's workgroup for as many steps as it has pixels.
+// With VIEW_FLAG_COUNT_OVERDRAW each covered pixel also adds 1 to the overdraw counter (binding 11)
+//! variant image VISBUFFER_IMAGE
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#define VISBUFFER_BINDING 9
+#include "shared.glsl"
+#include "visbuffer.glsl"
+
+layout(local_size_x = RASTER_SW_WORKGROUP_SIZE) in;
+
+layout(set = 0, binding = 0, scalar) uniform View { ViewGpu view; };
+layout(set = 0, binding = 1, scalar) readonly buffer Counters { CullCounters counters; };
+layout(set = 0, binding = 2, scalar) readonly buffer Visible { uvec2 visible[]; };
+layout(set = 0, binding = 3, scalar) readonly buffer SwList { uint sw_list[]; };
+layout(set = 0, binding = 4, scalar) readonly buffer Instances { InstanceVgeo instances[]; };
+layout(set = 0, binding = 5, scalar) readonly buffer Meshes { MeshGpu meshes[]; };
+layout(set = 0, binding = 6, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
+layout(set = 0, binding = 7, scalar) readonly buffer Pages { PageGpu pages[]; };
+layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
+
+#include "raster.glsl"
+#define OVERDRAW_BINDING 10
+#include "overdraw.glsl"
+
+// Bounding boxes of at most this many pixels, with vertex extents under 64 pixels (int32-safe
+// edge functions), are walked pixel by pixel; others by scanline.
+#define SMALL_BOX_PIXELS 64
+#define SMALL_EXTENT_FIXED (64 * RASTER_ONE)
+
+// Triangles whose pixel box is larger than this are rasterized by the whole workgroup after the
+// per-thread pass (rows cut into RASTER_SW_CHUNK-pixel pieces, dealt round-robin), so that a
+// cluster with a few large triangles does not wait for one invocation to walk each of them alone.
+// 64 measured best of 64 / 256 / 1024 on the H100 (bench/results/2026-11-25-session15, call 8).
+#define RASTER_SW_BIG_BOX_PIXELS 64
+#define RASTER_SW_CHUNK 32
+
+shared ivec2 s_xy[MAX_CLUSTER_VERTICES];
+shared float s_z[MAX_CLUSTER_VERTICES];  // ndc depth; < 0: the vertex cannot be snapped
+// Triangles left to the workgroup's shared pass (their index in the cluster) and their pieces
+// (rows x RASTER_SW_CHUNK columns).
+shared uint s_big[MAX_CLUSTER_TRIANGLES];
+shared uint s_big_pieces[MAX_CLUSTER_TRIANGLES];
+shared uint s_big_count;
+
+// A triangle ready to rasterize: counter-clockwise snapped vertices, their depths, the pixel box
+// (pixel centres inside the vertices' box, clamped to the screen) and the edge functions' steps.
+struct Tri {
+    ivec2 v[3];
+    vec3 z;
+    float inv_area;
+    ivec3 dx, dy, bias;
+    int x0, x1, y0, y1;
+    ivec2 lo;
+};
+
+// False: nothing to draw (no area, or no pixel centre in the box on screen).
+bool tri_setup(ivec2 v[3], vec3 z, uint width, uint height, out Tri t) {
+    t.v = v;
+    t.z = z;
+    t.inv_area = 0.0;
+    t.dx = t.dy = t.bias = ivec3(0);
+    t.x0 = t.y0 = 0;
+    t.x1 = t.y1 = -1;
+    t.lo = ivec2(0);
+    int64_t area = edge_fn(v[0], v[1], v[2]);
+    if (area == 0) {
+        return false;
+    }
+    if (area < 0) {
+        t.v[1] = v[2];
+        t.v[2] = v[1];
+        t.z = z.xzy;
+        area = -area;
+    }
+    ivec2 lo = min(t.v[0], min(t.v[1], t.v[2]));
+    ivec2 hi = max(t.v[0], max(t.v[1], t.v[2]));
+    t.lo = lo;
+    // Pixels whose centre lies in the box, clamped to the screen (floor division by >>).
+    t.x0 = max((lo.x - RASTER_HALF + RASTER_ONE - 1) >> SUBPIXEL_BITS, 0);
+    t.x1 = min((hi.x - RASTER_HALF) >> SUBPIXEL_BITS, int(width) - 1);
+    t.y0 = max((lo.y - RASTER_HALF + RASTER_ONE - 1) >> SUBPIXEL_BITS, 0);
+    t.y1 = min((hi.y - RASTER_HALF) >> SUBPIXEL_BITS, int(height) - 1);
+    if (t.x0 > t.x1 || t.y0 > t.y1) {
+        return false;
+    }
+    precise float inv_area = 1.0 / float(area);
+    t.inv_area = inv_area;
+    // Edge k is opposite vertex k: from a = v[k+1] to b = v[k+2].
+    for (int k = 0; k < 3; k++) {
+        ivec2 a = t.v[(k + 1) % 3];
+        ivec2 b = t.v[(k + 2) % 3];
+        t.dx[k] = b.x - a.x;
+        t.dy[k] = b.y - a.y;
+        bool top_left = (t.dy[k] == 0 && t.dx[k] > 0) || t.dy[k] < 0;
+        t.bias[k] = top_left ? 0 : -1;
+    }
+    return true;
+}
+
+// Pixels xa..xb of row y (inside the box) that the triangle covers: the span where every
+// e_k + bias_k >= 0, solved per edge in int64 from the edge functions at (xa, y).
+void raster_row(Tri t, int y, int xa, int xb, uint visible_index, uint tri, uint width) {
+    ivec2 start = ivec2(xa, y) * RASTER_ONE + RASTER_HALF;
+    i64vec3 e0, step_x;
+    for (int k = 0; k < 3; k++) {
+        e0[k] = edge_fn(t.v[(k + 1) % 3], t.v[(k + 2) % 3], start);
+        step_x[k] = -int64_t(t.dy[k]) * RASTER_ONE;
+    }
+    int64_t t_lo = 0;
+    int64_t t_hi = int64_t(xb - xa);
+    for (int k = 0; k < 3; k++) {
+        int64_t r = e0[k] + t.bias[k];
+        int64_t a = step_x[k];
+        if (a > 0) {
+            // r + i a >= 0  <=>  i >= ceil(-r / a)
+            if (r < 0) {
+                t_lo = max(t_lo, (-r + a - 1) / a);
+            }
+        } else if (a < 0) {
+            // r + i a >= 0  <=>  i <= floor(r / -a)
+            t_hi = r < 0 ? int64_t(-1) : min(t_hi, r / (-a));
+        } else if (r < 0) {
+            t_hi = -1;
+        }
+    }
+    if (t_lo <= t_hi) {
+        i64vec3 e = e0 + step_x * t_lo;
+        for (int64_t i = t_lo; i <= t_hi; i++) {
+            float d = raster_depth(float(e.x), float(e.y), float(e.z), t.z, t.inv_area);
+            ivec2 p = ivec2(xa + int(i), y);
+            vis_write(p, width, vis_pack(d, visible_index, tri));
+            overdraw_count(p, width);
+            e += step_x;
+        }
+    }
+}
+
+// One invocation's triangle: small boxes walked pixel by pixel here, larger ones by rows here,
+// the largest left to the workgroup (s_big).
+void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint width, uint height) {
+    Tri t;
+    if (!tri_setup(v, z, width, height, t)) {
+        return;
+    }
+    ivec2 extent = max(t.v[0], max(t.v[1], t.v[2])) - t.lo;
+    int box = (t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1);
+    if (box > RASTER_SW_BIG_BOX_PIXELS) {
+        uint b = atomicAdd(s_big_count, 1u);
+        s_big[b] = tri;
+        s_big_pieces[b] = (uint(t.x1 - t.x0) / RASTER_SW_CHUNK + 1u) * uint(t.y1 - t.y0 + 1);
+        return;
+    }
+    if (box <= SMALL_BOX_PIXELS && extent.x < SMALL_EXTENT_FIXED && extent.y < SMALL_EXTENT_FIXED) {
+        // Bounding-box walk, int32 edge functions relative to `lo` (translation-invariant, exact:
+        // the same values as raster_row's).
+        ivec2 start = ivec2(t.x0, t.y0) * RASTER_ONE + RASTER_HALF - t.lo;
+        ivec3 row;
+        for (int k = 0; k < 3; k++) {
+            ivec2 a = t.v[(k + 1) % 3] - t.lo;
+            row[k] = t.dx[k] * (start.y - a.y) - t.dy[k] * (start.x - a.x);
+        }
+        ivec3 step_x = -t.dy * RASTER_ONE;
+        ivec3 step_y = t.dx * RASTER_ONE;
+        for (int y = t.y0; y <= t.y1; y++) {
+            ivec3 e = row;
+            for (int x = t.x0; x <= t.x1; x++) {
+                ivec3 b = e + t.bias;
+                if ((b.x | b.y | b.z) >= 0) {
+                    float d = raster_depth(float(e.x), float(e.y), float(e.z), t.z, t.inv_area);
+                    vis_write(ivec2(x, y), width, vis_pack(d, visible_index, tri));
+                    overdraw_count(ivec2(x, y), width);
+                }
+                e += step_x;
+            }
+            row += step_y;
+        }
+        return;
+    }
+    for (int y = t.y0; y <= t.y1; y++) {
+        raster_row(t, y, t.x0, t.x1, visible_index, tri, width);
+    }
+}
+
+void main() {
+    uint width = uint(view.viewport.x);
+    uint height = uint(view.viewport.y);
+    uint sw_count = min(counters.sw_count, view.visible_capacity);
+    uint tid = gl_LocalInvocationID.x;
+    for (uint i = gl_WorkGroupID.x; i < sw_count; i += gl_NumWorkGroups.x) {
+        uint visible_index = sw_list[i];
+        uvec2 entry = visible[visible_index];
+        InstanceVgeo inst = instances[entry.x];
+        MeshGpu mesh = meshes[inst.mesh];
+        Cluster c = cluster_at(mesh, entry.y);
+        ClusterData d = cluster_data(mesh, c);
+        uint vcount = cluster_vertex_count(c);
+        uint tcount = cluster_triangle_count(c);
+        if (tid == 0u) {
+            s_big_count = 0u;
+        }
+        for (uint k = tid; k < vcount; k += RASTER_SW_WORKGROUP_SIZE) {
+            vec4 clip = cluster_vertex_clip(inst, mesh, d, k);
+            ivec2 xy;
+            float z;
+            bool ok = project_fixed(clip, xy, z);
+            s_xy[k] = xy;
+            s_z[k] = ok ? z : -1.0;
+        }
+        barrier();
+        // (Experiment: lane i of warp w takes triangle 4 i + w, so a warp's triangles are spread
+        // over the cluster rather than neighbours in its stored order.)
+        uint tri = (tid & 31u) * 4u + (tid >> 5u);
+        if (tri < tcount) {
+            uvec3 t = cluster_triangle(d, c, tri);
+            vec3 z = vec3(s_z[t.x], s_z[t.y], s_z[t.z]);
+            // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
+            if (min(z.x, min(z.y, z.z)) >= 0.0) {
+                ivec2 v[3] = ivec2[3](s_xy[t.x], s_xy[t.y], s_xy[t.z]);
+                raster_triangle(v, z, visible_index, tri, width, height);
+            }
+        }
+        barrier();
+        // The large triangles, by the whole workgroup: their rows cut into pieces of
+        // RASTER_SW_CHUNK pixels, dealt round-robin over the invocations across all of them (the
+        // same pixels and values as one invocation walking each: every pixel's edge functions
+        // are computed exactly). An invocation sets a triangle up only if a piece of it is its.
+        uint big = s_big_count;
+        uint dealt = 0u;
+        for (uint b = 0u; b < big; b++) {
+            uint pieces = s_big_pieces[b];
+            uint p = (tid + RASTER_SW_WORKGROUP_SIZE - dealt % RASTER_SW_WORKGROUP_SIZE) %
+                     RASTER_SW_WORKGROUP_SIZE;
+            dealt += pieces;
+            if (p >= pieces) {
+                continue;
+            }
+            uint tri = s_big[b];
+            uvec3 tv = cluster_triangle(d, c, tri);
+            ivec2 v[3] = ivec2[3](s_xy[tv.x], s_xy[tv.y], s_xy[tv.z]);
+            Tri t;
+            if (!tri_setup(v, vec3(s_z[tv.x], s_z[tv.y], s_z[tv.z]), width, height, t)) {
+                continue;
+            }
+            uint pieces_x = uint(t.x1 - t.x0) / RASTER_SW_CHUNK + 1u;
+            for (; p < pieces; p += RASTER_SW_WORKGROUP_SIZE) {
+                int y = t.y0 + int(p / pieces_x);
+                int xa = t.x0 + int(p % pieces_x) * RASTER_SW_CHUNK;
+                raster_row(t, y, xa, min(xa + RASTER_SW_CHUNK - 1, t.x1), visible_index, tri, width);
+            }
+        }
+        barrier();
+    }
+}
