@@ -344,29 +344,40 @@ fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
         }
     }
     drop(cache);
-    // (canonical point triple: rotated to start at the smallest, triangle index) of the kept
-    // triangles, for duplicate removal.
-    let mut keys: Vec<([u32; 3], u32)> = tris
-        .par_iter()
-        .enumerate()
-        .map(|(i, &tri)| {
-            let p = tri.map(|v| pid[v as usize]);
-            let r = (0..3).min_by_key(|&i| p[i]).unwrap_or(0);
-            ([p[r], p[(r + 1) % 3], p[(r + 2) % 3]], i as u32)
-        })
-        .collect();
     // Exact duplicates (same three points, same winding) are dropped, the first one kept: they
     // add nothing to the surface and make coincident layers that simplification cannot keep
-    // consistent.
-    sort_total(&mut keys, |k| (k.0[0], k.0[1], k.0[2], k.1));
+    // consistent. A triangle's key is its point triple rotated to start at the smallest.
+    let key = |tri: &[u32; 3]| {
+        let p = tri.map(|v| pid[v as usize]);
+        let r = (0..3).min_by_key(|&i| p[i]).unwrap_or(0);
+        [p[r], p[(r + 1) % 3], p[(r + 2) % 3]]
+    };
     let mut keep = vec![true; tris.len()];
-    for w in keys.windows(2) {
-        if w[0].0 == w[1].0 {
-            keep[w[1].1 as usize] = false;
-            duplicates += 1;
+    if rayon::current_num_threads() == 1 {
+        // One pass over a hash set (on one thread the radix sort of 16-byte keys took longer).
+        let mut seen: std::collections::HashSet<[u32; 3], FxBuild> =
+            std::collections::HashSet::with_capacity_and_hasher(tris.len(), FxBuild::default());
+        for (i, tri) in tris.iter().enumerate() {
+            if !seen.insert(key(tri)) {
+                keep[i] = false;
+                duplicates += 1;
+            }
+        }
+    } else {
+        // (key, triangle index), sorted in parallel: the same triangles are dropped.
+        let mut keys: Vec<([u32; 3], u32)> = tris
+            .par_iter()
+            .enumerate()
+            .map(|(i, tri)| (key(tri), i as u32))
+            .collect();
+        sort_total(&mut keys, |k| (k.0[0], k.0[1], k.0[2], k.1));
+        for w in keys.windows(2) {
+            if w[0].0 == w[1].0 {
+                keep[w[1].1 as usize] = false;
+                duplicates += 1;
+            }
         }
     }
-    drop(keys);
     if duplicates > 0 {
         let mut i = 0;
         tris.retain(|_| {

@@ -677,59 +677,92 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
     }
 
     // The logical streams, page by page; clusters in index order within a page, each distinct
-    // vertex once per page in order of first use.
-    let nv = m.vertices.len();
-    let mut vertices = Vec::with_capacity(nv);
-    let mut vmat = Vec::new();
-    let mut refs = Vec::with_capacity(m.vertex_refs.len());
-    let mut triangles = Vec::with_capacity(m.triangles.len());
-    let mut out_pages = Vec::with_capacity(pages.len());
-    let mut slot: HashMap<VertexKey, u32, FxBuild> = HashMap::default();
-    for (pi, members) in pages.iter_mut().enumerate() {
+    // vertex once per page in order of first use. Pages are laid out independently (in
+    // parallel), then concatenated in order.
+    struct Laid {
+        vertices: Vec<PackedVertex>,
+        vmat: Vec<u16>,
+        refs: Vec<u32>,
+        triangles: Vec<u8>,
+        /// Per member: (triangle offset, vertex reference offset, data word), page-relative.
+        at: Vec<(u32, u32, u32)>,
+        words: u32,
+    }
+    for members in pages.iter_mut() {
         members.sort_unstable();
-        let mut page = Page {
-            vertex_first: vertices.len() as u32,
-            ref_first: refs.len() as u32,
-            triangle_first: triangles.len() as u32,
-            cluster_count: members.len() as u32,
-            ..Default::default()
-        };
-        slot.clear();
-        let mut words = 0u32;
-        for &ci in members.iter() {
-            let c = m.clusters[ci as usize];
-            let local: Vec<u32> = cluster_vertices(m, &c)
-                .iter()
-                .map(|(v, mat)| {
-                    let next = vertices.len() as u32 - page.vertex_first;
-                    let s = *slot.entry(vertex_key(v, *mat)).or_insert(next);
-                    if s == next {
-                        vertices.push(*v);
-                        if has_mats {
-                            vmat.push(*mat);
-                        }
+    }
+    let laid: Vec<Laid> = {
+        let mm = &*m;
+        pages
+            .par_iter()
+            .map(|members| {
+                let mut l = Laid {
+                    vertices: Vec::new(),
+                    vmat: Vec::new(),
+                    refs: Vec::new(),
+                    triangles: Vec::new(),
+                    at: Vec::with_capacity(members.len()),
+                    words: 0,
+                };
+                let mut slot: HashMap<VertexKey, u32, FxBuild> = HashMap::default();
+                for &ci in members {
+                    let c = &mm.clusters[ci as usize];
+                    let local: Vec<u32> = cluster_vertices(mm, c)
+                        .iter()
+                        .map(|(v, mat)| {
+                            let next = l.vertices.len() as u32;
+                            let s = *slot.entry(vertex_key(v, *mat)).or_insert(next);
+                            if s == next {
+                                l.vertices.push(*v);
+                                if has_mats {
+                                    l.vmat.push(*mat);
+                                }
+                            }
+                            s
+                        })
+                        .collect();
+                    let src = c.triangle_offset as usize;
+                    let len = super::packed_triangle_bytes(c.vertex_count(), c.triangle_count());
+                    l.at.push((l.triangles.len() as u32, l.refs.len() as u32, l.words));
+                    l.triangles.extend_from_slice(&mm.triangles[src..src + len]);
+                    l.words += (sizes[ci as usize] / 4) as u32;
+                    for pair in local.chunks(2) {
+                        l.refs
+                            .push(pair[0] | pair.get(1).copied().unwrap_or(0) << 16);
                     }
-                    s
-                })
-                .collect();
-            let src = c.triangle_offset as usize;
-            let len = super::packed_triangle_bytes(c.vertex_count(), c.triangle_count());
+                }
+                l
+            })
+            .collect()
+    };
+    let mut vertices = Vec::with_capacity(laid.iter().map(|l| l.vertices.len()).sum());
+    let mut vmat = Vec::with_capacity(laid.iter().map(|l| l.vmat.len()).sum());
+    let mut refs = Vec::with_capacity(laid.iter().map(|l| l.refs.len()).sum());
+    let mut triangles = Vec::with_capacity(laid.iter().map(|l| l.triangles.len()).sum());
+    let mut out_pages = Vec::with_capacity(pages.len());
+    for (pi, (members, l)) in pages.iter().zip(laid).enumerate() {
+        let page = Page {
+            vertex_first: vertices.len() as u32,
+            vertex_count: l.vertices.len() as u32,
+            ref_first: refs.len() as u32,
+            ref_words: l.refs.len() as u32,
+            triangle_first: triangles.len() as u32,
+            triangle_bytes: l.triangles.len() as u32,
+            cluster_count: members.len() as u32,
+            bytes: 4 * (l.words + 1),
+        };
+        for (&ci, &(t, r, w)) in members.iter().zip(&l.at) {
             let cm = &mut m.clusters[ci as usize];
-            cm.triangle_offset = triangles.len() as u32;
-            triangles.extend_from_slice(&m.triangles[src..src + len]);
-            cm.vertex_ref_offset = refs.len() as u32;
-            cm.data_offset = words;
+            cm.triangle_offset = page.triangle_first + t;
+            cm.vertex_ref_offset = page.ref_first + r;
+            cm.data_offset = w;
             cm.counts &= !(CLUSTER_FLAG_REFS_U32 << 16);
             cm.page = pi as u32;
-            words += (sizes[ci as usize] / 4) as u32;
-            for pair in local.chunks(2) {
-                refs.push(pair[0] | pair.get(1).copied().unwrap_or(0) << 16);
-            }
         }
-        page.vertex_count = vertices.len() as u32 - page.vertex_first;
-        page.ref_words = refs.len() as u32 - page.ref_first;
-        page.triangle_bytes = triangles.len() as u32 - page.triangle_first;
-        page.bytes = 4 * (words + 1);
+        vertices.extend_from_slice(&l.vertices);
+        vmat.extend_from_slice(&l.vmat);
+        refs.extend_from_slice(&l.refs);
+        triangles.extend_from_slice(&l.triangles);
         out_pages.push(page);
     }
     // Groups: the pages of their members (consecutive by construction).
