@@ -575,7 +575,7 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
                 4 * cluster_words(
                     &code,
                     c.vertex_count(),
-                    super::tricode::encode(&tris, c.vertex_count()).1.len(),
+                    super::tricode::encoded_words(&tris, c.vertex_count()),
                     has_uvs,
                     has_mats,
                 )

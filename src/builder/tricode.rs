@@ -54,8 +54,9 @@ pub fn canonical_order(tris: &mut [[u32; 3]], rotatable: &dyn Fn(&[u32; 3]) -> b
     tris.sort_by_key(|t| t.iter().copied().max().unwrap_or(0));
 }
 
-/// The max-delta code of `tris`, header first (`None` when they are not in canonical order).
-fn encode_max_delta(tris: &[[u32; 3]]) -> Option<Vec<u32>> {
+/// The corner offsets' width of `tris`' max-delta code (`None` when they are not in canonical
+/// order).
+fn max_delta_width(tris: &[[u32; 3]]) -> Option<u32> {
     if tris.is_empty() {
         return None;
     }
@@ -69,8 +70,18 @@ fn encode_max_delta(tris: &[[u32; 3]]) -> Option<Vec<u32>> {
         prev = t[0] as i64;
         widest = widest.max(t[0] - 1 - t[1]).max(t[0] - 1 - t[2]);
     }
-    let w = width(widest).max(1);
-    let mut out = vec![w];
+    Some(width(widest).max(1))
+}
+
+/// Words of the max-delta code of `n` triangles with offsets of `w` bits (header not counted).
+fn max_delta_words(n: usize, w: u32) -> usize {
+    n.div_ceil(BLOCK) + (2 * w as usize * n).div_ceil(32)
+}
+
+/// The max-delta code of `tris` (canonical, offsets of `w` bits), header first.
+fn encode_max_delta(tris: &[[u32; 3]], w: u32) -> Vec<u32> {
+    let mut out = Vec::with_capacity(1 + max_delta_words(tris.len(), w));
+    out.push(w);
     let mut prev = -1i64;
     for (i, t) in tris.iter().enumerate() {
         if i % BLOCK == 0 {
@@ -80,21 +91,39 @@ fn encode_max_delta(tris: &[[u32; 3]]) -> Option<Vec<u32>> {
         *out.last_mut().expect("a block word") |= d << (2 * (i % BLOCK));
         prev = t[0] as i64;
     }
-    let mut bits = BitStream::default();
+    let mut bits = BitStream {
+        words: out,
+        start: 1 + tris.len().div_ceil(BLOCK),
+        bit: 0,
+    };
     for t in tris {
         bits.put(t[0] - 1 - t[1], w);
         bits.put(t[0] - 1 - t[2], w);
     }
-    out.extend(bits.words);
-    Some(out)
+    bits.words
+}
+
+/// Whether `tris` take the max-delta code, and its offsets' width: canonical and shorter than
+/// the plain packed indices.
+fn max_delta_choice(tris: &[[u32; 3]], vertex_count: u32) -> Option<u32> {
+    let plain_words = super::packed_triangle_bytes(vertex_count, tris.len() as u32) / 4;
+    max_delta_width(tris).filter(|&w| max_delta_words(tris.len(), w) < plain_words)
+}
+
+/// Words of [`encode`]'s code for `tris` (header not counted), without encoding them.
+pub fn encoded_words(tris: &[[u32; 3]], vertex_count: u32) -> usize {
+    match max_delta_choice(tris, vertex_count) {
+        Some(w) => max_delta_words(tris.len(), w),
+        None => super::packed_triangle_bytes(vertex_count, tris.len() as u32) / 4,
+    }
 }
 
 /// A cluster's triangles in stored form, its header and its words: the max-delta code, or
 /// header 0 and the plain packed indices (`vertex_count` sets their width) when `tris` are not in
 /// canonical order or the code would not be shorter (a few triangles).
 pub fn encode(tris: &[[u32; 3]], vertex_count: u32) -> (u32, Vec<u32>) {
-    let plain_words = super::packed_triangle_bytes(vertex_count, tris.len() as u32) / 4;
-    if let Some(code) = encode_max_delta(tris).filter(|c| c.len() - 1 < plain_words) {
+    if let Some(w) = max_delta_choice(tris, vertex_count) {
+        let code = encode_max_delta(tris, w);
         return (code[0], code[1..].to_vec());
     }
     let local: Vec<u8> = tris.iter().flatten().map(|&v| v as u8).collect();
@@ -186,23 +215,24 @@ fn get(words: &[u32], bit: usize, bits: u32) -> u32 {
     (((lo | hi << 32) >> sh) as u32) & low_mask(bits)
 }
 
-/// An appendable little-endian bit stream of u32 words.
-#[derive(Default)]
+/// A little-endian bit stream appended to `words` from word `start` on.
 struct BitStream {
     words: Vec<u32>,
+    start: usize,
     bit: usize,
 }
 
 impl BitStream {
     fn put(&mut self, value: u32, bits: u32) {
-        let v = (value & low_mask(bits)) as u64;
-        let w = self.bit / 32;
-        let sh = self.bit % 32;
-        self.words
-            .resize((self.bit + bits as usize).div_ceil(32).max(w + 1), 0);
-        self.words[w] |= (v << sh) as u32;
-        if sh + bits as usize > 32 {
-            self.words[w + 1] |= (v << sh >> 32) as u32;
+        let v = ((value & low_mask(bits)) as u64) << (self.bit % 32);
+        let w = self.start + self.bit / 32;
+        let end = self.start + (self.bit + bits as usize).div_ceil(32);
+        if self.words.len() < end {
+            self.words.resize(end, 0);
+        }
+        self.words[w] |= v as u32;
+        if let Some(next) = self.words.get_mut(w + 1).filter(|_| v >> 32 != 0) {
+            *next |= (v >> 32) as u32;
         }
         self.bit += bits as usize;
     }
@@ -238,6 +268,7 @@ mod tests {
             assert_eq!(used, code.len());
             let plain = super::super::packed_triangle_bytes(vc, n) / 4;
             assert!(code.len() <= plain, "{n}: {} words vs {plain}", code.len());
+            assert_eq!(encoded_words(&t, vc), code.len(), "{n}");
         }
     }
 
