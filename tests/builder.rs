@@ -714,16 +714,13 @@ fn verify_rejects_crack_between_border_points() {
         .expect("a root triangle with one border edge");
     // Rewrite the root's packed indices without the victim.
     let c = built.clusters[root];
-    let bytes = &built.triangles[c.triangle_offset as usize..];
-    let bits = builder::index_bits(c.vertex_count());
-    let mut local: Vec<u8> = Vec::new();
-    for t in 0..c.triangle_count() as usize {
-        if t != victim {
-            for k in 0..3 {
-                local.push(builder::unpack_index(bytes, bits, 3 * t + k).expect("index") as u8);
-            }
-        }
-    }
+    let local: Vec<u8> = built
+        .cluster_local_triangles(&c)
+        .iter()
+        .enumerate()
+        .filter(|&(t, _)| t != victim)
+        .flat_map(|(_, tri)| tri.map(|l| l as u8))
+        .collect();
     let mut packed = Vec::new();
     builder::pack_indices(&local, c.vertex_count(), &mut packed);
     let at = c.triangle_offset as usize;

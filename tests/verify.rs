@@ -38,15 +38,9 @@ fn both(name: &str, m: &BuiltMesh, opts: &VerifyOptions) -> VerifyReport {
 
 /// Cluster `ci`'s triangles as local indices.
 fn local_triangles(m: &BuiltMesh, ci: usize) -> Vec<[u8; 3]> {
-    let c = m.clusters[ci];
-    let bytes = &m.triangles[c.triangle_offset as usize..];
-    let bits = builder::index_bits(c.vertex_count());
-    (0..c.triangle_count() as usize)
-        .map(|t| {
-            std::array::from_fn(|k| {
-                builder::unpack_index(bytes, bits, 3 * t + k).expect("index") as u8
-            })
-        })
+    m.cluster_local_triangles(&m.clusters[ci])
+        .into_iter()
+        .map(|t| t.map(|l| l as u8))
         .collect()
 }
 

@@ -213,15 +213,16 @@ pub fn cluster_words(
         + triangle_words
 }
 
-/// Appends bits to a u32 stream.
-struct BitWriter<'a> {
-    out: &'a mut Vec<u32>,
-    start: usize,
-    bit: usize,
+/// Appends bits to a u32 stream, from word `start` of `out` on (it may leave one spare word
+/// after the last bit written).
+pub(super) struct BitWriter<'a> {
+    pub out: &'a mut Vec<u32>,
+    pub start: usize,
+    pub bit: usize,
 }
 
 impl BitWriter<'_> {
-    fn put(&mut self, value: u32, bits: u32) {
+    pub fn put(&mut self, value: u32, bits: u32) {
         if bits == 0 {
             return;
         }
@@ -238,7 +239,7 @@ impl BitWriter<'_> {
 }
 
 /// Reads bits from a u32 stream (`None` past its end).
-fn get_bits(words: &[u32], bit: usize, bits: u32) -> Option<u32> {
+pub(super) fn get_bits(words: &[u32], bit: usize, bits: u32) -> Option<u32> {
     if bits == 0 {
         return Some(0);
     }

@@ -27,6 +27,8 @@
 //! ([`super::pack_indices`]). The GPU's decoder is `cluster_triangle` in
 //! `shaders_glsl/common/raster.glsl`; [`decode`] is the CPU's.
 
+use super::page::{BitWriter, get_bits};
+
 /// Triangles per word of `Δ`s (24 bits, the block's base in the other 8).
 const BLOCK: usize = crate::shared::TRIANGLE_CODE_BLOCK as usize;
 const _: () = assert!(2 * BLOCK + 8 <= 32);
@@ -78,10 +80,9 @@ fn max_delta_words(n: usize, w: u32) -> usize {
     n.div_ceil(BLOCK) + (2 * w as usize * n).div_ceil(32)
 }
 
-/// The max-delta code of `tris` (canonical, offsets of `w` bits), header first.
+/// The max-delta code of `tris` (canonical, offsets of `w` bits; its header is `w`).
 fn encode_max_delta(tris: &[[u32; 3]], w: u32) -> Vec<u32> {
-    let mut out = Vec::with_capacity(1 + max_delta_words(tris.len(), w));
-    out.push(w);
+    let mut out = Vec::with_capacity(max_delta_words(tris.len(), w) + 1);
     let mut prev = -1i64;
     for (i, t) in tris.iter().enumerate() {
         if i % BLOCK == 0 {
@@ -91,16 +92,18 @@ fn encode_max_delta(tris: &[[u32; 3]], w: u32) -> Vec<u32> {
         *out.last_mut().expect("a block word") |= d << (2 * (i % BLOCK));
         prev = t[0] as i64;
     }
-    let mut bits = BitStream {
-        words: out,
-        start: 1 + tris.len().div_ceil(BLOCK),
+    let start = out.len();
+    let mut bits = BitWriter {
+        out: &mut out,
+        start,
         bit: 0,
     };
     for t in tris {
         bits.put(t[0] - 1 - t[1], w);
         bits.put(t[0] - 1 - t[2], w);
     }
-    bits.words
+    out.resize(max_delta_words(tris.len(), w), 0);
+    out
 }
 
 /// Whether `tris` take the max-delta code, and its offsets' width: canonical and shorter than
@@ -123,8 +126,7 @@ pub fn encoded_words(tris: &[[u32; 3]], vertex_count: u32) -> usize {
 /// canonical order or the code would not be shorter (a few triangles).
 pub fn encode(tris: &[[u32; 3]], vertex_count: u32) -> (u32, Vec<u32>) {
     if let Some(w) = max_delta_choice(tris, vertex_count) {
-        let code = encode_max_delta(tris, w);
-        return (code[0], code[1..].to_vec());
+        return (w, encode_max_delta(tris, w));
     }
     let local: Vec<u8> = tris.iter().flatten().map(|&v| v as u8).collect();
     let mut bytes = Vec::new();
@@ -174,7 +176,9 @@ pub fn decode(
         (0..tc)
             .map(|t| {
                 let m = max_index(body, t);
-                let f = |k: usize| get(&body[stream..], (2 * t + k) * w as usize, w);
+                let f = |k: usize| {
+                    get_bits(&body[stream..], (2 * t + k) * w as usize, w).unwrap_or(u32::MAX)
+                };
                 [m, m.wrapping_sub(1 + f(0)), m.wrapping_sub(1 + f(1))]
             })
             .collect()
@@ -193,49 +197,9 @@ pub fn decode(
 /// computes it).
 fn max_index(code: &[u32], t: usize) -> u32 {
     let x = code[t / BLOCK];
-    let steps = x & low_mask(2 * (t % BLOCK) as u32 + 2);
+    let steps = x & ((1 << (2 * (t % BLOCK) + 2)) - 1);
     // A 2-bit field's value is its set bits plus its set high bit.
     ((x >> 24) + steps.count_ones() + (steps & 0x00aa_aaaa).count_ones()).wrapping_sub(1)
-}
-
-fn low_mask(bits: u32) -> u32 {
-    if bits >= 32 {
-        u32::MAX
-    } else {
-        (1 << bits) - 1
-    }
-}
-
-/// `bits` bits at bit `bit` of `words` (0 past the end).
-fn get(words: &[u32], bit: usize, bits: u32) -> u32 {
-    let w = bit / 32;
-    let sh = bit % 32;
-    let lo = words.get(w).copied().unwrap_or(0) as u64;
-    let hi = words.get(w + 1).copied().unwrap_or(0) as u64;
-    (((lo | hi << 32) >> sh) as u32) & low_mask(bits)
-}
-
-/// A little-endian bit stream appended to `words` from word `start` on.
-struct BitStream {
-    words: Vec<u32>,
-    start: usize,
-    bit: usize,
-}
-
-impl BitStream {
-    fn put(&mut self, value: u32, bits: u32) {
-        let v = ((value & low_mask(bits)) as u64) << (self.bit % 32);
-        let w = self.start + self.bit / 32;
-        let end = self.start + (self.bit + bits as usize).div_ceil(32);
-        if self.words.len() < end {
-            self.words.resize(end, 0);
-        }
-        self.words[w] |= v as u32;
-        if let Some(next) = self.words.get_mut(w + 1).filter(|_| v >> 32 != 0) {
-            *next |= (v >> 32) as u32;
-        }
-        self.bit += bits as usize;
-    }
 }
 
 #[cfg(test)]
