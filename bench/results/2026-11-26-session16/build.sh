@@ -4,7 +4,8 @@
 # acceptance 6. Binaries in .gpu/: vgeo-base.gz, vgeo-N.gz; subdivide_mesh.gz makes lucy x16
 # (1.6 M triangles). Per run: the build's own `seconds` (the builder, as both binaries report it)
 # and the whole command's wall time (import, build, file). One thread pinned to one core, two
-# threads to two cores (taskset), 16 unpinned; base and N interleaved. Seven rounds.
+# threads to two cores (taskset), 16 unpinned; base and N interleaved. Seven rounds (ROUNDS=n for
+# another count: session 17 ran five).
 for b in base N; do gunzip -c .gpu/vgeo-$b.gz > /tmp/vgeo-$b; chmod +x /tmp/vgeo-$b; done
 gunzip -c .gpu/subdivide_mesh.gz > /tmp/subdiv; chmod +x /tmp/subdiv
 nproc > $OUT/build-log.txt; lscpu | grep -E "Model name|MHz" >> $OUT/build-log.txt
@@ -17,13 +18,13 @@ one() { # mesh threads bin
   echo "build $(basename $1 .ply) t$2 $3 $s $(( (t1 - t0) / 1000000 ))e-3" >> $OUT/build.txt
 }
 T0=$SECONDS
-for r in 1 2 3 4 5 6 7; do
+for r in $(seq ${ROUNDS:-7}); do
   for t in 1 2 16; do
     for m in bunny lucy turbineblade; do for b in base N; do one .gpu/assets/scanned/$m.ply $t $b; done; done
   done
 done
 echo "== small meshes done $((SECONDS - T0)) s" >> $OUT/build-log.txt
-for r in 1 2 3 4 5 6 7; do
+for r in $(seq ${ROUNDS:-7}); do
   for t in 1 2 16; do
     for b in base N; do one /tmp/lucy16.ply $t $b; done
   done

@@ -1,30 +1,23 @@
 #!/bin/bash
 # Session 17, device (1920x1080, 1 px): does raster_sw's canonical-order cost come from a warp's
 # triangles being neighbours? H (233b13b) and N (the max-delta code) each with their built-in
-# shaders and with --shader-dir interleave/ (raster_sw: lane i of warp w takes triangle 4 i + w).
+# shaders and with --shader-dir /tmp/interleave, written by interleave.py from the built-in raster_sw
+# (lane i of warp w takes triangle 4 i + w).
 # Two interleaved rounds of vgeo bench on stress N=20, 100 (4 frames) and foliage.
-for f in .gpu/*.deb; do dpkg -x $f / >/dev/null; done; ldconfig
-if [ -d .gpu/assets ]; then mkdir -p ../shared && ln -sfn $PWD/.gpu/assets ../shared/assets; fi
-for b in H N; do gunzip -c .gpu/vgeo-$b.gz > /tmp/vgeo-$b; chmod +x /tmp/vgeo-$b; done
+. bench/results/2026-11-26-session17/common.sh
 o=$OUT/interleave.txt
-nvidia-smi --query-gpu=name,driver_version --format=csv > $o 2>&1
-IL=bench/results/2026-11-26-session17/interleave
+setup $o H N
+IL=/tmp/interleave; mkdir -p $IL
+python3 $D/interleave.py shaders_glsl/raster_sw.comp.glsl $IL/raster_sw.comp.glsl
 T0=$SECONDS
-timeout 60 /tmp/vgeo-H bench --suite full --scenes stress --stress-n 20 --frames 8 --modes vgeo --sweep 1 --quiet --out /tmp/warm > /dev/null 2>&1
+warm H
 for r in 1 2; do
   for v in H H-il N N-il; do
     b=${v%-il}; sd=""; [ $v != $b ] && sd="--shader-dir $IL"
     d=/tmp/s-$v-r$r
     timeout 90 /tmp/vgeo-$b bench --suite full --scenes stress,foliage --stress-n 20,100 --frames 4 --modes vgeo --sweep 1 --quiet $sd --out $d > $d.log 2>&1
     echo "== $v r$r t=$((SECONDS - T0))" >> $o
-    python3 - $d/bench.json >> $o 2>&1 <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1]))
-for s in r["summary"]:
-    p = dict(s.get("passes_mean", []))
-    sw = sum(v for k, v in p.items() if k.startswith("raster_sw"))
-    print(f"  {s['scene']:12} {s['gpu_ms_mean']:8.3f} ms  raster_sw {sw:6.3f}")
-PY
+    summary $d/bench.json sw >> $o 2>&1
   done
 done
 echo "== total $((SECONDS - T0)) s" >> $o
