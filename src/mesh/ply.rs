@@ -153,10 +153,13 @@ impl AsciiTokens {
     fn number(&mut self, what: &dyn Fn() -> String) -> Result<f64, String> {
         match self.next_token() {
             Some((line, t)) => {
-                let parsed = t.parse::<f64>();
-                let shown: String = t.chars().take(32).collect();
+                // The token is shown (cut to 32 characters) only when it is not a number.
+                let parsed = t.parse::<f64>().map_err(|_| {
+                    let shown: String = t.chars().take(32).collect();
+                    format!("line {line}: {}: '{shown}' is not a number", what())
+                });
                 self.last_line = line;
-                parsed.map_err(|_| format!("line {line}: {}: '{shown}' is not a number", what()))
+                parsed
             }
             None => Err(format!(
                 "file ends at line {} while reading {}",
