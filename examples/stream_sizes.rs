@@ -92,6 +92,8 @@ pub struct SizeRecord {
     /// Where the cold cut's resident bytes go, against the pages it used
     /// ([`vgeo::Streamer::cut_residency`]).
     pub cold_residency: vgeo::CutResidency,
+    /// The same per mesh (each mesh's `resident_bytes`: its resident pages' own bytes).
+    pub cold_residency_by_mesh: Vec<vgeo::CutResidency>,
 }
 
 /// Mesh `i`'s `.vgeo` in `work`, made if absent.
@@ -229,6 +231,16 @@ fn run_size(
     drop(streamer);
     drop(r);
     let cold = cold_cut(ctx, opts, &file)?;
+    for (i, c) in cold.residency_by_mesh.iter().enumerate() {
+        let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+        eprintln!(
+            "  cold cut, mesh {i}: used {:.2} MiB, needed {:.2}, resident pages {:.2}, other {:.2}",
+            mib(c.used_bytes),
+            mib(c.needed_bytes),
+            mib(c.resident_page_bytes),
+            mib(c.other_bytes)
+        );
+    }
     let cap = |name: &str| {
         memory
             .buffers
@@ -255,22 +267,30 @@ fn run_size(
             .iter()
             .map(|b| (b.name.to_string(), b.capacity_bytes))
             .collect(),
-        cold_frames_to_settle: cold.0,
-        cold_resident_bytes: cold.1,
-        cold_used_bytes: cold.2,
-        cold_requests_left: cold.3,
-        cold_residency: cold.4,
+        cold_frames_to_settle: cold.frames_to_settle,
+        cold_resident_bytes: cold.resident_bytes,
+        cold_used_bytes: cold.used_bytes,
+        cold_requests_left: cold.requests_left,
+        cold_residency: cold.residency,
+        cold_residency_by_mesh: cold.residency_by_mesh,
     })
+}
+
+/// What [`cold_cut`] measured (see [`SizeRecord`]'s `cold_` fields).
+#[derive(Default)]
+struct ColdCut {
+    frames_to_settle: Option<u32>,
+    resident_bytes: u64,
+    used_bytes: u64,
+    requests_left: u64,
+    residency: vgeo::CutResidency,
+    residency_by_mesh: Vec<vgeo::CutResidency>,
 }
 
 /// The scene in `file` streamed from scratch at its path's close-up (the middle keyframe):
 /// frames until settled, then the resident page bytes, the bytes the settled frame used and the
-/// pages it still asked for.
-fn cold_cut(
-    ctx: &vgeo::Context,
-    opts: &Options,
-    file: &Path,
-) -> Result<(Option<u32>, u64, u64, u64, vgeo::CutResidency)> {
+/// pages it still asked for, and where the resident bytes go (in all and per mesh).
+fn cold_cut(ctx: &vgeo::Context, opts: &Options, file: &Path) -> Result<ColdCut> {
     let streamed = vgeo::StreamedScene::load(file, &|_| {})?;
     let aspect = opts.width as f32 / opts.height as f32;
     let keys = streamed
@@ -283,11 +303,17 @@ fn cold_cut(
     for k in 1..=64u32 {
         let st = stream_frame(&mut r, &mut streamer, opts, &camera, &light).context("cold cut")?;
         if st.settled() {
-            let cut = streamer.cut_residency();
-            return Ok((Some(k), st.resident_bytes, st.used_bytes, st.requests, cut));
+            return Ok(ColdCut {
+                frames_to_settle: Some(k),
+                resident_bytes: st.resident_bytes,
+                used_bytes: st.used_bytes,
+                requests_left: st.requests,
+                residency: streamer.cut_residency(),
+                residency_by_mesh: streamer.cut_residency_by_mesh(),
+            });
         }
     }
-    Ok((None, 0, 0, 0, Default::default()))
+    Ok(ColdCut::default())
 }
 
 /// MiB against the scene's `.vgeo` GiB: GPU geometry allocated, page pool, resident pages,

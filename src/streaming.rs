@@ -447,34 +447,53 @@ impl Streamer {
             resident_bytes: self.residency_stats().1,
             ..Default::default()
         };
-        for m in &self.meshes {
-            let mut needed = m.used.clone();
-            crate::builder::page::close_residency(&m.head, &m.needs, &mut needed);
-            for (p, page) in m.head.pages.iter().enumerate() {
-                let bytes = page.bytes as u64;
-                let resident = m.resident(p as u32);
-                let fixed = m.state[p] == PageState::Fixed;
-                if resident {
-                    out.resident_page_bytes += bytes;
-                }
-                if m.used[p] {
-                    out.used_bytes += bytes;
-                }
-                if needed[p] {
-                    out.needed_bytes += bytes;
-                }
-                if fixed {
-                    out.fixed_bytes += bytes;
-                    if !m.used[p] {
-                        out.fixed_unused_bytes += bytes;
-                    }
-                }
-                if resident && !needed[p] {
-                    out.other_bytes += bytes;
-                }
-            }
+        for m in self.cut_residency_by_mesh() {
+            out.resident_page_bytes += m.resident_page_bytes;
+            out.used_bytes += m.used_bytes;
+            out.needed_bytes += m.needed_bytes;
+            out.fixed_bytes += m.fixed_bytes;
+            out.fixed_unused_bytes += m.fixed_unused_bytes;
+            out.other_bytes += m.other_bytes;
         }
         out
+    }
+
+    /// [`Streamer::cut_residency`] per streamed mesh (in the order given); each mesh's
+    /// `resident_bytes` is its resident pages' own bytes (slots are shared, not per mesh).
+    pub fn cut_residency_by_mesh(&self) -> Vec<CutResidency> {
+        self.meshes
+            .iter()
+            .map(|m| {
+                let mut out = CutResidency::default();
+                let mut needed = m.used.clone();
+                crate::builder::page::close_residency(&m.head, &m.needs, &mut needed);
+                for (p, page) in m.head.pages.iter().enumerate() {
+                    let bytes = page.bytes as u64;
+                    let resident = m.resident(p as u32);
+                    let fixed = m.state[p] == PageState::Fixed;
+                    if resident {
+                        out.resident_page_bytes += bytes;
+                    }
+                    if m.used[p] {
+                        out.used_bytes += bytes;
+                    }
+                    if needed[p] {
+                        out.needed_bytes += bytes;
+                    }
+                    if fixed {
+                        out.fixed_bytes += bytes;
+                        if !m.used[p] {
+                            out.fixed_unused_bytes += bytes;
+                        }
+                    }
+                    if resident && !needed[p] {
+                        out.other_bytes += bytes;
+                    }
+                }
+                out.resident_bytes = out.resident_page_bytes;
+                out
+            })
+            .collect()
     }
 
     /// Resident pages and bytes now.

@@ -665,6 +665,66 @@ fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_cull
     assert_no_validation_errors(&ctx);
 }
 
+/// A mesh just behind the camera streams in nothing. The eye is 0.02 in front of the bunny's
+/// nearest point, looking away from it: the spheres of its coarse clusters reach past the near
+/// plane, but their boxes lie wholly behind it, and a cluster outside the frustum asks for no
+/// children (before, such a mesh behind the camera of `stream_sizes`' cold cut streamed in 21 MiB
+/// of detail it never showed). Turned around, the same eye streams the detail in.
+#[test]
+fn a_mesh_behind_the_camera_streams_in_nothing() {
+    let ctx = gpu();
+    let m = bunny();
+    let settings = FrameSettings {
+        error_px: 1.0,
+        occlusion: false,
+        ..Default::default()
+    };
+    let zmax = m
+        .clusters
+        .iter()
+        .map(|c| c.bounds_max[2])
+        .fold(f32::MIN, f32::max) as f64;
+    let eye = DVec3::new(-0.017, 0.11, zmax + 0.02);
+    let settle = |target: DVec3| {
+        let camera = Camera::look_at(eye, target, Vec3::Y, 45f32.to_radians(), 0.01);
+        let opts = StreamOptions {
+            budget_bytes: 8 << 20,
+            upload_bytes_per_frame: 8 << 20,
+        };
+        let (mut r, mut streamer) = streamed(&ctx, &m, Box::new(m.clone()), opts);
+        for _ in 0..20 {
+            let f = r
+                .render(
+                    &camera,
+                    W,
+                    H,
+                    &settings,
+                    ViewMode::Lambert,
+                    &Light::default(),
+                )
+                .expect("frame renders");
+            f.check().expect("no overflow, no watchdog");
+            let st = streamer.update(&mut r.scene).expect("streaming step");
+            if st.requests == 0 && st.settled() {
+                break;
+            }
+        }
+        let res = streamer.residency().remove(0);
+        res[m.resident_pages as usize..]
+            .iter()
+            .filter(|&&r| r)
+            .count()
+    };
+    let away = settle(eye + DVec3::new(0.0, 0.0, 1.0));
+    let towards = settle(eye - DVec3::new(0.0, 0.0, 1.0));
+    assert_eq!(away, 0, "pages streamed in for a mesh behind the camera");
+    assert!(
+        towards > 0,
+        "the view towards the mesh streams its detail in"
+    );
+    assert_no_validation_errors(&ctx);
+}
+
 /// The residency view's colour of each state, as the image holds it (RGBA8).
 fn residency_rgba(state: u32) -> [u8; 4] {
     state.to_le_bytes()
@@ -973,6 +1033,18 @@ fn resident_bytes_follow_the_budget_not_the_scene_size() {
                 && c.resident_page_bytes <= c.resident_bytes
                 && c.fixed_bytes <= c.needed_bytes
                 && r.cold_resident_bytes <= budget,
+            "{r:?}"
+        );
+        // Per mesh, the same figures: one per mesh of the scene, summing to the whole.
+        let m = &r.cold_residency_by_mesh;
+        let sum = |f: fn(&vgeo::CutResidency) -> u64| m.iter().map(f).sum::<u64>();
+        assert!(
+            m.len() == r.meshes
+                && sum(|x| x.used_bytes) == c.used_bytes
+                && sum(|x| x.needed_bytes) == c.needed_bytes
+                && sum(|x| x.resident_page_bytes) == c.resident_page_bytes
+                && sum(|x| x.other_bytes) == c.other_bytes
+                && m.iter().all(|x| x.used_bytes <= x.needed_bytes),
             "{r:?}"
         );
         eprintln!(

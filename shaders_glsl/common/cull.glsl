@@ -182,6 +182,29 @@ void request_children(InstanceVgeo inst, MeshGpu mesh, uint creator, float wish)
     }
 }
 
+// Whether the box of the cluster whose word is `at` may meet the view frustum: false when all its
+// corners are outside one plane. Tighter than the box's sphere, which near the eye reaches past
+// the near plane from clusters wholly behind it (and would stream in the detail of meshes behind
+// the camera).
+bool cluster_in_frustum(InstanceVgeo inst, uint at) {
+    vec3 bmin = cluster_bounds_min(at);
+    vec3 bmax = cluster_bounds_max(at);
+    vec3 corners[8];
+    for (int i = 0; i < 8; i++) {
+        corners[i] = relative_position(inst, view, box_corner(bmin, bmax, i));
+    }
+    for (int k = 0; k < 5; k++) {
+        bool outside = true;
+        for (int i = 0; i < 8; i++) {
+            outside = outside && dot(view.frustum[k].xyz, corners[i]) + view.frustum[k].w < 0.0;
+        }
+        if (outside) {
+            return false;
+        }
+    }
+    return true;
+}
+
 void mark_used(MeshGpu mesh, uint ci) {
     if (mesh_partial(mesh)) {
         page_usage[mesh.page_offset + cluster_locs[ci].page] = 1u;
@@ -210,7 +233,9 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
             if (children_resident(mesh, creator)) {
                 return false;
             }
-            request_children(inst, mesh, creator, self_px / view.error_px);
+            if ((view.flags & VIEW_FLAG_NO_FRUSTUM) != 0u || cluster_in_frustum(inst, at)) {
+                request_children(inst, mesh, creator, self_px / view.error_px);
+            }
         }
     }
     mark_used(mesh, ci);
@@ -249,7 +274,11 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
         float self_px = self_error_px(inst, mesh, creator, scale);
         bool fine = self_px <= view.error_px;
         if (partial && !fine && !children_resident(mesh, creator)) {
-            request_children(inst, mesh, creator, self_px / view.error_px);
+            // Drawn for want of its children; only a cluster in the frustum asks for them (one
+            // outside it shows nothing their detail could change).
+            if (!frustum || cluster_in_frustum(inst, at)) {
+                request_children(inst, mesh, creator, self_px / view.error_px);
+            }
             fine = true;
         }
         in_cut = fine;
