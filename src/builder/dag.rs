@@ -352,32 +352,13 @@ fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
         let r = (0..3).min_by_key(|&i| p[i]).unwrap_or(0);
         [p[r], p[(r + 1) % 3], p[(r + 2) % 3]]
     };
-    let mut keep = vec![true; tris.len()];
-    if rayon::current_num_threads() == 1 {
-        // One pass over a hash set (on one thread the radix sort of 16-byte keys took longer).
-        let mut seen: std::collections::HashSet<[u32; 3], FxBuild> =
-            std::collections::HashSet::with_capacity_and_hasher(tris.len(), FxBuild::default());
-        for (i, tri) in tris.iter().enumerate() {
-            if !seen.insert(key(tri)) {
-                keep[i] = false;
-                duplicates += 1;
-            }
-        }
-    } else {
-        // (key, triangle index), sorted in parallel: the same triangles are dropped.
-        let mut keys: Vec<([u32; 3], u32)> = tris
-            .par_iter()
-            .enumerate()
-            .map(|(i, tri)| (key(tri), i as u32))
-            .collect();
-        sort_total(&mut keys, |k| (k.0[0], k.0[1], k.0[2], k.1));
-        for w in keys.windows(2) {
-            if w[0].0 == w[1].0 {
-                keep[w[1].1 as usize] = false;
-                duplicates += 1;
-            }
-        }
-    }
+    let keys: Vec<[u32; 3]> = tris.par_iter().map(key).collect();
+    let npid = pos_to_pid
+        .len()
+        .max(pid.iter().max().map_or(0, |&m| m as usize + 1));
+    let keep = first_occurrences(&keys, npid);
+    drop(keys);
+    duplicates += keep.iter().filter(|&&k| !k).count();
     if duplicates > 0 {
         let mut i = 0;
         tris.retain(|_| {
@@ -1420,6 +1401,53 @@ fn build_inner(
     Ok(built)
 }
 
+/// Per key (a triangle's point triple, rotated to start at its smallest point id, all below
+/// `npid`), whether no earlier key equals it. Keys are bucketed by their first point (a counting
+/// sort, stable in key order) and compared within a bucket: linear time, and far fewer cache
+/// misses than a hash set of all keys (which took 4 % of a one-thread build of 1.6 M triangles).
+fn first_occurrences(keys: &[[u32; 3]], npid: usize) -> Vec<bool> {
+    let mut start = vec![0u32; npid + 1];
+    for k in keys {
+        start[k[0] as usize + 1] += 1;
+    }
+    for i in 0..npid {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut order = vec![0u32; keys.len()];
+    for (i, k) in keys.iter().enumerate() {
+        let f = &mut fill[k[0] as usize];
+        order[*f as usize] = i as u32;
+        *f += 1;
+    }
+    drop(fill);
+    let mut keep = vec![true; keys.len()];
+    let mut big: Vec<([u32; 3], u32)> = Vec::new();
+    for b in 0..npid {
+        let bucket = &order[start[b] as usize..start[b + 1] as usize];
+        if bucket.len() <= 16 {
+            // Small buckets (almost all): each key against the earlier ones.
+            for j in 1..bucket.len() {
+                let kj = keys[bucket[j] as usize];
+                if bucket[..j].iter().any(|&i| keys[i as usize] == kj) {
+                    keep[bucket[j] as usize] = false;
+                }
+            }
+        } else {
+            // A point of high valence: sort its keys (then their order) and compare neighbours.
+            big.clear();
+            big.extend(bucket.iter().map(|&i| (keys[i as usize], i)));
+            big.sort_unstable();
+            for w in big.windows(2) {
+                if w[0].0 == w[1].0 {
+                    keep[w[1].1 as usize] = false;
+                }
+            }
+        }
+    }
+    keep
+}
+
 fn stuck(mesh: &Mesh, iteration: u32, working: &[u32], clusters: &[WCluster]) -> BuildError {
     BuildError::Stuck {
         name: mesh.name.clone(),
@@ -1929,7 +1957,28 @@ fn assemble(
 
 #[cfg(test)]
 mod tests {
-    use super::group_error;
+    use super::{first_occurrences, group_error};
+
+    #[test]
+    fn first_occurrences_keeps_the_first_of_equal_keys() {
+        // A few small buckets, and one point of high valence (a big bucket) with repeats in it.
+        let mut keys = vec![
+            [0, 1, 2],
+            [0, 2, 1],
+            [1, 2, 3],
+            [0, 1, 2],
+            [1, 2, 3],
+            [2, 3, 4],
+        ];
+        for k in 0..40u32 {
+            keys.push([5, 6 + k % 25, 100 + k % 25]);
+        }
+        let keep = first_occurrences(&keys, 200);
+        let mut seen = std::collections::HashSet::new();
+        let expected: Vec<bool> = keys.iter().map(|k| seen.insert(*k)).collect();
+        assert_eq!(keep, expected);
+        assert_eq!(keep.iter().filter(|&&k| !k).count(), 2 + 15);
+    }
 
     #[test]
     fn group_error_bounds_the_distance_to_the_original_surface() {

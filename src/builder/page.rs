@@ -705,7 +705,14 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
                     at: Vec::with_capacity(members.len()),
                     words: 0,
                 };
-                let mut slot: HashMap<VertexKey, u32, FxBuild> = HashMap::default();
+                // Sized for every member vertex up front (no rehash as the page fills).
+                let mut slot: HashMap<VertexKey, u32, FxBuild> = HashMap::with_capacity_and_hasher(
+                    members
+                        .iter()
+                        .map(|&ci| mm.clusters[ci as usize].vertex_count() as usize)
+                        .sum(),
+                    FxBuild::default(),
+                );
                 for &ci in members {
                     let c = &mm.clusters[ci as usize];
                     let local: Vec<u32> = cluster_vertices(mm, c)
