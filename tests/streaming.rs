@@ -71,15 +71,13 @@ fn camera_at(t: f64) -> Camera {
 }
 
 fn render(r: &mut VgeoRenderer, camera: &Camera) -> VgeoFrame {
+    render_with(r, camera, &settings())
+}
+
+/// A checked frame at `camera` with `settings` (the `Lambert` view).
+fn render_with(r: &mut VgeoRenderer, camera: &Camera, settings: &FrameSettings) -> VgeoFrame {
     let f = r
-        .render(
-            camera,
-            W,
-            H,
-            &settings(),
-            ViewMode::Lambert,
-            &Light::default(),
-        )
+        .render(camera, W, H, settings, ViewMode::Lambert, &Light::default())
         .expect("frame renders");
     f.check().expect("no overflow, no watchdog");
     f
@@ -616,20 +614,7 @@ fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_cull
         45f32.to_radians(),
         0.01,
     );
-    let frame = |r: &mut VgeoRenderer| {
-        let f = r
-            .render(
-                &camera,
-                W,
-                H,
-                &settings,
-                ViewMode::Lambert,
-                &Light::default(),
-            )
-            .expect("frame renders");
-        f.check().expect("no overflow, no watchdog");
-        f
-    };
+    let frame = |r: &mut VgeoRenderer| render_with(r, &camera, &settings);
     let opts = StreamOptions {
         budget_bytes: 8 << 20,
         upload_bytes_per_frame: 8 << 20,
@@ -693,17 +678,7 @@ fn a_mesh_behind_the_camera_streams_in_nothing() {
         };
         let (mut r, mut streamer) = streamed(&ctx, &m, Box::new(m.clone()), opts);
         for _ in 0..20 {
-            let f = r
-                .render(
-                    &camera,
-                    W,
-                    H,
-                    &settings,
-                    ViewMode::Lambert,
-                    &Light::default(),
-                )
-                .expect("frame renders");
-            f.check().expect("no overflow, no watchdog");
+            render_with(&mut r, &camera, &settings);
             let st = streamer.update(&mut r.scene).expect("streaming step");
             if st.requests == 0 && st.settled() {
                 break;
