@@ -83,6 +83,34 @@ fn render_with(r: &mut VgeoRenderer, camera: &Camera, settings: &FrameSettings) 
     f
 }
 
+/// Frustum culling on, occlusion off (the streamed-image tests' `settings()` turn both off).
+fn frustum_settings() -> FrameSettings {
+    FrameSettings {
+        error_px: 1.0,
+        occlusion: false,
+        ..Default::default()
+    }
+}
+
+/// Frames at `camera`, each followed by a streaming step, until a step asks for and moves
+/// nothing (true) or `frames` have passed (false).
+fn settle(
+    r: &mut VgeoRenderer,
+    streamer: &mut Streamer,
+    camera: &Camera,
+    settings: &FrameSettings,
+    frames: usize,
+) -> bool {
+    for _ in 0..frames {
+        render_with(r, camera, settings);
+        let st = streamer.update(&mut r.scene).expect("streaming step");
+        if st.requests == 0 && st.settled() {
+            return true;
+        }
+    }
+    false
+}
+
 /// Every level-0 cluster's leaf-to-root paths cross `cut` exactly once.
 fn crosses_once(m: &BuiltMesh, cut: &BTreeSet<u32>) -> bool {
     let cut: Vec<u32> = cut.iter().copied().collect();
@@ -602,11 +630,7 @@ fn load_sets_of_one_step_never_lose_a_slot() {
 fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_culling() {
     let ctx = gpu();
     let m = bunny();
-    let settings = FrameSettings {
-        error_px: 1.0,
-        occlusion: false,
-        ..Default::default()
-    };
+    let settings = frustum_settings();
     let camera = Camera::look_at(
         DVec3::new(0.03, 0.13, 0.1),
         DVec3::new(-0.01, 0.11, 0.0),
@@ -620,15 +644,7 @@ fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_cull
         upload_bytes_per_frame: 8 << 20,
     };
     let (mut r, mut streamer) = streamed(&ctx, &m, Box::new(m.clone()), opts);
-    let mut settled = false;
-    for _ in 0..40 {
-        let _ = frame(&mut r);
-        let st = streamer.update(&mut r.scene).expect("streaming step");
-        if st.requests == 0 && st.settled() {
-            settled = true;
-            break;
-        }
-    }
+    let settled = settle(&mut r, &mut streamer, &camera, &settings, 40);
     assert!(settled, "settles within 40 frames");
     let f = frame(&mut r);
     let mut full = VgeoRenderer::new(&ctx, std::slice::from_ref(&m), &[place()]).unwrap();
@@ -659,11 +675,7 @@ fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_cull
 fn a_mesh_behind_the_camera_streams_in_nothing() {
     let ctx = gpu();
     let m = bunny();
-    let settings = FrameSettings {
-        error_px: 1.0,
-        occlusion: false,
-        ..Default::default()
-    };
+    let settings = frustum_settings();
     let zmax = m
         .clusters
         .iter()
@@ -677,13 +689,7 @@ fn a_mesh_behind_the_camera_streams_in_nothing() {
             upload_bytes_per_frame: 8 << 20,
         };
         let (mut r, mut streamer) = streamed(&ctx, &m, Box::new(m.clone()), opts);
-        for _ in 0..20 {
-            render_with(&mut r, &camera, &settings);
-            let st = streamer.update(&mut r.scene).expect("streaming step");
-            if st.requests == 0 && st.settled() {
-                break;
-            }
-        }
+        settle(&mut r, &mut streamer, &camera, &settings, 20);
         let res = streamer.residency().remove(0);
         res[m.resident_pages as usize..]
             .iter()

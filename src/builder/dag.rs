@@ -353,9 +353,7 @@ fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
         [p[r], p[(r + 1) % 3], p[(r + 2) % 3]]
     };
     let keys: Vec<[u32; 3]> = tris.par_iter().map(key).collect();
-    let npid = pos_to_pid
-        .len()
-        .max(pid.iter().max().map_or(0, |&m| m as usize + 1));
+    let npid = pid.iter().max().map_or(0, |&m| m as usize + 1);
     let keep = first_occurrences(&keys, npid);
     drop(keys);
     duplicates += keep.iter().filter(|&&k| !k).count();
@@ -370,7 +368,6 @@ fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
         .par_iter()
         .map(|v| decode_position(&quant, v.position))
         .collect();
-    let npid = pid.iter().max().map_or(0, |&m| m as usize + 1);
     let mut pid_pos = vec![[0.0f32; 3]; npid];
     for (v, &p) in pid.iter().enumerate() {
         pid_pos[p as usize] = positions[v];
