@@ -94,11 +94,7 @@ void main() {
             uint sw = min(atomicAdd(counters.sw_count, 0u), view.visible_capacity);
             uint hw = min(atomicAdd(counters.hw_count, 0u), view.visible_capacity);
             counters.sw_dispatch = uvec4(min(sw, 65535u), 1u, 1u, 0u);
-            // The vertex path: the triangle list, then the clusters that did not fit it.
-            uint listed = min(atomicAdd(counters.hw_triangles, 0u), view.hw_triangle_capacity);
-            counters.hw_draw = uvec4(3u * listed, 1u, 0u, 0u);
-            uint back = min(atomicAdd(counters.hw_back, 0u), hw);
-            counters.hw_draw_clusters = uvec4(MAX_CLUSTER_TRIANGLES * 3u, back, 0u, 0u);
+            counters.hw_draw = uvec4(MAX_CLUSTER_TRIANGLES * 3u, hw, 0u, 0u);
             // The mesh path: rows of MESH_GROUPS_X workgroups (src/shared.rs hw_mesh_args).
             uint hw_mesh = min(hw, MESH_MAX_CLUSTERS);
             counters.hw_mesh = uvec4(min(hw_mesh, MESH_GROUPS_X),

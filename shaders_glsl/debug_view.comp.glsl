@@ -22,11 +22,9 @@ layout(set = 0, binding = 2, scalar) buffer Flags { uint hw_flags[]; };
 layout(push_constant, scalar) uniform Push { uint visible_capacity; };
 
 void main() {
-    // The HW list's front, then its back (raster_hw's vertex path: clusters drawn per cluster).
-    uint n = min(counters.hw_count, visible_capacity);
-    uint front = n - min(counters.hw_back, n);
+    uint n = counters.hw_count;
     for (uint i = gl_GlobalInvocationID.x; i < n; i += gl_NumWorkGroups.x * 64u) {
-        uint v = hw_list[i < front ? i : visible_capacity - 1u - (i - front)];
+        uint v = hw_list[i];
         if (v < visible_capacity) {
             hw_flags[v] = 1u;
         }

@@ -1,20 +1,13 @@
 #version 460
-// Pass `raster_hw`, vertex stage: vertex pulling, in two draws (push constant `mode`):
-// 0: the triangle list (CullCounters.hw_draw: gl_VertexIndex / 3 = entry of `hw_triangles`, a
-//    triangle's visibility-buffer id; % 3 = corner), so the hardware gets only real triangles;
-// 1: the HW clusters that did not fit it, from the HW list's back (CullCounters.hw_draw_clusters:
-//    gl_InstanceIndex = entry, gl_VertexIndex / 3 = triangle; triangles beyond the cluster's count
-//    collapse to a point outside the view volume).
-// Each corner also snaps all three vertices of its triangle (flat outputs) so that the fragment
-// stage computes depth exactly as raster_sw does (or, for a triangle that cannot be snapped,
-// passes its depth plane, in the same outputs).
+// Pass `raster_hw`, vertex stage: vertex pulling for one vkCmdDrawIndirect over the HW list
+// (gl_InstanceIndex = HW list index, gl_VertexIndex / 3 = triangle, % 3 = corner). Each corner also
+// snaps all three vertices of its triangle (flat outputs) so that the fragment stage computes depth
+// exactly as raster_sw does (or, for a triangle that cannot be snapped, passes its depth plane,
+// in the same outputs).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
 
 #include "raster_hw_bindings.glsl"
-
-layout(set = 0, binding = 10) readonly buffer HwTriangles { uint hw_triangles[]; };
-layout(push_constant) uniform Push { uint mode; } pc;
 
 layout(location = 0) flat out uint out_id;      // visible index << 7 | triangle
 layout(location = 1) flat out uint out_snapped; // 1: the three snapped vertices below are valid
@@ -23,31 +16,18 @@ layout(location = 3) flat out ivec2 out_xy2;
 layout(location = 4) flat out vec3 out_z;
 
 void main() {
+    uint visible_index = hw_list[gl_InstanceIndex];
+    uvec2 entry = visible[visible_index];
+    InstanceVgeo inst = instances[entry.x];
+    MeshGpu mesh = meshes[inst.mesh];
+    Cluster c = cluster_at(mesh, entry.y);
+    uint tri = uint(gl_VertexIndex) / 3u;
     uint corner = uint(gl_VertexIndex) % 3u;
     out_id = 0u;
     out_snapped = 0u;
     out_xy01 = ivec4(0);
     out_xy2 = ivec2(0);
     out_z = vec3(0.0);
-    uint visible_index;
-    uint tri;
-    if (pc.mode == 0u) {
-        uint id = hw_triangles[uint(gl_VertexIndex) / 3u];
-        visible_index = id >> VISBUFFER_TRIANGLE_BITS;
-        tri = id & ((1u << VISBUFFER_TRIANGLE_BITS) - 1u);
-        if (id == HW_TRIANGLE_NONE) {
-            // An empty entry: all corners at one point outside the view volume (culled, no NaN).
-            gl_Position = vec4(2.0, 2.0, 0.5, 1.0);
-            return;
-        }
-    } else {
-        visible_index = hw_list[view.visible_capacity - 1u - uint(gl_InstanceIndex)];
-        tri = uint(gl_VertexIndex) / 3u;
-    }
-    uvec2 entry = visible[visible_index];
-    InstanceVgeo inst = instances[entry.x];
-    MeshGpu mesh = meshes[inst.mesh];
-    Cluster c = cluster_at(mesh, entry.y);
     if (tri >= cluster_triangle_count(c)) {
         // No such triangle: all corners at one point outside the view volume (culled, no NaN).
         gl_Position = vec4(2.0, 2.0, 0.5, 1.0);

@@ -122,9 +122,6 @@ pub struct VgeoRenderer {
     visible_capacity: u32,
     /// Set by [`VgeoRenderer::set_capacities`]: the capacities no longer follow the scene.
     fixed_capacities: bool,
-    /// [`VgeoRenderer::set_hw_triangle_limit`] (tests): fewer entries of `raster_hw`'s triangle
-    /// list than the visible capacity gives.
-    hw_triangle_limit: Option<u32>,
     /// The scene's mesh epoch the materials were built for.
     materials_epoch: u64,
     /// Host frames since the scene retired buffers (freed once no frame in flight uses them).
@@ -207,7 +204,6 @@ impl VgeoRenderer {
             queue_capacity,
             visible_capacity,
             fixed_capacities: false,
-            hw_triangle_limit: None,
             materials_epoch: scene.mesh_epoch(),
             retire_age: 0,
             scene,
@@ -222,14 +218,6 @@ impl VgeoRenderer {
         self.visible_capacity = visible.clamp(1, MAX_VISIBLE);
         self.fixed_capacities = true;
         self.fb = None;
-    }
-
-    /// Uses at most `limit` entries of `raster_hw`'s triangle list (`None`: all of them,
-    /// [`crate::shared::hw_triangle_capacity`]), so tests reach the per-cluster draw of the HW
-    /// clusters beyond it with a small scene.
-    #[doc(hidden)]
-    pub fn set_hw_triangle_limit(&mut self, limit: Option<u32>) {
-        self.hw_triangle_limit = limit;
     }
 
     /// Follows the scene's changes before a frame: rebuilds the material table when meshes came
@@ -456,7 +444,7 @@ impl VgeoRenderer {
         if self.raster_hw.hw_path() == HwPath::Mesh {
             settings.flags |= VIEW_FLAG_HW_MESH;
         }
-        let mut view = view_gpu(
+        view_gpu(
             camera,
             width,
             height,
@@ -464,11 +452,7 @@ impl VgeoRenderer {
             self.scene.instance_count,
             self.queue_capacity,
             self.visible_capacity,
-        );
-        if let Some(limit) = self.hw_triangle_limit {
-            view.hw_triangle_capacity = view.hw_triangle_capacity.min(limit);
-        }
-        view
+        )
     }
 
     /// Whether visible-list slots are assigned directly (deterministic): every (instance, cluster)
@@ -1039,7 +1023,7 @@ fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> Gpu
         Ok(words(&b.download_prefix(4 * n as u64)?))
     };
     let sw = list(sw_buf, counters.sw_count)?;
-    let hw = hw_list(fb, hw_buf, &counters)?;
+    let hw = list(hw_buf, counters.hw_count)?;
     let table = read_visible_table(fb, sw.iter().chain(&hw).copied().max())?;
     let visible = sw
         .iter()
@@ -1053,20 +1037,6 @@ fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> Gpu
         visible,
         gpu_ms,
     })
-}
-
-/// A phase's HW list: its front, then its back (`raster_hw`'s vertex path puts the clusters whose
-/// triangles did not fit its triangle list there, from the last slot down).
-fn hw_list(fb: &FrameBuffers, buf: &Buffer, counters: &CullCounters) -> GpuResult<Vec<u32>> {
-    let cap = fb.visible_capacity;
-    let n = counters.hw_count.min(cap);
-    let back = counters.hw_back.min(n);
-    let mut list = words(&buf.download_prefix(4 * (n - back) as u64)?);
-    if back > 0 {
-        let all = words(&buf.download()?);
-        list.extend(all[(cap - back) as usize..cap as usize].iter().rev());
-    }
-    Ok(list)
 }
 
 /// The visible list up to and including slot `max` (empty when `None`).

@@ -52,9 +52,6 @@ pub const MESH_GROUPS_X: u32 = 65535;
 /// within the specification's minimum `maxMeshWorkGroupTotalCount` (2^22). More are counted in
 /// `CullCounters::hw_overflow` (an error, never silent).
 pub const MESH_MAX_CLUSTERS: u32 = 4194240;
-/// `raster_hw` vertex path: an empty entry of the HW triangle list (the tail of a cluster that did
-/// not fit). Never a triangle's id: the visible list holds at most `2^25 - 1` entries.
-pub const HW_TRIANGLE_NONE: u32 = 0xffffffff;
 /// `instance_cull` walks an instance's BVH itself (no global queue) when at most this many of
 /// its mesh's clusters can be in the cut (`MeshGpu::walk_error`), so a small instance costs one
 /// thread's short walk instead of a trip per node through `cluster_cull`'s persistent queue.
@@ -345,24 +342,8 @@ pub struct ViewGpu {
     /// Capacity of the cull work queue (items) and of the visible-cluster list.
     pub queue_capacity: u32,
     pub visible_capacity: u32,
-    /// Entries of `raster_hw`'s triangle list ([`hw_triangle_capacity`] of the visible capacity).
-    pub hw_triangle_capacity: u32,
-    pub _pad: [u32; 3],
 }
-const _: () = assert!(size_of::<ViewGpu>() == 240);
-
-/// Most triangles `raster_hw`'s vertex path takes through its triangle list per phase.
-pub const MAX_HW_TRIANGLES: u32 = 1 << 23;
-
-/// Entries of `raster_hw`'s triangle list for a visible capacity: every triangle the visible
-/// list can name ([`MAX_CLUSTER_TRIANGLES`] per slot), at most [`MAX_HW_TRIANGLES`] (32 MiB).
-/// The list is what the hardware draws without waste; HW clusters beyond it are drawn one instance
-/// of `MAX_CLUSTER_TRIANGLES * 3` vertices each (slower, the same image).
-pub fn hw_triangle_capacity(visible_capacity: u32) -> u32 {
-    visible_capacity
-        .saturating_mul(MAX_CLUSTER_TRIANGLES)
-        .min(MAX_HW_TRIANGLES)
-}
+const _: () = assert!(size_of::<ViewGpu>() == 224);
 
 /// Counters and indirect arguments written by the culling passes (read back for `--stats`).
 #[repr(C)]
@@ -393,9 +374,7 @@ pub struct CullCounters {
     pub local_walks: u32,
     /// `vkCmdDispatchIndirect` arguments of `raster_sw` (x, y, z) + pad.
     pub sw_dispatch: [u32; 4],
-    /// `vkCmdDrawIndirect` arguments (vertices, instances, first vertex, first instance) of
-    /// `raster_hw`'s vertex path over its triangle list: 3 vertices per listed triangle, one
-    /// instance.
+    /// `vkCmdDrawIndirect` arguments of `raster_hw` (vertices, instances, first vertex, first instance).
     pub hw_draw: [u32; 4],
     /// Main phase: instances, BVH-node items and clusters the previous frame's HZB rejected; they
     /// wait for the post phase (two-pass occlusion culling).
@@ -412,25 +391,13 @@ pub struct CullCounters {
     pub hw_mesh: [u32; 4],
     /// With [`VIEW_FLAG_HW_MESH`]: HW clusters beyond [`MESH_MAX_CLUSTERS`], not drawn (reported).
     pub hw_overflow: u32,
-    /// Vertex path: triangles the HW clusters asked for in the triangle list (beyond
-    /// `ViewGpu::hw_triangle_capacity`, clusters go to the HW list's back instead).
-    pub hw_triangles: u32,
+    pub _pad1: u32,
     /// `vkCmdDispatchIndirect` arguments of the post phase's `depth_pyramid` (x, y, z) + pad: its
     /// workgroups when the phase drew anything, else none (the visibility buffer, and so the
     /// HZB, are what the main phase left).
     pub hzb_dispatch: [u32; 4],
-    /// Vertex path: `vkCmdDrawIndirect` arguments of the HW clusters that did not fit the
-    /// triangle list: `MAX_CLUSTER_TRIANGLES * 3` vertices, one instance per cluster at the HW
-    /// list's back.
-    pub hw_draw_clusters: [u32; 4],
-    /// Vertex path: HW-list entries from the front (clusters whose triangles are listed) and from
-    /// the back (`visible_capacity - 1` down: those drawn per cluster). The mesh path fills the
-    /// front only, `hw_count` entries.
-    pub hw_listed: u32,
-    pub hw_back: u32,
-    pub _pad2: [u32; 2],
 }
-const _: () = assert!(size_of::<CullCounters>() == 192);
+const _: () = assert!(size_of::<CullCounters>() == 160);
 const _: () = assert!(std::mem::offset_of!(CullCounters, hw_mesh) % 4 == 0);
 
 /// [`CullCounters::hw_mesh`] for `clusters` HW clusters, as `cluster_cull` writes it: rows of

@@ -258,61 +258,6 @@ fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_determ
     assert_no_validation_errors(&ctx);
 }
 
-/// `raster_hw`'s vertex path draws the HW clusters' triangles from a list the cull writes (no
-/// empty triangles); clusters beyond the list's capacity are drawn per cluster from the HW list's
-/// back. Both give the all-SW frame, and the per-cluster draw is used only when the list is full.
-#[test]
-fn hw_clusters_beyond_the_triangle_list_are_drawn_per_cluster() {
-    let ctx = gpu();
-    let (mut r, camera) = three_spots(&ctx);
-    let base = FrameSettings {
-        error_px: 0.0,
-        occlusion: false,
-        ..Default::default()
-    };
-    let hw = FrameSettings {
-        flags: VIEW_FLAG_FORCE_HW,
-        ..base
-    };
-    let sw = render(
-        &mut r,
-        &camera,
-        &FrameSettings {
-            flags: VIEW_FLAG_FORCE_SW,
-            ..base
-        },
-    );
-    let listed = render(&mut r, &camera, &hw);
-    let c = &listed.main.counters;
-    assert!(c.hw_count > 0 && c.hw_triangles > 0, "{c:?}");
-    assert_eq!(c.hw_back, 0, "the default list holds every HW triangle");
-    assert_eq!(c.hw_listed, c.hw_count);
-    // The list holds 128 triangles per visible slot, so only a huge cut fills it: a small list.
-    let cap = 4096;
-    r.set_hw_triangle_limit(Some(cap));
-    let split = render(&mut r, &camera, &hw);
-    let c = &split.main.counters;
-    assert!(c.hw_triangles > cap, "{} triangles", c.hw_triangles);
-    assert!(c.hw_back > 0 && c.hw_listed > 0, "{c:?}");
-    assert_eq!(c.hw_listed + c.hw_back, c.hw_count);
-    assert_eq!(
-        split.main.hw.len() as u32,
-        c.hw_count,
-        "front and back read back"
-    );
-    for f in [&listed, &split] {
-        let n = sw.visbuffer.len();
-        let differ = (0..n)
-            .filter(|&i| key(&sw, sw.visbuffer[i]) != key(f, f.visbuffer[i]))
-            .count();
-        assert_eq!(
-            differ, 0,
-            "all-HW differs from all-SW in {differ} of {n} pixels"
-        );
-    }
-    assert_no_validation_errors(&ctx);
-}
-
 /// The SW/HW split by the size of a cluster's triangles (common/cull.glsl::emit_cluster,
 /// builder::size) at the default threshold: long thin slivers (grass blades seen from the front:
 /// clusters a few hundred pixels across, triangles of a few pixels' area) go to the compute

@@ -192,36 +192,12 @@ impl Rig {
             }
         }
         let (sw_count, hw_count) = (sw_list.len() as u32, hw_list.len() as u32);
-        // The vertex path draws both ways the cull leaves it: some HW clusters through the
-        // triangle list (HW list front), the rest per cluster (HW list back, last slot first).
-        // The mesh path reads the front only, all of them.
-        let cap = self.fb.visible_capacity;
-        let (mut hw_words, mut triangles) = (hw_list.clone(), Vec::new());
-        let mut back = 0;
-        if self.hw.hw_path() == HwPath::Vertex {
-            let (listed, per_cluster): (Vec<u32>, Vec<u32>) =
-                hw_list.iter().partition(|&&v| v % 4 == 1);
-            for &v in &listed {
-                let n = spot()
-                    .cluster_triangles(self.visible[v as usize][1] as usize)
-                    .len();
-                triangles.extend((0..n as u32).map(|t| v << VISBUFFER_TRIANGLE_BITS | t));
-            }
-            back = per_cluster.len() as u32;
-            hw_words = vec![u32::MAX; cap as usize];
-            hw_words[..listed.len()].copy_from_slice(&listed);
-            for (k, &v) in per_cluster.iter().enumerate() {
-                hw_words[cap as usize - 1 - k] = v;
-            }
-        }
         let counters = CullCounters {
             visible_count: self.visible.len() as u32,
             sw_count,
             hw_count,
             sw_dispatch: [sw_count.min(65535), 1, 1, 0],
-            hw_draw: [3 * triangles.len() as u32, 1, 0, 0],
-            hw_draw_clusters: [MAX_CLUSTER_TRIANGLES * 3, back, 0, 0],
-            hw_back: back,
+            hw_draw: [MAX_CLUSTER_TRIANGLES * 3, hw_count, 0, 0],
             hw_mesh: hw_mesh_args(hw_count),
             ..Default::default()
         };
@@ -240,8 +216,7 @@ impl Rig {
         };
         let s_visible = staging("test visible", bytemuck::cast_slice(&self.visible));
         let s_sw = staging("test sw list", bytemuck::cast_slice(&sw_list));
-        let s_hw = staging("test hw list", bytemuck::cast_slice(&hw_words));
-        let s_tri = staging("test hw triangles", bytemuck::cast_slice(&triangles));
+        let s_hw = staging("test hw list", bytemuck::cast_slice(&hw_list));
         let mut timer = Timer::new(ctx, 8).expect("timer");
         let fb = &self.fb;
         let (sw, hw, scene) = (&self.sw, &self.hw, &self.gpu_scene);
@@ -253,10 +228,7 @@ impl Rig {
                 cmd.copy_buffer(&s_sw, &fb.sw_list, 4 * sw_count as u64);
             }
             if hw_count > 0 {
-                cmd.copy_buffer(&s_hw, &fb.hw_list, 4 * hw_words.len() as u64);
-            }
-            if !triangles.is_empty() {
-                cmd.copy_buffer(&s_tri, &fb.hw_triangles, 4 * triangles.len() as u64);
+                cmd.copy_buffer(&s_hw, &fb.hw_list, 4 * hw_count as u64);
             }
             cmd.update_buffer(&fb.counters, 0, bytemuck::bytes_of(&counters));
             visbuffer::clear(cmd, fb);

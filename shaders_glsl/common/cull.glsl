@@ -53,32 +53,6 @@ void push_item(uint64_t item) {
     atomicExchange(queue[slot], item);
 }
 
-// raster_hw's vertex path: puts the `triangles` triangles of visible entry `v` in the triangle list
-// (their visibility-buffer ids), so the hardware draws no empty triangles. False when the list is
-// full: the cluster is then drawn per cluster (a tail it began is marked empty).
-bool list_hw_triangles(uint v, uint triangles) {
-    uint cap = view.hw_triangle_capacity;
-    // A full list takes no more (nor lets the counter wrap).
-    if (counters.hw_triangles >= cap) {
-        return false;
-    }
-    uint base = atomicAdd(counters.hw_triangles, triangles);
-    if (base >= cap) {
-        return false;
-    }
-    uint id = v << VISBUFFER_TRIANGLE_BITS;
-    if (triangles > cap - base) {
-        for (uint i = base; i < cap; i++) {
-            hw_triangles[i] = HW_TRIANGLE_NONE;
-        }
-        return false;
-    }
-    for (uint t = 0u; t < triangles; t++) {
-        hw_triangles[base + t] = id | t;
-    }
-    return true;
-}
-
 // Appends a drawn cluster to the visible list and to the SW or HW list. `info`: its cull words'
 // info word (common/cluster.glsl); `center`/`radius`: its camera-relative bounding sphere (the
 // radius is half its bounds' diagonal times the instance's largest axis scale).
@@ -122,16 +96,10 @@ void emit_cluster(uint instance, uint cluster_index, uint info, vec3 center, flo
         atomicAdd(counters.visible_overflow, 1u);
         return;
     }
-    if (!hw) {
-        sw_list[slot] = v;
-    } else if ((view.flags & VIEW_FLAG_HW_MESH) != 0u) {
+    if (hw) {
         hw_list[slot] = v;
-    } else if (list_hw_triangles(v, triangles)) {
-        // The vertex path draws the triangle list; the front of the HW list names its clusters.
-        hw_list[atomicAdd(counters.hw_listed, 1u)] = v;
     } else {
-        // Drawn per cluster, from the back (front + back = hw_count: they never meet).
-        hw_list[view.visible_capacity - 1u - atomicAdd(counters.hw_back, 1u)] = v;
+        sw_list[slot] = v;
     }
     CULL_STAT(triangles, triangles)
 }

@@ -30,8 +30,6 @@ layout(set = 0, binding = 18) buffer PageRequests { uint page_requests[]; };
 layout(set = 0, binding = 19) buffer PageUsage { uint page_usage[]; };
 // The geometry pool: the resident pages' bytes (a cluster's cull words are read from its page).
 layout(set = 0, binding = 20) readonly buffer Pool { uint pool[]; };
-// raster_hw's vertex path: the HW clusters' triangles (visibility-buffer ids), both phases in turn.
-layout(set = 0, binding = 21) writeonly buffer HwTriangles { uint hw_triangles[]; };
 
 // 0: main phase (test against the previous frame's HZB, defer what it rejects);
 // 1: post phase (retest what was deferred against this frame's HZB).

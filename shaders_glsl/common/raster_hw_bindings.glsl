@@ -1,8 +1,7 @@
 // raster_hw's geometry-stage bindings 0-7, one declaration for its vertex path
 // (raster_hw.vert.glsl) and its mesh path (raster_hw.mesh.glsl): both run with the one descriptor
 // layout src/passes/raster_hw.rs builds (8 and 9 are the fragment stage's: visibility buffer,
-// overdraw; 10 is the vertex path's triangle list, the mesh path's cull counters). Includes
-// raster.glsl after them.
+// overdraw; the mesh path adds 10, the cull counters). Includes raster.glsl after them.
 #ifndef VGEO_RASTER_HW_BINDINGS_GLSL
 #define VGEO_RASTER_HW_BINDINGS_GLSL
 

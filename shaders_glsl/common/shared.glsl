@@ -70,8 +70,6 @@ struct ViewGpu {
     uint flags;
     uint queue_capacity;
     uint visible_capacity;
-    uint hw_triangle_capacity;
-    uint _pad_view[3];
 };
 
 struct CullCounters {
@@ -101,12 +99,8 @@ struct CullCounters {
     uint occluded_clusters;
     uvec4 hw_mesh;
     uint hw_overflow;
-    uint hw_triangles;
+    uint _pad1;
     uvec4 hzb_dispatch;
-    uvec4 hw_draw_clusters;
-    uint hw_listed;
-    uint hw_back;
-    uint _pad2[2];
 };
 
 struct OcclusionGpu {

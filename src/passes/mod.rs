@@ -109,11 +109,6 @@ pub struct FrameBuffers {
     /// Indices into `visible` of the clusters each rasterizer draws.
     pub sw_list: Buffer,
     pub hw_list: Buffer,
-    /// `raster_hw`'s vertex path: the HW clusters' triangles as visibility-buffer ids
-    /// (`visible index << VISBUFFER_TRIANGLE_BITS | triangle`), one entry per triangle drawn, so
-    /// the hardware gets no empty triangles ([`crate::shared::hw_triangle_capacity`] entries;
-    /// both phases use it in turn).
-    pub hw_triangles: Buffer,
     pub visbuffer: VisBuffer,
     /// Post phase (two-pass occlusion culling): its counters and rasterizer lists.
     pub counters_post: Buffer,
@@ -228,11 +223,6 @@ impl FrameBuffers {
             hw_list: gpu(
                 &n("hw clusters"),
                 4 * visible_capacity as u64,
-                vk::BufferUsageFlags::empty(),
-            )?,
-            hw_triangles: gpu(
-                &n("hw triangles"),
-                4 * crate::shared::hw_triangle_capacity(visible_capacity) as u64,
                 vk::BufferUsageFlags::empty(),
             )?,
             visbuffer,

@@ -7,13 +7,11 @@
 //!   a meshlet (up to 255 vertices, 128 triangles), with the triangle's id, snapped vertices and
 //!   depths as per-primitive outputs;
 //! - **vertex** (shaders_glsl/raster_hw.vert.glsl, the default: measured faster, see
-//!   [`HwPath::Auto`]): `vkCmdDrawIndirect` with no vertex buffers over the triangle list the
-//!   cull wrote (`FrameBuffers::hw_triangles`, `CullCounters::hw_draw`: three vertices per HW
-//!   triangle, so the hardware assembles no empty ones), then a second one over the HW clusters
-//!   that did not fit the list (`CullCounters::hw_draw_clusters`: `MAX_CLUSTER_TRIANGLES * 3`
-//!   vertices per cluster, triangles beyond its count collapsed to a point outside the view
-//!   volume; empty unless the list is full). Each vertex invocation pulls and snaps all three
-//!   vertices of its triangle.
+//!   [`HwPath::Auto`]): one `vkCmdDrawIndirect`
+//!   (`CullCounters::hw_draw`: `MAX_CLUSTER_TRIANGLES * 3` vertices, one instance per HW-list
+//!   entry) with no vertex buffers: each vertex invocation pulls and snaps all three vertices of
+//!   its triangle (triangles beyond the cluster's count collapse to a point outside the view
+//!   volume).
 //!
 //! No attachments: the fragment shader (shaders_glsl/raster_hw.frag.glsl, one source for both
 //! paths) does the same `atomicMax` into the visibility buffer as `raster_sw`. Coverage is the
@@ -135,15 +133,16 @@ impl RasterHw {
                 spirv: crate::shaders::RASTER_HW_VERT,
             })
         };
-        // view, visible, HW list, the 5 geometry buffers, visibility buffer, overdraw; then the
-        // vertex path's triangle list, or the counters the mesh path reads (how many entries its
-        // workgroup grid covers).
+        // view, visible, HW list, the 5 geometry buffers, visibility buffer, overdraw; the mesh
+        // path also reads the counters (how many entries its workgroup grid covers).
         let vis = path.descriptor_type();
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 7]);
         bindings.push(vis);
         bindings.push(D::STORAGE_BUFFER);
-        bindings.push(D::STORAGE_BUFFER);
+        if mesh {
+            bindings.push(D::STORAGE_BUFFER);
+        }
         let pipeline = GraphicsPipeline::new(
             ctx,
             &GraphicsPipelineDesc {
@@ -154,8 +153,7 @@ impl RasterHw {
                     spirv: frag,
                 },
                 bindings: &bindings,
-                // The vertex path's draw: 0 the triangle list, 1 the clusters beyond it.
-                push_constant_size: if mesh { 0 } else { 4 },
+                push_constant_size: 0,
                 vertex_layout: None,
                 color_formats: &[],
                 depth_format: None,
@@ -232,7 +230,7 @@ impl RasterHw {
         );
         let mesh = self.hw_path == HwPath::Mesh;
         let overdraw = Desc::Storage(overdraw.unwrap_or(&self.no_overdraw));
-        let last = Desc::Storage(if mesh { counters } else { &fb.hw_triangles });
+        let after = [vis, overdraw, Desc::Storage(counters)];
         cmd.begin_rendering_no_attachments(fb.width, fb.height);
         cmd.bind_graphics(&self.pipeline);
         cmd.push_graphics_descriptors(
@@ -244,7 +242,7 @@ impl RasterHw {
                     Desc::Storage(hw_list),
                 ],
                 scene,
-                &[vis, overdraw, last],
+                &after[..if mesh { 3 } else { 2 }],
             ),
         );
         if mesh {
@@ -253,13 +251,7 @@ impl RasterHw {
                 std::mem::offset_of!(CullCounters, hw_mesh) as u64,
             );
         } else {
-            for (mode, args) in [
-                (0u32, std::mem::offset_of!(CullCounters, hw_draw)),
-                (1, std::mem::offset_of!(CullCounters, hw_draw_clusters)),
-            ] {
-                cmd.graphics_push_constants(&self.pipeline, &mode.to_le_bytes());
-                cmd.draw_indirect(counters, args as u64);
-            }
+            cmd.draw_indirect(counters, std::mem::offset_of!(CullCounters, hw_draw) as u64);
         }
         cmd.end_rendering();
         timer.end(cmd);

@@ -93,8 +93,6 @@ pub fn view_gpu(
         flags: settings.flags,
         queue_capacity,
         visible_capacity,
-        hw_triangle_capacity: crate::shared::hw_triangle_capacity(visible_capacity),
-        _pad: [0; 3],
     }
 }
 
