@@ -13,7 +13,11 @@
 #include "material.glsl"
 #include "shading.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+// One 16x16 workgroup per SHADE_TILE x SHADE_TILE pixels, (SHADE_TILE / 16)^2 pixels per thread:
+// the tile in blocks of 16x16 pixels, one pixel of each block per thread, so that neighbouring
+// threads read and write neighbouring pixels and each thread has several pixels' loads in flight
+// (one pixel per thread took 0.026 ms for a 1080p frame on the H100, nothing covered).
+layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(set = 0, binding = 0, scalar) uniform MaterialView { MaterialViewGpu mview; };
 layout(set = 0, binding = 1, rgba8) uniform readonly image2D albedo_image;
@@ -22,11 +26,7 @@ layout(set = 0, binding = 3, rgba8) uniform readonly image2D params_image;
 layout(set = 0, binding = 4, rgba8) uniform writeonly image2D out_image;
 layout(set = 0, binding = 5, scalar) readonly buffer PixelMaterials { uint pixel_materials[]; };
 
-void main() {
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    if (px.x >= int(mview.viewport.x) || px.y >= int(mview.viewport.y)) {
-        return;
-    }
+void shade_pixel(ivec2 px) {
     bool covered;
     vec4 a = vec4(0.0);
     if ((mview.flags & SHADE_FLAG_PIXEL_MATERIALS) != 0u) {
@@ -79,4 +79,17 @@ void main() {
         }
     }
     imageStore(out_image, px, vec4(color, 1.0));
+}
+
+void main() {
+    ivec2 base = ivec2(gl_WorkGroupID.xy * SHADE_TILE + gl_LocalInvocationID.xy);
+    ivec2 size = ivec2(mview.viewport.xy);
+    for (int by = 0; by < int(SHADE_TILE / 16u); by++) {
+        for (int bx = 0; bx < int(SHADE_TILE / 16u); bx++) {
+            ivec2 px = base + 16 * ivec2(bx, by);
+            if (px.x < size.x && px.y < size.y) {
+                shade_pixel(px);
+            }
+        }
+    }
 }

@@ -31,6 +31,8 @@ pub const SHADE_FLAG_COVERED_ONLY: u32 = 1;
 pub const SHADE_FLAG_PIXEL_MATERIALS: u32 = 2;
 /// Workgroup size of simple 2D image passes.
 pub const TILE_WORKGROUP_SIZE: u32 = 8;
+/// `shade`: pixels per side of one 16x16 workgroup's tile (a multiple of 16).
+pub const SHADE_TILE: u32 = 32;
 /// `depth_pyramid`: one workgroup is HZB_GROUP x HZB_GROUP threads; its head dispatch reduces a
 /// tile of 2 * HZB_GROUP texels of level 0 square through the first HZB_HEAD_LEVELS levels.
 pub const HZB_GROUP: u32 = 16;

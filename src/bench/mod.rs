@@ -247,8 +247,8 @@ pub struct BenchArgs {
     pub modes: Option<Vec<String>>,
     /// vgeo, the SW/HW split: clusters whose triangles' edge-length equivalent (sqrt(2 x their
     /// area-weighted mean area), projected at the cluster's nearest point) exceeds this many
-    /// pixels go to the hardware rasterizer (default 32; 0: all to hardware; 100000: software
-    /// only but the near plane's clusters).
+    /// pixels go to the hardware rasterizer (default 64, the renderer's; 0: all to hardware;
+    /// 100000: software only but the near plane's clusters).
     #[arg(long)]
     pub hw_threshold: Option<f32>,
     /// vgeo: `emit_gbuffer` as `compute` (default: a dispatch per material) or `raster` (a draw

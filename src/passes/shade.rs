@@ -124,9 +124,6 @@ impl GbufferTargets {
 /// The pass's name: debug label, timer scope and pipeline name.
 pub const NAME: &str = "shade";
 
-/// Threads per workgroup side (`local_size_x/y` of the shader).
-const WORKGROUP: u32 = 8;
-
 /// The shading pipeline.
 pub struct Shade {
     pipeline: ComputePipeline,
@@ -199,7 +196,8 @@ impl Shade {
                 Desc::Storage(pixel_materials.unwrap_or(&self.no_materials)),
             ],
         );
-        cmd.dispatch(t.width.div_ceil(WORKGROUP), t.height.div_ceil(WORKGROUP), 1);
+        let tile = crate::shared::SHADE_TILE;
+        cmd.dispatch(t.width.div_ceil(tile), t.height.div_ceil(tile), 1);
         timer.end(cmd);
     }
 }
