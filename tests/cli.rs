@@ -266,11 +266,17 @@ fn help_explains_commands() {
     }
     // The SW/HW split's default is the renderer's, in both commands' help.
     let default = format!("default {}", vgeo::shared::DEFAULT_HW_THRESHOLD_PX);
-    assert!(out.contains(&default), "bench --help lacks `{default}`:\n{out}");
+    assert!(
+        out.contains(&default),
+        "bench --help lacks `{default}`:\n{out}"
+    );
     let (ok, out, _) = run(vgeo().args(["render", "--help"]));
     assert!(ok);
     let default = format!("[default: {}]", vgeo::shared::DEFAULT_HW_THRESHOLD_PX);
-    assert!(out.contains(&default), "render --help lacks `{default}`:\n{out}");
+    assert!(
+        out.contains(&default),
+        "render --help lacks `{default}`:\n{out}"
+    );
 }
 
 /// `vgeo` with no arguments: the demo (a field of bunnies, over 100 M instanced triangles) in vgeo
