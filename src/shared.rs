@@ -190,6 +190,9 @@ pub const LOD_LEVEL_CULLED: u32 = 0xffffffff;
 /// `lod_cull`'s per-instance level readback: bit set when the post phase found it occluded.
 pub const LOD_LEVEL_OCCLUDED: u32 = 256;
 // END SHADER CONSTANTS
+
+// `shade` deals each 16x16 block of its tile to its 16x16 threads.
+const _: () = assert!(SHADE_TILE.is_multiple_of(16) && SHADE_TILE >= 16);
 const _: () = assert!(2 * HZB_GROUP == 1 << (HZB_HEAD_LEVELS - 1));
 
 /// Per-frame uniforms of the classic (brute) path. All positions are camera-relative.
