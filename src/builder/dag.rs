@@ -701,7 +701,8 @@ impl Edges {
         let k = points.len();
         if k <= 1 << 15 {
             // A counting sort by the smaller point, then each point's few entries (its larger
-            // point << 1 | forward) sorted in place: the order of `(min, max, direction)`.
+            // point << 1 | forward) sorted in place (`bucket_edges`, as `Level0` does for the
+            // whole mesh): the order of `(min, max, direction)`.
             let mut start = vec![0u32; k + 1];
             for t in tris {
                 let l = t.map(|v| lp[v as usize]);
@@ -727,27 +728,11 @@ impl Edges {
             let mut out: Vec<(u64, u32, u32)> = Vec::with_capacity(entries.len());
             let mut begin = 0;
             for (p, &end) in start[..k].iter().enumerate() {
-                let run = &mut entries[begin..end as usize];
-                begin = end as usize;
-                if run.len() <= 16 {
-                    insertion_sort(run);
-                } else {
-                    run.sort_unstable();
-                }
                 let a = (points[p] as u64) << 32;
-                let mut last = u32::MAX;
-                for &key in run.iter() {
-                    if key >> 1 != last {
-                        last = key >> 1;
-                        out.push((a | points[last as usize] as u64, 0, 0));
-                    }
-                    let l = out.last_mut().expect("pushed above");
-                    if key & 1 == 1 {
-                        l.1 += 1;
-                    } else {
-                        l.2 += 1;
-                    }
-                }
+                bucket_edges(&mut entries[begin..end as usize], |b, f, r| {
+                    out.push((a | points[b as usize] as u64, f, r))
+                });
+                begin = end as usize;
             }
             Edges(out)
         } else {
@@ -796,16 +781,15 @@ impl Edges {
     }
 }
 
-/// Sorts a few elements (a point's edge entries) without the call and setup of a general sort.
-fn insertion_sort(v: &mut [u32]) {
-    for i in 1..v.len() {
-        let x = v[i];
-        let mut j = i;
-        while j > 0 && v[j - 1] > x {
-            v[j] = v[j - 1];
-            j -= 1;
-        }
-        v[j] = x;
+/// The edges at one point from its bucket of directed edge uses (`other point << 1 | (the use
+/// runs from the smaller point to the larger)`, the point being the smaller): sorted in place,
+/// then per other point, in ascending order, `edge(other, uses min -> max, uses max -> min)`.
+/// The bucketing of [`Edges::of`] and [`Level0::new`].
+fn bucket_edges(bucket: &mut [u32], mut edge: impl FnMut(u32, u32, u32)) {
+    bucket.sort_unstable();
+    for same in bucket.chunk_by(|x, y| x >> 1 == y >> 1) {
+        let f = same.iter().filter(|&&x| x & 1 == 1).count() as u32;
+        edge(same[0] >> 1, f, same.len() as u32 - f);
     }
 }
 
@@ -884,14 +868,11 @@ impl Level0 {
                 let mut out = Vec::new();
                 for a in first..end {
                     let bucket = &mut piece[start[a] as usize - base..start[a + 1] as usize - base];
-                    bucket.sort_unstable();
-                    for same in bucket.chunk_by(|x, y| x >> 1 == y >> 1) {
-                        let f = same.iter().filter(|&&x| x & 1 == 1).count() as u32;
-                        let r = same.len() as u32 - f;
+                    bucket_edges(bucket, |b, f, r| {
                         if (f, r) != (1, 1) {
-                            out.push(((a as u64) << 32 | (same[0] >> 1) as u64, f, r));
+                            out.push(((a as u64) << 32 | b as u64, f, r));
                         }
-                    }
+                    });
                 }
                 out
             })
@@ -2010,9 +1991,9 @@ fn assemble(
 mod tests {
     use super::{Edges, first_occurrences, group_error, undirected};
 
-    /// `Edges::of` (counting sort by the smaller point, small sorts per point) against the 64-bit
+    /// `Edges::of` (counting sort by the smaller point, a sort per point) against the 64-bit
     /// keys' plain sort, on triangles with repeated, reversed and degenerate edges and a fan of
-    /// more than 16 entries at one point.
+    /// 32 edges at one point.
     #[test]
     fn edges_of_counts_each_direction_in_key_order() {
         // Points are the group's position ids, ascending; local vertex v is at point lp[v].
