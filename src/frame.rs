@@ -8,10 +8,12 @@
 use std::borrow::Borrow;
 
 mod embed;
+pub mod split;
 pub use embed::{
     DEFAULT_FRAMES_IN_FLIGHT, FrameStats, HOST_COLOR_FORMAT, HOST_DEPTH_FORMAT,
     HOST_GBUFFER_FORMATS, HostTargets, View, ViewFrame,
 };
+use split::SplitTuner;
 
 use crate::builder::BuiltMesh;
 use crate::camera::Camera;
@@ -126,6 +128,8 @@ pub struct VgeoRenderer {
     materials_epoch: u64,
     /// Host frames since the scene retired buffers (freed once no frame in flight uses them).
     retire_age: u32,
+    /// The automatic SW/HW split of [`VgeoRenderer::render`]'s frames ([`split`]).
+    split: SplitTuner,
 }
 
 impl VgeoRenderer {
@@ -206,6 +210,7 @@ impl VgeoRenderer {
             fixed_capacities: false,
             materials_epoch: scene.mesh_epoch(),
             retire_age: 0,
+            split: SplitTuner::new(),
             scene,
         })
     }
@@ -438,6 +443,9 @@ impl VgeoRenderer {
         settings: &FrameSettings,
     ) -> ViewGpu {
         let mut settings = *settings;
+        if settings.auto_split() {
+            settings.hw_threshold_px = self.split.threshold();
+        }
         if self.direct_visible() {
             settings.flags |= VIEW_FLAG_DIRECT_VISIBLE;
         }
@@ -601,6 +609,11 @@ impl VgeoRenderer {
             return Ok(Vec::new());
         };
         let mut settings = *settings;
+        // One split for the whole submission; its frames' times tell the tuner.
+        let auto = settings.auto_split();
+        if auto {
+            settings.hw_threshold_px = self.split.threshold();
+        }
         if mode == ViewMode::Fallback {
             settings.flags |= crate::shared::VIEW_FLAG_FALLBACK_CUT;
         }
@@ -712,11 +725,59 @@ impl VgeoRenderer {
         }
         let mut ends: Vec<usize> = starts.iter().skip(1).copied().collect();
         ends.push(all.len());
-        Ok(starts
+        let frames: Vec<Vec<(String, f64)>> = starts
             .iter()
             .zip(ends)
             .map(|(&a, b)| all[a.min(all.len())..b.min(all.len())].to_vec())
-            .collect())
+            .collect();
+        if auto {
+            for f in &frames {
+                self.split
+                    .observe(settings.hw_threshold_px, f.iter().map(|p| p.1).sum());
+            }
+        }
+        Ok(frames)
+    }
+
+    /// The automatic SW/HW split of [`VgeoRenderer::render`]'s frames: the threshold chosen so
+    /// far (pixels) and whether the tuner has settled on it ([`SplitTuner::settled`]).
+    pub fn hw_split(&self) -> (f32, bool) {
+        (self.split.chosen(), self.split.settled())
+    }
+
+    /// Renders `cameras` (a path, repeated) with the automatic split until the tuner settles, for
+    /// at most `budget_ms` of wall time, and returns the threshold chosen: what a benchmark fixes
+    /// before it times a path (so that no timed frame probes another split). Settings with a
+    /// fixed split return it at once. The occlusion history is left reset.
+    pub fn settle_split(
+        &mut self,
+        cameras: &[Camera],
+        width: u32,
+        height: u32,
+        settings: &FrameSettings,
+        light: &Light,
+        budget_ms: f64,
+    ) -> GpuResult<f32> {
+        if !settings.auto_split() || cameras.is_empty() {
+            return Ok(settings.hw_threshold_px);
+        }
+        let t = std::time::Instant::now();
+        // A window's worth of frames per submission: each submission measures one candidate.
+        let n = split::SPLIT_WINDOW.min(cameras.len());
+        let mut at = 0;
+        while !self.split.settled() && t.elapsed().as_secs_f64() * 1e3 < budget_ms {
+            let cams: Vec<Camera> = (0..n).map(|k| cameras[(at + k) % cameras.len()]).collect();
+            at = (at + n) % cameras.len();
+            if self
+                .render_path_timed(&cams, width, height, settings, ViewMode::Lit, light)?
+                .iter()
+                .all(|f| f.is_empty())
+            {
+                break; // no timestamps: nothing to measure
+            }
+        }
+        self.reset_history();
+        Ok(self.split.chosen())
     }
 
     /// Records one frame (the one frame recording: `render`, `render_path_timed` and the embedded

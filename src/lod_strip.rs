@@ -60,7 +60,8 @@ pub struct LodStripOptions {
     /// LOD threshold in pixels of the unmagnified view (see the module documentation).
     pub error_px: f32,
     /// The HW/SW split (`FrameSettings::hw_threshold_px`: the edge-length equivalent of a cluster's
-    /// triangles) in pixels of the unmagnified view.
+    /// triangles) in pixels of the unmagnified view; negative: the renderer's automatic split
+    /// (`FrameSettings::AUTO_HW_THRESHOLD`), unscaled.
     pub hw_threshold_px: f32,
     /// Extra `VIEW_FLAG_*` (force SW / HW).
     pub flags: u32,
@@ -204,7 +205,11 @@ pub fn render_lod_strip(
         let m = (1u64 << i) as f64;
         let settings = FrameSettings {
             error_px: tau,
-            hw_threshold_px: opts.hw_threshold_px * m as f32,
+            hw_threshold_px: if opts.hw_threshold_px < 0.0 {
+                opts.hw_threshold_px
+            } else {
+                opts.hw_threshold_px * m as f32
+            },
             flags: opts.flags,
             occlusion: false,
         };

@@ -94,7 +94,10 @@ struct RenderArgs {
     /// mean area), the side of a square grid cell of that area (two triangles per cell), projected
     /// at the cluster's nearest point. Long thin triangles count by their area, not their length.
     /// 0: every cluster to hardware; 100000: software only (but the near plane's clusters).
-    #[arg(long, default_value_t = FrameSettings::DEFAULT_HW_THRESHOLD_PX)]
+    /// `auto`: chosen by measured cost, from the GPU times of the frames drawn (it starts at 64
+    /// and tries its neighbours and software only over a few frames each; where nothing can be
+    /// timed it stays at 64; no pixel changes, only the time).
+    #[arg(long, default_value = "auto", value_parser = FrameSettings::parse_hw_threshold)]
     hw_threshold: f32,
     /// `--mode vgeo`: how the hardware rasterizer is fed: `mesh` (a mesh-shader workgroup per
     /// cluster, each vertex decoded once; needs VK_EXT_mesh_shader), `vertex` (vertex pulling,
@@ -243,7 +246,7 @@ fn main() -> ExitCode {
             error_px: 1.0,
             view: "lit".into(),
             raster: "auto".into(),
-            hw_threshold: FrameSettings::DEFAULT_HW_THRESHOLD_PX,
+            hw_threshold: FrameSettings::AUTO_HW_THRESHOLD,
             hw_path: "auto".into(),
             emit: "compute".into(),
             no_occlusion: false,
@@ -596,6 +599,18 @@ fn render_vgeo(
         while t.elapsed().as_secs_f64() < 0.5 {
             r.render_path_timed(&cams, a.width, a.height, &settings, view, light)?;
         }
+        // The automatic split settles first and is held: no timed frame probes another.
+        let mut settings = settings;
+        if settings.auto_split() {
+            let chosen = r.settle_split(&cams, a.width, a.height, &settings, light, 3000.0)?;
+            let settled = if r.hw_split().1 {
+                "settled"
+            } else {
+                "not settled in 3 s"
+            };
+            summary.push(format!("split:      auto: {chosen} px ({settled})"));
+            settings.hw_threshold_px = chosen;
+        }
         let times = r.render_path_timed(&cams, a.width, a.height, &settings, view, light)?;
         let mean = times
             .iter()
@@ -768,7 +783,10 @@ fn finish(
         println!("{l}");
     }
     println!("GPU time:   {:.3} ms", frame.gpu_total_ms());
-    for l in summary.iter().filter(|l| l.starts_with("timed")) {
+    for l in summary
+        .iter()
+        .filter(|l| l.starts_with("split") || l.starts_with("timed"))
+    {
         println!("{l}");
     }
     if a.stats {

@@ -264,19 +264,23 @@ fn help_explains_commands() {
     for opt in ["--reference-spp", "--psnr-margin", "4x4", "floor"] {
         assert!(out.contains(opt), "bench --help lacks `{opt}`:\n{out}");
     }
-    // The SW/HW split's default is the renderer's, in both commands' help.
-    let default = format!("default {}", vgeo::shared::DEFAULT_HW_THRESHOLD_PX);
+    // The SW/HW split's default is the renderer's (measured: `auto`), in both commands' help.
     assert!(
-        out.contains(&default),
-        "bench --help lacks `{default}`:\n{out}"
+        out.contains("Default `auto`"),
+        "bench --help lacks the automatic split:\n{out}"
     );
     let (ok, out, _) = run(vgeo().args(["render", "--help"]));
     assert!(ok);
-    let default = format!("[default: {}]", vgeo::shared::DEFAULT_HW_THRESHOLD_PX);
     assert!(
-        out.contains(&default),
-        "render --help lacks `{default}`:\n{out}"
+        out.contains("[default: auto]"),
+        "render --help lacks the automatic split:\n{out}"
     );
+    // A split that is neither `auto` nor a number of pixels is refused, saying what it takes.
+    for bad in ["--hw-threshold=-3", "--hw-threshold=fast"] {
+        let (ok, _, err) = run(vgeo().args(["render", "x.ply", bad]));
+        assert!(!ok, "--hw-threshold {bad} was taken");
+        assert!(err.contains("`auto` or a number of pixels"), "{err}");
+    }
 }
 
 /// `vgeo` with no arguments: the demo (a field of bunnies, over 100 M instanced triangles) in vgeo
@@ -405,12 +409,14 @@ fn render_path_reports_every_frame() {
     );
     let (ok, _, err) = run(args(false).args(["--mode", "brute"]));
     assert!(!ok && err.contains("--path"), "{err}");
-    // --time: the last view timed back to back.
+    // --time: the last view timed back to back, with the automatic split settled first and
+    // said.
     let (ok, out, err) = run(args(true).args(["--time", "4"]));
     assert!(
         ok && out.contains("timed:") && out.contains("mean of 4 frames"),
         "{out}\n{err}"
     );
+    assert!(out.contains("split:      auto: "), "{out}");
 }
 
 /// `--geometry-budget` alone (or `auto`) streams under a quarter of the device-local heap, said at

@@ -613,3 +613,46 @@ fn a_steady_state_frame_with_moving_instances_allocates_nothing() {
         "{psnr:.1} dB against a fresh render of the last places"
     );
 }
+
+/// The automatic SW/HW split of a host's frames: each view's tuner is fed the times of its own
+/// frames as their slots come round again (no wait, no allocation), and settles on a threshold of
+/// the ladder.
+#[test]
+fn a_views_automatic_split_settles_from_its_own_frames() {
+    let ctx = gpu();
+    let built =
+        example::build_meshes(&[assets().join("spot.obj").to_string_lossy().into_owned()]).unwrap();
+    let placements: Vec<Placement> = example::placements(&built, 20);
+    let mut r = VgeoRenderer::new(&ctx, &built, &placements).unwrap();
+    let (w, h) = (96u32, 64u32);
+    let mut view = r.create_view("main", w, h, 2).unwrap();
+    let (color, depth) = targets(&ctx, w, h);
+    let camera = example::camera_at(0);
+    assert_eq!(view.hw_split(), (64.0, false), "a new view starts at 64");
+    let mut frames = 0u64;
+    while !view.hw_split().1 && frames < 2000 {
+        ctx.submit_and_wait("split", |cmd| {
+            host_clear(cmd, &color, &depth);
+            let f = lit_frame(frames, &camera, &color, &depth);
+            r.update_scene_cmd(cmd, &mut [&mut view]).unwrap();
+            r.record_cmd(cmd, &mut view, &f).unwrap();
+        })
+        .unwrap();
+        frames += 1;
+        if frames == 4
+            && view
+                .try_stats(2)
+                .unwrap()
+                .is_some_and(|s| s.gpu_ms.is_empty())
+        {
+            eprintln!("no timestamps: the split stays at 64");
+            assert_eq!(view.hw_split(), (64.0, false));
+            return;
+        }
+    }
+    let (chosen, settled) = view.hw_split();
+    eprintln!("settled on {chosen} px after {frames} frames");
+    assert!(settled, "not settled after {frames} frames");
+    assert!(vgeo::frame::split::SPLIT_LADDER.contains(&chosen));
+    assert_no_validation_errors(&ctx);
+}

@@ -258,6 +258,80 @@ fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_determ
     assert_no_validation_errors(&ctx);
 }
 
+/// The automatic SW/HW split (the default, `frame::split`): the renderer settles on a threshold of
+/// the ladder from its frames' GPU times, and the frames it draws while probing are the frames a
+/// fixed split draws, bit for bit (the split changes only the time).
+#[test]
+fn the_automatic_split_settles_and_changes_no_pixel() {
+    use vgeo::frame::split::SPLIT_LADDER;
+    let ctx = gpu();
+    let (mut r, camera) = three_spots(&ctx);
+    let auto = FrameSettings {
+        error_px: 1.0,
+        occlusion: false,
+        ..Default::default()
+    };
+    assert!(auto.auto_split());
+    let fixed = FrameSettings {
+        hw_threshold_px: 64.0,
+        ..auto
+    };
+    let reference = render(&mut r, &camera, &fixed);
+    if reference.frame.gpu_ms.is_empty() {
+        eprintln!(
+            "no timestamps on {}: the split stays at 64",
+            ctx.caps().device_name
+        );
+        assert_eq!(r.hw_split(), (64.0, false));
+        return;
+    }
+    // Frames while the tuner probes: every threshold it tries draws the same visibility buffer.
+    let mut seen = Vec::new();
+    for _ in 0..80 {
+        let f = render(&mut r, &camera, &auto);
+        let differ = (f.visbuffer.iter().zip(&reference.visbuffer))
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(
+            differ, 0,
+            "a frame of the automatic split differs from the fixed one"
+        );
+        assert_eq!(f.frame.color, reference.frame.color);
+        let (chosen, _) = r.hw_split();
+        if !seen.contains(&chosen) {
+            seen.push(chosen);
+        }
+    }
+    let light = Light::default();
+    let chosen = r
+        .settle_split(std::slice::from_ref(&camera), W, H, &auto, &light, 60_000.0)
+        .unwrap();
+    let (held, settled) = r.hw_split();
+    eprintln!(
+        "{}: thresholds chosen along the way {seen:?}, settled on {chosen} px",
+        ctx.caps().device_name
+    );
+    assert!(settled, "the tuner settles within a minute");
+    assert_eq!(chosen, held);
+    assert!(
+        SPLIT_LADDER.contains(&chosen),
+        "{chosen} is not on the ladder"
+    );
+    // A fixed split passes through untouched.
+    let t = r
+        .settle_split(
+            std::slice::from_ref(&camera),
+            W,
+            H,
+            &fixed,
+            &light,
+            60_000.0,
+        )
+        .unwrap();
+    assert_eq!(t, 64.0);
+    assert_no_validation_errors(&ctx);
+}
+
 /// The SW/HW split by the size of a cluster's triangles (common/cull.glsl::emit_cluster,
 /// builder::size) at the default threshold: long thin slivers (grass blades seen from the front:
 /// clusters a few hundred pixels across, triangles of a few pixels' area) go to the compute
@@ -274,7 +348,11 @@ fn split_by_triangle_size_sends_slivers_to_sw_and_big_triangles_to_hw() {
         occlusion: false,
         ..Default::default()
     };
-    assert_eq!(settings.hw_threshold_px, 64.0, "the default split");
+    assert!(settings.auto_split(), "the default split is measured");
+    let settings = FrameSettings {
+        hw_threshold_px: FrameSettings::DEFAULT_HW_THRESHOLD_PX,
+        ..settings
+    };
     let (p, i) = slivers(200, 1.8, 0.002, 0.01);
     let thin = build(&mesh_from("slivers", p, i), &BuildOptions::default()).unwrap();
     let wall = build(&wall_mesh(4), &BuildOptions::default()).unwrap();

@@ -60,6 +60,7 @@ pub(super) fn summarize(report: &BenchReport) -> Vec<Summary> {
                 triangles_mean: mean(rs.iter().map(|r| r.triangles as f64)).unwrap_or(0.0),
                 clusters_mean: mean(rs.iter().filter_map(|r| r.clusters.map(|c| c as f64))),
                 hw_clusters_mean: mean(rs.iter().filter_map(|r| r.hw_clusters.map(|c| c as f64))),
+                hw_threshold_px: rs.iter().find_map(|r| r.hw_threshold_px),
                 instances_visible_mean: mean(
                     rs.iter()
                         .filter_map(|r| r.instances_visible.map(|c| c as f64)),

@@ -247,9 +247,12 @@ pub struct BenchArgs {
     pub modes: Option<Vec<String>>,
     /// vgeo, the SW/HW split: clusters whose triangles' edge-length equivalent (sqrt(2 x their
     /// area-weighted mean area), projected at the cluster's nearest point) exceeds this many
-    /// pixels go to the hardware rasterizer (default 64, the renderer's; 0: all to hardware;
-    /// 100000: software only but the near plane's clusters).
-    #[arg(long)]
+    /// pixels go to the hardware rasterizer (0: all to hardware; 100000: software only but the
+    /// near plane's clusters). Default `auto`, the renderer's: chosen by measured frame time,
+    /// settled on each scene's path before it is timed and then held (the split each scene was
+    /// timed with is in bench.md's clusters column and the JSON's `hw_threshold_px`); streamed
+    /// scenes keep 64.
+    #[arg(long, value_parser = FrameSettings::parse_hw_threshold)]
     pub hw_threshold: Option<f32>,
     /// vgeo: `emit_gbuffer` as `compute` (default: a dispatch per material) or `raster` (a draw
     /// of tile quads per material against the material depth, DESIGN.md's form).
@@ -390,8 +393,8 @@ impl BenchSettings {
         if self.modes.is_empty() {
             bail!("at least one mode must run");
         }
-        if self.hw_threshold_px.is_nan() || self.hw_threshold_px < 0.0 {
-            bail!("the hardware-rasterizer threshold must be a number >= 0 (pixels)");
+        if self.hw_threshold_px.is_nan() {
+            bail!("the hardware-rasterizer threshold must be `auto` or a number >= 0 (pixels)");
         }
         if self.error_sweep.is_empty()
             || self.error_sweep.iter().any(|e| !e.is_finite() || *e < 0.0)
@@ -594,6 +597,7 @@ mod tests {
             triangles: 100,
             clusters: None,
             hw_clusters: None,
+            hw_threshold_px: None,
             instances_visible: None,
             error: Some(ImageError {
                 surface_diff: 0.01,

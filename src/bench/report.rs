@@ -32,6 +32,9 @@ pub struct FrameRecord {
     pub clusters: Option<u64>,
     /// Of those, clusters the hardware rasterizer drew (vgeo only; the rest went to software).
     pub hw_clusters: Option<u64>,
+    /// The SW/HW split the frame was timed with (vgeo only; with `--hw-threshold auto`, the
+    /// threshold the renderer settled on before timing).
+    pub hw_threshold_px: Option<f32>,
     /// Instances drawn: brute draws all; vgeo counts those passing frustum and occlusion culling;
     /// `None` for lod (its renderer does not report it).
     pub instances_visible: Option<u64>,
@@ -91,6 +94,8 @@ pub struct Summary {
     pub clusters_mean: Option<f64>,
     /// Clusters to the hardware rasterizer (vgeo).
     pub hw_clusters_mean: Option<f64>,
+    /// vgeo: the SW/HW split its frames were timed with ([`FrameRecord::hw_threshold_px`]).
+    pub hw_threshold_px: Option<f32>,
     pub instances_visible_mean: Option<f64>,
     pub surface_diff_mean: Option<f64>,
     pub surface_diff_max: Option<f64>,
@@ -624,13 +629,17 @@ pub fn markdown(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         md,
-        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} px ({} path), emit_gbuffer {:?}; GPU ms from timestamps, frames of the path recorded back to back in one submission (no read-back, no CPU wait between them; heavy frames in submissions of ~100 ms) after ~0.5 s of GPU warm-up, mean over the path; CPU ms: a submission's wall time over its frames; images and counters from a second pass with read-back",
+        "- {}x{}, {} frames per path, thresholds {:?} px, modes {}, vgeo hardware-rasterizer threshold {} ({} path), emit_gbuffer {:?}; GPU ms from timestamps, frames of the path recorded back to back in one submission (no read-back, no CPU wait between them; heavy frames in submissions of ~100 ms) after ~0.5 s of GPU warm-up, mean over the path; CPU ms: a submission's wall time over its frames; images and counters from a second pass with read-back",
         s.width,
         s.height,
         s.frames,
         s.error_sweep,
         s.modes.join(", "),
-        s.hw_threshold_px,
+        if s.hw_threshold_px < 0.0 {
+            "auto (settled per scene and threshold before timing, in the clusters column)".into()
+        } else {
+            format!("{} px", s.hw_threshold_px)
+        },
         report.hw_path,
         s.emit
     );
@@ -673,7 +682,13 @@ pub fn markdown(report: &BenchReport) -> String {
                 r.cpu_ms_mean,
                 r.triangles_mean,
                 match (r.clusters_mean, r.hw_clusters_mean) {
-                    (Some(c), Some(h)) => format!("{c:.0} ({h:.0} HW)"),
+                    (Some(c), Some(h)) => match r.hw_threshold_px {
+                        Some(t) if t >= crate::frame::split::SOFTWARE_ONLY_PX => {
+                            format!("{c:.0} ({h:.0} HW, split: software only)")
+                        }
+                        Some(t) => format!("{c:.0} ({h:.0} HW, split {t} px)"),
+                        None => format!("{c:.0} ({h:.0} HW)"),
+                    },
                     (c, _) => fmt_opt(c, |c| format!("{c:.0}")),
                 },
                 fmt_opt(r.instances_visible_mean, |c| format!("{c:.0}")),

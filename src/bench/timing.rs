@@ -31,6 +31,10 @@ type PassTimes = Vec<(String, f64)>;
 /// How long the GPU is kept busy before a path is timed (see [`time_path`]).
 const WARMUP_MS: f64 = 500.0;
 
+/// Most wall time the automatic SW/HW split may take to settle before a path is timed
+/// ([`crate::frame::VgeoRenderer::settle_split`]).
+const SPLIT_SETTLE_MS: f64 = 5000.0;
+
 /// Per frame of `cameras`, the GPU times and CPU ms of `path` (frames rendered back to back in
 /// one submission, no read-back; `path(first, frames)` renders the frames from index `first`).
 ///
@@ -157,6 +161,7 @@ pub(super) fn run_scene(
                 triangles: frame.triangles,
                 clusters: None,
                 hw_clusters: None,
+                hw_threshold_px: None,
                 instances_visible: Some(scene.placements.len() as u64),
                 error: Some(image_error(&r, &frame)?),
             });
@@ -230,6 +235,7 @@ pub(super) fn run_scene(
                     triangles: frame.triangles,
                     clusters: None,
                     hw_clusters: None,
+                    hw_threshold_px: None,
                     instances_visible: Some(stats.drawn() as u64),
                     error,
                 });
@@ -295,6 +301,17 @@ pub(super) fn run_scene(
                 ..FrameSettings::default()
             };
             if let Some(streamer) = streamer.as_mut() {
+                // Streamed frames are timed one by one while pages land: the split stays at the
+                // fixed default (settling would draw frames the streamer never saw), and the
+                // all-resident frames it is compared with take the same.
+                let fs = FrameSettings {
+                    hw_threshold_px: if fs.auto_split() {
+                        FrameSettings::DEFAULT_HW_THRESHOLD_PX
+                    } else {
+                        fs.hw_threshold_px
+                    },
+                    ..fs
+                };
                 let budget = stream.map_or(0, |o| o.budget_bytes);
                 run_streamed(
                     settings,
@@ -321,6 +338,19 @@ pub(super) fn run_scene(
                 }
                 continue;
             }
+            // The automatic split settles on the path first and is then held: no timed frame
+            // probes another (the same split for the read-back pass below).
+            let fs = FrameSettings {
+                hw_threshold_px: r.settle_split(
+                    &scene.cameras,
+                    w,
+                    h,
+                    &fs,
+                    &scene.light,
+                    SPLIT_SETTLE_MS,
+                )?,
+                ..fs
+            };
             // Timed along the path (history flows frame to frame as in an application), then
             // rendered again with read-back for the counters and the image error.
             let timed = time_path(settings.warmup, &scene.cameras, |first, cams| {
@@ -342,7 +372,7 @@ pub(super) fn run_scene(
                     bar.inc(frames - f as u64);
                     break;
                 }
-                let rec = vgeo_record(name, e, f, &vf, passes, cpu_ms, reference[f].as_ref())?;
+                let rec = vgeo_record(name, &fs, e, f, &vf, passes, cpu_ms, reference[f].as_ref())?;
                 report.records.push(rec);
                 save_example(report, name, "vgeo", Some(e), f, &vf.frame, None);
                 bar.inc(1);
@@ -383,8 +413,10 @@ fn new_vgeo(
 }
 
 /// A vgeo frame's record: counters from the read-back frame `vf`, times from its timed run.
+#[allow(clippy::too_many_arguments)]
 fn vgeo_record(
     scene: &str,
+    fs: &FrameSettings,
     e: f32,
     f: usize,
     vf: &crate::VgeoFrame,
@@ -408,6 +440,7 @@ fn vgeo_record(
         triangles: vf.frame.triangles,
         clusters: Some((m.sw_count + m.hw_count) as u64 + (p.sw_count + p.hw_count) as u64),
         hw_clusters: Some(m.hw_count as u64 + p.hw_count as u64),
+        hw_threshold_px: Some(fs.hw_threshold_px),
         instances_visible: Some(m.instances_visible as u64 + p.instances_visible as u64),
         error,
     })
@@ -513,6 +546,7 @@ fn run_streamed(
         }
         report.records.push(vgeo_record(
             name,
+            fs,
             e,
             f,
             &vf,

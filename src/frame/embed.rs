@@ -29,6 +29,7 @@
 //!   with the same scope as destination (synchronization2).
 
 use crate::camera::Camera;
+use crate::frame::split::SplitTuner;
 use crate::frame::{Finish, FrameData, FrameInputs, VgeoRenderer, occlusion_of, words};
 use crate::gpu::{Buffer, Cmd, GpuError, GpuResult, HostImage, Image, MemoryKind, Timer, vk};
 use crate::material::ShadeMode;
@@ -68,6 +69,8 @@ struct Slot {
     readback: Buffer,
     /// The frame last recorded into this slot.
     frame: Option<u64>,
+    /// The SW/HW split it was drawn with.
+    threshold: f32,
 }
 
 /// One view of the scene (a camera into a target of one size), with its own frame buffers,
@@ -83,6 +86,9 @@ pub struct View {
     targets: MaterialTargets,
     host_depth: HostDepthBuffer,
     slots: Vec<Slot>,
+    /// The automatic SW/HW split of this view's frames (`frame::split`): fed with each slot's
+    /// times when the slot is recorded again (its frame is done by then).
+    split: SplitTuner,
 }
 
 /// What the GPU reported about one recorded frame of a view.
@@ -167,6 +173,12 @@ impl View {
         self.slots.len() as u32
     }
 
+    /// The automatic SW/HW split of this view's frames: the threshold chosen so far (pixels) and
+    /// whether its tuner has settled on it (`frame::split::SplitTuner`).
+    pub fn hw_split(&self) -> (f32, bool) {
+        (self.split.chosen(), self.split.settled())
+    }
+
     /// Debug name.
     pub fn name(&self) -> &str {
         &self.name
@@ -243,6 +255,7 @@ impl VgeoRenderer {
                         MemoryKind::Readback,
                     )?,
                     frame: None,
+                    threshold: 0.0,
                 })
             })
             .collect::<GpuResult<Vec<_>>>()?;
@@ -255,6 +268,7 @@ impl VgeoRenderer {
             targets,
             host_depth,
             slots,
+            split: SplitTuner::new(),
         })
     }
 
@@ -432,6 +446,18 @@ impl VgeoRenderer {
         let mut settings = frame.settings;
         // `View::try_stats` reads this frame's counters back: the cull keeps its statistics.
         settings.flags |= crate::shared::VIEW_FLAG_CULL_STATS;
+        let slot_index = (frame.frame % view.slots.len() as u64) as usize;
+        if settings.auto_split() {
+            // The slot's last frame is done (the host waited for it before reusing the slot):
+            // its time tells the view's tuner, which picks this frame's split.
+            let slot = &mut view.slots[slot_index];
+            if slot.frame.is_some()
+                && let Ok(Some(ms)) = slot.timer.try_total_ms()
+            {
+                view.split.observe(slot.threshold, ms);
+            }
+            settings.hw_threshold_px = view.split.threshold();
+        }
         let cam = frame.camera;
         let levels = view.pyramid.levels.len() as u32;
         let current = occlusion_of(cam, width, height, levels, settings.occlusion);
@@ -456,7 +482,6 @@ impl VgeoRenderer {
             current,
             mview,
         };
-        let slot_index = (frame.frame % view.slots.len() as u64) as usize;
         let View {
             fb,
             pyramid,
@@ -467,6 +492,7 @@ impl VgeoRenderer {
             ..
         } = view;
         let slot = &mut slots[slot_index];
+        slot.threshold = settings.hw_threshold_px;
         slot.timer.reset(cmd);
         let inputs = FrameInputs {
             fb,

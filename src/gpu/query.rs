@@ -12,6 +12,8 @@ pub struct Timer {
     names: Vec<&'static str>,
     capacity: u32,
     open: Option<u32>,
+    /// Query results of [`Timer::try_total_ms`] (capacity reserved at creation).
+    ticks: Vec<u64>,
 }
 
 impl Timer {
@@ -35,6 +37,7 @@ impl Timer {
             names: Vec::with_capacity(max_passes as usize),
             capacity: max_passes,
             open: None,
+            ticks: Vec::with_capacity(2 * max_passes as usize),
         })
     }
 
@@ -106,6 +109,39 @@ impl Timer {
     /// is not yet available (its submission has not completed, or was never submitted).
     pub fn try_results(&self) -> GpuResult<Option<Vec<(String, f64)>>> {
         self.read(false)
+    }
+
+    /// The sum of the last recording's pass times in milliseconds, without waiting and without
+    /// allocating (for a frame's own bookkeeping): `None` while some timestamp is not yet
+    /// available, or without timestamp support or passes.
+    pub fn try_total_ms(&mut self) -> GpuResult<Option<f64>> {
+        let (Some(pool), Some(period)) = (self.pool, self.ctx.caps().timestamp_period_ns) else {
+            return Ok(None);
+        };
+        let n = self.names.len();
+        if n == 0 {
+            return Ok(None);
+        }
+        self.ticks.clear();
+        self.ticks.resize(2 * n, 0);
+        // SAFETY: as in `read`: the queries 0..2n were reset and written by the last recording;
+        // without WAIT the call returns NOT_READY (no data) until all of them are available.
+        let r = unsafe {
+            self.ctx.device().get_query_pool_results(
+                pool,
+                0,
+                &mut self.ticks,
+                vk::QueryResultFlags::TYPE_64,
+            )
+        };
+        match r {
+            Err(vk::Result::NOT_READY) => return Ok(None),
+            r => r.call("vkGetQueryPoolResults")?,
+        }
+        let ticks: u64 = (0..n)
+            .map(|i| self.ticks[2 * i + 1].wrapping_sub(self.ticks[2 * i]))
+            .sum();
+        Ok(Some(ticks as f64 * period as f64 / 1e6))
     }
 
     fn read(&self, wait: bool) -> GpuResult<Option<Vec<(String, f64)>>> {

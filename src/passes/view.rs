@@ -16,7 +16,10 @@ pub struct FrameSettings {
     /// its triangles (`sqrt(2 * sum(A^2) / sum(A))` over their areas, i.e. the side of a square
     /// grid cell of their area-weighted mean area: `builder::size`), projected at the cluster's
     /// nearest point, exceeds this many pixels. 0: every cluster to HW; a huge value: every
-    /// cluster not reaching the near plane to SW.
+    /// cluster not reaching the near plane to SW. Negative ([`FrameSettings::AUTO_HW_THRESHOLD`],
+    /// the default): chosen by the renderer from the GPU times of the frames it drew
+    /// (`frame::split`): the renderer's own for [`crate::frame::VgeoRenderer::render`], each
+    /// view's for a host's frames.
     pub hw_threshold_px: f32,
     /// Zero or more of [`FrameSettings::FORCE_SW`], [`FrameSettings::FORCE_HW`],
     /// [`FrameSettings::NO_FRUSTUM`], [`FrameSettings::COUNT_OVERDRAW`].
@@ -34,15 +37,35 @@ impl FrameSettings {
     pub const NO_FRUSTUM: u32 = crate::shared::VIEW_FLAG_NO_FRUSTUM;
     /// [`FrameSettings::flags`]: count rasterizer writes per pixel (the overdraw view).
     pub const COUNT_OVERDRAW: u32 = crate::shared::VIEW_FLAG_COUNT_OVERDRAW;
-    /// The default [`FrameSettings::hw_threshold_px`] (pixels).
+    /// The fixed split where none is measured: where the automatic one starts, and what it keeps
+    /// on a device without timestamps (pixels).
     pub const DEFAULT_HW_THRESHOLD_PX: f32 = crate::shared::DEFAULT_HW_THRESHOLD_PX;
+    /// [`FrameSettings::hw_threshold_px`]: the split chosen by measured cost (the default).
+    pub const AUTO_HW_THRESHOLD: f32 = -1.0;
+
+    /// Whether the split is chosen by measured cost ([`FrameSettings::AUTO_HW_THRESHOLD`]).
+    pub fn auto_split(&self) -> bool {
+        self.hw_threshold_px < 0.0
+    }
+
+    /// A split as the command line gives it: `auto` ([`FrameSettings::AUTO_HW_THRESHOLD`]) or a
+    /// number of pixels, at least 0.
+    pub fn parse_hw_threshold(s: &str) -> Result<f32, String> {
+        if s == "auto" {
+            return Ok(Self::AUTO_HW_THRESHOLD);
+        }
+        match s.parse::<f32>() {
+            Ok(v) if v >= 0.0 => Ok(v),
+            _ => Err(format!("`{s}`: `auto` or a number of pixels >= 0")),
+        }
+    }
 }
 
 impl Default for FrameSettings {
     fn default() -> Self {
         Self {
             error_px: 1.0,
-            hw_threshold_px: Self::DEFAULT_HW_THRESHOLD_PX,
+            hw_threshold_px: Self::AUTO_HW_THRESHOLD,
             flags: 0,
             occlusion: true,
         }
