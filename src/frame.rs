@@ -609,10 +609,15 @@ impl VgeoRenderer {
             return Ok(Vec::new());
         };
         let mut settings = *settings;
-        // One split for the whole submission; its frames' times tell the tuner.
+        // One split for the whole submission; its frames' times tell the tuner. A view that
+        // shows the split (hwsw) shows the choice, not a threshold being tried.
         let auto = settings.auto_split();
         if auto {
-            settings.hw_threshold_px = self.split.threshold();
+            settings.hw_threshold_px = if mode == ViewMode::HwSw {
+                self.split.chosen()
+            } else {
+                self.split.threshold()
+            };
         }
         if mode == ViewMode::Fallback {
             settings.flags |= crate::shared::VIEW_FLAG_FALLBACK_CUT;
@@ -745,16 +750,21 @@ impl VgeoRenderer {
         (self.split.chosen(), self.split.settled())
     }
 
-    /// Renders `cameras` (a path, repeated) with the automatic split until the tuner settles, for
-    /// at most `budget_ms` of wall time, and returns the threshold chosen: what a benchmark fixes
-    /// before it times a path (so that no timed frame probes another split). Settings with a
-    /// fixed split return it at once. The occlusion history is left reset.
+    /// Renders the first frames of `cameras` (a path) in `mode` with the automatic split, a fresh
+    /// round of the tuner from its current choice, until it settles or `budget_ms` of wall time
+    /// pass, and returns the threshold chosen: what a benchmark fixes before it times a path (so
+    /// that no timed frame probes another split). Every candidate is measured on the same
+    /// cameras (the path's first [`split::SPLIT_WINDOW`], repeated when it has fewer), so the
+    /// choice compares splits, not parts of the path. Settings with a fixed split return it at
+    /// once. The occlusion history is left reset.
+    #[allow(clippy::too_many_arguments)]
     pub fn settle_split(
         &mut self,
         cameras: &[Camera],
         width: u32,
         height: u32,
         settings: &FrameSettings,
+        mode: ViewMode,
         light: &Light,
         budget_ms: f64,
     ) -> GpuResult<f32> {
@@ -762,14 +772,13 @@ impl VgeoRenderer {
             return Ok(settings.hw_threshold_px);
         }
         let t = std::time::Instant::now();
-        // A window's worth of frames per submission: each submission measures one candidate.
-        let n = split::SPLIT_WINDOW.min(cameras.len());
-        let mut at = 0;
+        // Earlier frames (other views, other settings) do not count.
+        self.split.restart();
+        let cams = &cameras[..split::SPLIT_WINDOW.min(cameras.len())];
         while !self.split.settled() && t.elapsed().as_secs_f64() * 1e3 < budget_ms {
-            let cams: Vec<Camera> = (0..n).map(|k| cameras[(at + k) % cameras.len()]).collect();
-            at = (at + n) % cameras.len();
+            self.reset_history();
             if self
-                .render_path_timed(&cams, width, height, settings, ViewMode::Lit, light)?
+                .render_path_timed(cams, width, height, settings, mode, light)?
                 .iter()
                 .all(|f| f.is_empty())
             {

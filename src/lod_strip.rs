@@ -60,8 +60,8 @@ pub struct LodStripOptions {
     /// LOD threshold in pixels of the unmagnified view (see the module documentation).
     pub error_px: f32,
     /// The HW/SW split (`FrameSettings::hw_threshold_px`: the edge-length equivalent of a cluster's
-    /// triangles) in pixels of the unmagnified view; negative: the renderer's automatic split
-    /// (`FrameSettings::AUTO_HW_THRESHOLD`), unscaled.
+    /// triangles) in pixels of the unmagnified view; negative (`FrameSettings::AUTO_HW_THRESHOLD`):
+    /// the fixed default (a strip times nothing to choose by, and its panels must agree).
     pub hw_threshold_px: f32,
     /// Extra `VIEW_FLAG_*` (force SW / HW).
     pub flags: u32,
@@ -206,10 +206,10 @@ pub fn render_lod_strip(
         let settings = FrameSettings {
             error_px: tau,
             hw_threshold_px: if opts.hw_threshold_px < 0.0 {
-                opts.hw_threshold_px
+                FrameSettings::DEFAULT_HW_THRESHOLD_PX
             } else {
-                opts.hw_threshold_px * m as f32
-            },
+                opts.hw_threshold_px
+            } * m as f32,
             flags: opts.flags,
             occlusion: false,
         };

@@ -602,7 +602,8 @@ fn render_vgeo(
         // The automatic split settles first and is held: no timed frame probes another.
         let mut settings = settings;
         if settings.auto_split() {
-            let chosen = r.settle_split(&cams, a.width, a.height, &settings, light, 3000.0)?;
+            let chosen =
+                r.settle_split(&cams, a.width, a.height, &settings, view, light, 3000.0)?;
             let settled = if r.hw_split().1 {
                 "settled"
             } else {

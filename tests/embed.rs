@@ -630,12 +630,17 @@ fn a_views_automatic_split_settles_from_its_own_frames() {
     let camera = example::camera_at(0);
     assert_eq!(view.hw_split(), (64.0, false), "a new view starts at 64");
     let mut frames = 0u64;
+    let mut per_frame = Vec::new();
     while !view.hw_split().1 && frames < 2000 {
         ctx.submit_and_wait("split", |cmd| {
             host_clear(cmd, &color, &depth);
             let f = lit_frame(frames, &camera, &color, &depth);
-            r.update_scene_cmd(cmd, &mut [&mut view]).unwrap();
-            r.record_cmd(cmd, &mut view, &f).unwrap();
+            let (res, n) = allocations(|| -> vgeo::gpu::GpuResult<()> {
+                r.update_scene_cmd(cmd, &mut [&mut view])?;
+                r.record_cmd(cmd, &mut view, &f)
+            });
+            res.unwrap();
+            per_frame.push(n);
         })
         .unwrap();
         frames += 1;
@@ -653,6 +658,12 @@ fn a_views_automatic_split_settles_from_its_own_frames() {
     let (chosen, settled) = view.hw_split();
     eprintln!("settled on {chosen} px after {frames} frames");
     assert!(settled, "not settled after {frames} frames");
+    // Measuring, deciding and switching happen inside `record`, which allocates nothing once
+    // warm (the first frames grow the staging ring).
+    assert!(
+        per_frame[2..].iter().all(|n| *n == 0),
+        "frames allocated while the split was tuned: {per_frame:?}"
+    );
     assert!(vgeo::frame::split::SPLIT_LADDER.contains(&chosen));
     assert_no_validation_errors(&ctx);
 }

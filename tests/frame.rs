@@ -265,7 +265,26 @@ fn sw_and_hw_rasterizers_give_identical_visibility_buffers_and_frames_are_determ
 fn the_automatic_split_settles_and_changes_no_pixel() {
     use vgeo::frame::split::SPLIT_LADDER;
     let ctx = gpu();
-    let (mut r, camera) = three_spots(&ctx);
+    // A wall of large triangles beside three spots of small ones: the thresholds the tuner tries
+    // send different clusters to hardware.
+    let (fov, eye) = (60f32.to_radians(), DVec3::new(0.0, 0.0, 2.0));
+    let camera = Camera::look_at(eye, DVec3::ZERO, Vec3::Y, fov, 0.05);
+    let wall = build(&wall_mesh(4), &BuildOptions::default()).unwrap();
+    let (_, spot) = load_built(&assets().join("spot.obj"));
+    let placements = [
+        Placement {
+            mesh: 0,
+            transform: DMat4::from_translation(DVec3::new(0.5, 0.0, -0.5)),
+            color: [0.8, 0.8, 0.8],
+        },
+        Placement {
+            mesh: 1,
+            transform: DMat4::from_translation(DVec3::new(-0.6, 0.0, 0.3))
+                * DMat4::from_scale(DVec3::splat(0.4)),
+            color: [0.9, 0.6, 0.4],
+        },
+    ];
+    let mut r = VgeoRenderer::new(&ctx, &[wall, spot], &placements).unwrap();
     let auto = FrameSettings {
         error_px: 1.0,
         occlusion: false,
@@ -285,8 +304,9 @@ fn the_automatic_split_settles_and_changes_no_pixel() {
         assert_eq!(r.hw_split(), (64.0, false));
         return;
     }
-    // Frames while the tuner probes: every threshold it tries draws the same visibility buffer.
-    let mut seen = Vec::new();
+    // Frames while the tuner probes: every threshold it tries draws the same visibility buffer
+    // and image, with different clusters in hardware.
+    let mut splits = Vec::new();
     for _ in 0..80 {
         let f = render(&mut r, &camera, &auto);
         let differ = (f.visbuffer.iter().zip(&reference.visbuffer))
@@ -297,18 +317,23 @@ fn the_automatic_split_settles_and_changes_no_pixel() {
             "a frame of the automatic split differs from the fixed one"
         );
         assert_eq!(f.frame.color, reference.frame.color);
-        let (chosen, _) = r.hw_split();
-        if !seen.contains(&chosen) {
-            seen.push(chosen);
+        let hw = f.main.counters.hw_count + f.post.counters.hw_count;
+        if !splits.contains(&hw) {
+            splits.push(hw);
         }
     }
+    assert!(
+        splits.len() >= 2,
+        "the probed thresholds sent the same clusters to hardware: {splits:?}"
+    );
     let light = Light::default();
+    let one = std::slice::from_ref(&camera);
     let chosen = r
-        .settle_split(std::slice::from_ref(&camera), W, H, &auto, &light, 60_000.0)
+        .settle_split(one, W, H, &auto, ViewMode::Lit, &light, 60_000.0)
         .unwrap();
     let (held, settled) = r.hw_split();
     eprintln!(
-        "{}: thresholds chosen along the way {seen:?}, settled on {chosen} px",
+        "{}: clusters in hardware along the way {splits:?}, settled on {chosen} px",
         ctx.caps().device_name
     );
     assert!(settled, "the tuner settles within a minute");
@@ -317,16 +342,27 @@ fn the_automatic_split_settles_and_changes_no_pixel() {
         SPLIT_LADDER.contains(&chosen),
         "{chosen} is not on the ladder"
     );
-    // A fixed split passes through untouched.
-    let t = r
-        .settle_split(
-            std::slice::from_ref(&camera),
+    // The hwsw view shows the choice, not a threshold being tried.
+    let shown = r
+        .render(&camera, W, H, &auto, ViewMode::HwSw, &light)
+        .unwrap();
+    let chosen_frame = r
+        .render(
+            &camera,
             W,
             H,
-            &fixed,
+            &FrameSettings {
+                hw_threshold_px: chosen,
+                ..auto
+            },
+            ViewMode::HwSw,
             &light,
-            60_000.0,
         )
+        .unwrap();
+    assert_eq!(shown.frame.color, chosen_frame.frame.color);
+    // A fixed split passes through untouched.
+    let t = r
+        .settle_split(one, W, H, &fixed, ViewMode::Lit, &light, 60_000.0)
         .unwrap();
     assert_eq!(t, 64.0);
     assert_no_validation_errors(&ctx);

@@ -338,14 +338,16 @@ pub(super) fn run_scene(
                 }
                 continue;
             }
-            // The automatic split settles on the path first and is then held: no timed frame
-            // probes another (the same split for the read-back pass below).
+            // The automatic split settles on the path's first frames (a fresh round at each
+            // threshold) and is then held: no timed frame probes another (the same split for
+            // the read-back pass below).
             let fs = FrameSettings {
                 hw_threshold_px: r.settle_split(
                     &scene.cameras,
                     w,
                     h,
                     &fs,
+                    ViewMode::Lit,
                     &scene.light,
                     SPLIT_SETTLE_MS,
                 )?,

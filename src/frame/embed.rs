@@ -492,7 +492,6 @@ impl VgeoRenderer {
             ..
         } = view;
         let slot = &mut slots[slot_index];
-        slot.threshold = settings.hw_threshold_px;
         slot.timer.reset(cmd);
         let inputs = FrameInputs {
             fb,
@@ -514,6 +513,8 @@ impl VgeoRenderer {
             (None, None) | (Some(_), Some(_)) => Finish::Nothing,
         };
         self.record_frame(cmd, &mut slot.timer, &inputs, &data, finish)?;
+        // (Only a recorded frame's split: its time is the one the slot's timer will hold.)
+        slot.threshold = settings.hw_threshold_px;
         // The frame's counters and number into the slot's read-back.
         let cc = size_of::<CullCounters>() as u64;
         cmd.barrier(

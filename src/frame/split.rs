@@ -7,8 +7,9 @@
 //! fastest when it beats the choice by more than [`SPLIT_MARGIN`], and otherwise keeps its choice
 //! for ever longer spells before it looks again. Software only is always a candidate, so the
 //! split is never measurably slower than it, even where the steps between are too small to
-//! climb. The split changes no pixel (both rasterizers write the same values,
-//! `tests/frame.rs`), only the time.
+//! climb. The split changes no pixel of the image (both rasterizers write the same values,
+//! `tests/frame.rs`), only the time (and what the `hwsw` view and the SW/HW counters show: the
+//! `hwsw` view is drawn with the choice, never a threshold being tried).
 //!
 //! [`FrameSettings::AUTO_HW_THRESHOLD`]: crate::passes::view::FrameSettings::AUTO_HW_THRESHOLD
 
@@ -141,6 +142,13 @@ impl SplitTuner {
         }
     }
 
+    /// Starts a fresh round from the current choice (what was measured before, on other frames,
+    /// does not count).
+    pub fn restart(&mut self) {
+        self.kept = false;
+        self.start_round();
+    }
+
     fn start_round(&mut self) {
         self.stage = Stage::Measure(0);
         self.samples.clear();
@@ -172,7 +180,7 @@ impl SplitTuner {
 }
 
 fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
+    v.sort_unstable_by(f64::total_cmp);
     let n = v.len();
     if n % 2 == 1 {
         v[n / 2]
