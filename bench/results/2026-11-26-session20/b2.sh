@@ -1,5 +1,6 @@
 #!/bin/bash
-# Session 20, device (1920x1080, 1 px): the generalized-strip triangle code (N, branch b2-tricode)
+# Session 20, device (1920x1080, 1 px): the generalized-strip triangle code (N, branch b2-tricode:
+# call 3 at 9537abd, call 4 at 7411add)
 # against main before it (H). Three interleaved rounds per binary, the split fixed at 64 px in
 # both (the A/B is the triangle decoding, not the tuner): vgeo bench on stress N=20, 100 (4 frames)
 # and outdoor, indoor, foliage, drawcalls (8 frames), with the GPU bytes per stored triangle; the
