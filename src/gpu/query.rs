@@ -124,24 +124,10 @@ impl Timer {
         }
         self.ticks.clear();
         self.ticks.resize(2 * n, 0);
-        // SAFETY: as in `read`: the queries 0..2n were reset and written by the last recording;
-        // without WAIT the call returns NOT_READY (no data) until all of them are available.
-        let r = unsafe {
-            self.ctx.device().get_query_pool_results(
-                pool,
-                0,
-                &mut self.ticks,
-                vk::QueryResultFlags::TYPE_64,
-            )
-        };
-        match r {
-            Err(vk::Result::NOT_READY) => return Ok(None),
-            r => r.call("vkGetQueryPoolResults")?,
+        if !fetch(&self.ctx, pool, &mut self.ticks, false)? {
+            return Ok(None);
         }
-        let ticks: u64 = (0..n)
-            .map(|i| self.ticks[2 * i + 1].wrapping_sub(self.ticks[2 * i]))
-            .sum();
-        Ok(Some(ticks as f64 * period as f64 / 1e6))
+        Ok(Some((0..n).map(|i| pass_ms(&self.ticks, i, period)).sum()))
     }
 
     fn read(&self, wait: bool) -> GpuResult<Option<Vec<(String, f64)>>> {
@@ -153,33 +139,39 @@ impl Timer {
             return Ok(Some(Vec::new()));
         }
         let mut data = vec![0u64; n * 2];
-        let flags = if wait {
-            vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT
-        } else {
-            vk::QueryResultFlags::TYPE_64
-        };
-        // SAFETY: the queries 0..2n were reset and written by the last recording; without WAIT
-        // the call returns NOT_READY (no data) until all of them are available.
-        let r = unsafe {
-            self.ctx
-                .device()
-                .get_query_pool_results(pool, 0, &mut data, flags)
-        };
-        match r {
-            Err(vk::Result::NOT_READY) if !wait => return Ok(None),
-            r => r.call("vkGetQueryPoolResults")?,
+        if !fetch(&self.ctx, pool, &mut data, wait)? {
+            return Ok(None);
         }
         Ok(Some(
             self.names
                 .iter()
                 .enumerate()
-                .map(|(i, name)| {
-                    let ticks = data[2 * i + 1].wrapping_sub(data[2 * i]);
-                    (name.to_string(), ticks as f64 * period as f64 / 1e6)
-                })
+                .map(|(i, name)| (name.to_string(), pass_ms(&data, i, period)))
                 .collect(),
         ))
     }
+}
+
+/// Reads the first `data.len()` queries of `pool` (the last recording's); `false` (no data) while
+/// one is not available and `wait` is off.
+fn fetch(ctx: &Context, pool: vk::QueryPool, data: &mut [u64], wait: bool) -> GpuResult<bool> {
+    let flags = if wait {
+        vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT
+    } else {
+        vk::QueryResultFlags::TYPE_64
+    };
+    // SAFETY: the queries 0..data.len() were reset and written by the last recording; without
+    // WAIT the call returns NOT_READY (no data) until all of them are available.
+    let r = unsafe { ctx.device().get_query_pool_results(pool, 0, data, flags) };
+    match r {
+        Err(vk::Result::NOT_READY) if !wait => Ok(false),
+        r => r.call("vkGetQueryPoolResults").map(|()| true),
+    }
+}
+
+/// Pass `i`'s milliseconds from its two timestamps in `data`.
+fn pass_ms(data: &[u64], i: usize, period_ns: f32) -> f64 {
+    data[2 * i + 1].wrapping_sub(data[2 * i]) as f64 * period_ns as f64 / 1e6
 }
 
 impl Drop for Timer {
