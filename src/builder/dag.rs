@@ -192,22 +192,25 @@ fn median_edge(mesh: &Mesh) -> f64 {
     let tris = mesh.indices.len() / 3;
     let stride = (tris >> 16).max(1);
     let p = |i: u32| mesh.positions[i as usize].map(|x| x as f64);
-    let mut lens: Vec<f64> = (0..tris)
-        .step_by(stride)
-        .flat_map(|t| {
-            let idx = &mesh.indices[3 * t..3 * t + 3];
-            (0..3).map(move |k| {
-                let (a, b) = (p(idx[k]), p(idx[(k + 1) % 3]));
-                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-            })
-        })
-        .filter(|l| l.is_finite())
-        .collect();
-    if lens.is_empty() {
+    // Squared lengths, selected by their bits: for finite non-negative doubles the bit pattern
+    // orders like the value, and the square root is monotonic, so the median length is the
+    // root of the median square, the same value as selecting among the lengths (lucy: 5 ms
+    // -> 2 ms).
+    let mut squares: Vec<u64> = Vec::with_capacity(3 * tris.div_ceil(stride));
+    for idx in mesh.indices.chunks_exact(3).step_by(stride) {
+        for k in 0..3 {
+            let (a, b) = (p(idx[k]), p(idx[(k + 1) % 3]));
+            let l = (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2);
+            if l.is_finite() {
+                squares.push(l.to_bits());
+            }
+        }
+    }
+    if squares.is_empty() {
         return 0.0;
     }
-    let mid = lens.len() / 2;
-    *lens.select_nth_unstable_by(mid, f64::total_cmp).1
+    let mid = squares.len() / 2;
+    f64::from_bits(*squares.select_nth_unstable(mid).1).sqrt()
 }
 
 fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
@@ -1885,6 +1888,7 @@ fn assemble(
     // Per cluster (in parallel): local vertices in first-use order, packed local indices,
     // vertex references, bounds; then concatenated in order.
     let nverts = vertices.len();
+    let one_material = mesh.materials.len() <= 1;
     let packed: Vec<(Cluster, Vec<u32>, Vec<u8>)> = order
         .par_iter()
         .map(|&ci| {
@@ -1906,9 +1910,10 @@ fn assemble(
                 .collect();
             // (A triangle whose corners have several materials keeps its first corner, whose
             // material is the triangle's.)
+            // (With one material, every triangle may rotate.)
             let material = |l: u32| vmat.get(local[l as usize] as usize).copied();
             super::tricode::canonical_order(&mut local_tris, &|t| {
-                material(t[0]) == material(t[1]) && material(t[0]) == material(t[2])
+                one_material || material(t[0]) == material(t[1]) && material(t[0]) == material(t[2])
             });
             let local_idx: Vec<u8> = local_tris.iter().flatten().map(|&l| l as u8).collect();
             let mut tri_bytes = Vec::new();
@@ -1989,7 +1994,56 @@ fn assemble(
 
 #[cfg(test)]
 mod tests {
-    use super::{Edges, first_occurrences, group_error, undirected};
+    use super::{Edges, first_occurrences, group_error, median_edge, undirected};
+
+    /// The median edge (selected among squared lengths by their bits) against the median of
+    /// the lengths themselves, on edges of many lengths, equal ones, zero-length ones and
+    /// non-finite ones (which are left out), with an odd and an even count.
+    #[test]
+    fn median_edge_is_the_median_of_the_lengths() {
+        let mut x = 0x2545_f491u32;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            (x % 1000) as f32 * 0.37 - 150.0
+        };
+        let mut positions: Vec<[f32; 3]> = (0..300).map(|_| [next(), next(), next()]).collect();
+        positions[7] = [f32::NAN, 0.0, 0.0];
+        positions[11] = [f32::INFINITY, 1.0, 0.0];
+        positions[12] = positions[13];
+        for tris in [301usize, 300] {
+            let indices: Vec<u32> = (0..3 * tris as u32)
+                .map(|i| (i * 7 + i / 3) % 300)
+                .collect();
+            // (Only the positions and the triangles count.)
+            let mesh = crate::mesh::Mesh {
+                positions: positions.clone(),
+                indices: indices.clone(),
+                ..Default::default()
+            };
+            let mut lens: Vec<f64> = indices
+                .chunks_exact(3)
+                .flat_map(|t| {
+                    (0..3).map(|k| {
+                        let (a, b) = (positions[t[k] as usize], positions[t[(k + 1) % 3] as usize]);
+                        (0..3)
+                            .map(|c| (a[c] as f64 - b[c] as f64).powi(2))
+                            .sum::<f64>()
+                            .sqrt()
+                    })
+                })
+                .filter(|l| l.is_finite())
+                .collect();
+            let mid = lens.len() / 2;
+            let want = *lens.select_nth_unstable_by(mid, f64::total_cmp).1;
+            assert_eq!(
+                median_edge(&mesh).to_bits(),
+                want.to_bits(),
+                "{tris} triangles"
+            );
+        }
+    }
 
     /// `Edges::of` (counting sort by the smaller point, a sort per point) against the 64-bit
     /// keys' plain sort, on triangles with repeated, reversed and degenerate edges and a fan of

@@ -53,7 +53,15 @@ pub fn canonical_order(tris: &mut [[u32; 3]], rotatable: &dyn Fn(&[u32; 3]) -> b
             *t = [t[r], t[(r + 1) % 3], t[(r + 2) % 3]];
         }
     }
-    tris.sort_by_key(|t| t.iter().copied().max().unwrap_or(0));
+    // Stable by the largest index: sorted as (largest, position) pairs packed in one word.
+    let mut keyed: Vec<u64> = tris
+        .iter()
+        .enumerate()
+        .map(|(i, t)| u64::from(t[0].max(t[1]).max(t[2])) << 32 | i as u64)
+        .collect();
+    keyed.sort_unstable();
+    let sorted: Vec<[u32; 3]> = keyed.iter().map(|&k| tris[k as u32 as usize]).collect();
+    tris.copy_from_slice(&sorted);
 }
 
 /// The corner offsets' width of `tris`' max-delta code (`None` when they are not in canonical
@@ -267,6 +275,38 @@ mod tests {
                 .0,
             l
         );
+    }
+
+    #[test]
+    fn canonical_order_is_a_stable_sort_by_the_largest_index() {
+        // Pseudo-random triangles with many equal largest indices and some that may not rotate:
+        // the order is that of a stable sort of the rotated triangles by their largest index.
+        let mut x = 0x9e37_79b9u32;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x % 24
+        };
+        let tris: Vec<[u32; 3]> = (0..128).map(|_| [next(), next(), next()]).collect();
+        let rotatable = |t: &[u32; 3]| !(t[0] + t[1] + t[2]).is_multiple_of(5);
+        let mut want: Vec<[u32; 3]> = tris
+            .iter()
+            .map(|t| {
+                if rotatable(t) {
+                    let r = (0..3)
+                        .max_by_key(|&k| (t[k], std::cmp::Reverse(k)))
+                        .unwrap();
+                    [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]
+                } else {
+                    *t
+                }
+            })
+            .collect();
+        want.sort_by_key(|t| *t.iter().max().unwrap());
+        let mut got = tris.clone();
+        canonical_order(&mut got, &rotatable);
+        assert_eq!(got, want);
     }
 
     #[test]
