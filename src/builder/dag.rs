@@ -2009,13 +2009,8 @@ mod tests {
     /// enough to be sampled.
     #[test]
     fn median_edge_is_the_median_of_the_lengths() {
-        let mut x = 0x2545_f491u32;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            (x % 1000) as f32 * 0.37 - 150.0
-        };
+        let mut rng = crate::builder::verify::Rng(11);
+        let mut next = || (rng.next() % 1000) as f32 * 0.37 - 150.0;
         let mut positions: Vec<[f32; 3]> = (0..300).map(|_| [next(), next(), next()]).collect();
         positions[7] = [f32::NAN, 0.0, 0.0];
         positions[11] = [f32::INFINITY, 1.0, 0.0];

@@ -281,13 +281,8 @@ mod tests {
     fn canonical_order_is_a_stable_sort_by_the_largest_index() {
         // Pseudo-random triangles with many equal largest indices and some that may not rotate:
         // the order is that of a stable sort of the rotated triangles by their largest index.
-        let mut x = 0x9e37_79b9u32;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x % 24
-        };
+        let mut rng = crate::builder::verify::Rng(7);
+        let mut next = || (rng.next() % 24) as u32;
         let tris: Vec<[u32; 3]> = (0..128).map(|_| [next(), next(), next()]).collect();
         let rotatable = |t: &[u32; 3]| !(t[0] + t[1] + t[2]).is_multiple_of(5);
         let mut want: Vec<[u32; 3]> = tris

@@ -118,10 +118,10 @@ fn same_sphere(a: &Sphere, b: &Sphere) -> bool {
     a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
-/// SplitMix64: small deterministic generator for views.
-struct Rng(u64);
+/// SplitMix64: small deterministic generator for views (and the builder's unit tests).
+pub(crate) struct Rng(pub(crate) u64);
 impl Rng {
-    fn next(&mut self) -> u64 {
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e3779b97f4a7c15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58476d1ce4e5b9);
