@@ -205,11 +205,7 @@ pub fn render_lod_strip(
         let m = (1u64 << i) as f64;
         let settings = FrameSettings {
             error_px: tau,
-            hw_threshold_px: if opts.hw_threshold_px < 0.0 {
-                FrameSettings::DEFAULT_HW_THRESHOLD_PX
-            } else {
-                opts.hw_threshold_px
-            } * m as f32,
+            hw_threshold_px: FrameSettings::fixed_split(opts.hw_threshold_px) * m as f32,
             flags: opts.flags,
             occlusion: false,
         };

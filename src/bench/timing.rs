@@ -305,11 +305,7 @@ pub(super) fn run_scene(
                 // fixed default (settling would draw frames the streamer never saw), and the
                 // all-resident frames it is compared with take the same.
                 let fs = FrameSettings {
-                    hw_threshold_px: if fs.auto_split() {
-                        FrameSettings::DEFAULT_HW_THRESHOLD_PX
-                    } else {
-                        fs.hw_threshold_px
-                    },
+                    hw_threshold_px: FrameSettings::fixed_split(fs.hw_threshold_px),
                     ..fs
                 };
                 let budget = stream.map_or(0, |o| o.budget_bytes);
@@ -374,7 +370,7 @@ pub(super) fn run_scene(
                     bar.inc(frames - f as u64);
                     break;
                 }
-                let rec = vgeo_record(name, &fs, e, f, &vf, passes, cpu_ms, reference[f].as_ref())?;
+                let rec = vgeo_record(name, &fs, f, &vf, passes, cpu_ms, reference[f].as_ref())?;
                 report.records.push(rec);
                 save_example(report, name, "vgeo", Some(e), f, &vf.frame, None);
                 bar.inc(1);
@@ -414,12 +410,11 @@ fn new_vgeo(
     Ok((r, Some(streamer)))
 }
 
-/// A vgeo frame's record: counters from the read-back frame `vf`, times from its timed run.
-#[allow(clippy::too_many_arguments)]
+/// A vgeo frame's record: counters from the read-back frame `vf`, times from its timed run with
+/// settings `fs`.
 fn vgeo_record(
     scene: &str,
     fs: &FrameSettings,
-    e: f32,
     f: usize,
     vf: &crate::VgeoFrame,
     passes: PassTimes,
@@ -434,7 +429,7 @@ fn vgeo_record(
     Ok(FrameRecord {
         scene: scene.to_string(),
         mode: "vgeo".into(),
-        error_px: Some(e),
+        error_px: Some(fs.error_px),
         frame: f as u32,
         gpu_ms: passes.iter().map(|p| p.1).sum(),
         passes,
@@ -549,7 +544,6 @@ fn run_streamed(
         report.records.push(vgeo_record(
             name,
             fs,
-            e,
             f,
             &vf,
             passes,

@@ -48,6 +48,17 @@ impl FrameSettings {
         self.hw_threshold_px < 0.0
     }
 
+    /// `hw_threshold_px` where nothing is timed to choose by: a fixed split as given, the
+    /// automatic one as the fixed default ([`FrameSettings::DEFAULT_HW_THRESHOLD_PX`], where
+    /// the automatic one starts).
+    pub fn fixed_split(hw_threshold_px: f32) -> f32 {
+        if hw_threshold_px < 0.0 {
+            Self::DEFAULT_HW_THRESHOLD_PX
+        } else {
+            hw_threshold_px
+        }
+    }
+
     /// A split as the command line gives it: `auto` ([`FrameSettings::AUTO_HW_THRESHOLD`]) or a
     /// number of pixels, at least 0.
     pub fn parse_hw_threshold(s: &str) -> Result<f32, String> {
