@@ -990,3 +990,33 @@ fn triangle_code_is_short_on_a_scan() {
     assert!(share > 0.9, "{share:.3} of the clusters take the code");
     assert!(per < 14.0, "{per:.2} bits per triangle");
 }
+
+/// The builder sizes each cluster's page encoding while it packs the clusters; `paginate`, run
+/// again on its output, derives the sizes from the packed streams itself. Both must lay out the
+/// same pages (a size off by a word moves page breaks and data offsets): on a mesh with two
+/// materials and on one with UVs (spot), at the default page size and at a small one.
+#[test]
+fn packing_sizes_equal_the_sizes_paginate_derives() {
+    use vgeo::builder::page::{PAGE_BYTES, paginate};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj");
+    let (spot, _) = vgeo::mesh::load_mesh(&path).expect("spot");
+    assert!(spot.has_uvs, "spot has UVs");
+    let opts = BuildOptions::default();
+    for built in [sample_built(), builder::build(&spot, &opts).expect("build")] {
+        let level = built.fallback_level(opts.fallback_triangles);
+        let mut again = built.clone();
+        paginate(&mut again, PAGE_BYTES as usize, level);
+        assert!(
+            again == built,
+            "{}: paginating again changed the mesh",
+            built.name
+        );
+        // And at a page size that breaks groups apart, both ways from the same packed mesh.
+        let (mut small, mut small_again) = (built.clone(), built.clone());
+        paginate(&mut small, 4096, level);
+        paginate(&mut small_again, 4096, level);
+        paginate(&mut small_again, 4096, level);
+        assert!(small.pages.len() > built.pages.len());
+        assert!(small == small_again, "{}: small pages differ", built.name);
+    }
+}

@@ -504,47 +504,28 @@ struct Welded {
 /// a single material (else `None`). Ids are assigned in order of first use by the corners, and
 /// position ids in order of vertex creation: exactly what the hash-map path produces.
 fn weld_by_sort(mesh: &Mesh, encoded: &[PackedVertex]) -> Option<Welded> {
-    use std::sync::atomic::{AtomicBool, AtomicU32, Ordering::Relaxed};
     let nv = encoded.len();
     // Corner indices are kept as u32 below (the hash-map path takes larger meshes).
     if mesh.indices.len() > u32::MAX as usize {
         return None;
     }
-    // Per vertex, its material (the same for every corner, else `None`) and its first corner.
-    let vmat: Vec<AtomicU32> = (0..nv).map(|_| AtomicU32::new(u32::MAX)).collect();
-    let first_corner: Vec<AtomicU32> = (0..nv).map(|_| AtomicU32::new(u32::MAX)).collect();
-    let mixed = AtomicBool::new(false);
-    mesh.indices
-        .par_chunks_exact(3)
-        .enumerate()
-        .for_each(|(t, idx)| {
-            let m = mesh.material_ids[t] as u16 as u32;
-            for (k, &v) in idx.iter().enumerate() {
-                let v = v as usize;
-                if let Err(other) = vmat[v].compare_exchange(u32::MAX, m, Relaxed, Relaxed)
-                    && other != m
-                {
-                    mixed.store(true, Relaxed);
-                }
-                first_corner[v].fetch_min((3 * t + k) as u32, Relaxed);
+    // The used vertices in order of first use, with their material (the same for every corner,
+    // else `None`): one serial pass over the corners, cheaper on few threads than the parallel
+    // pass with atomics and the sort by first corner it replaced.
+    let mut vm = vec![u16::MAX; nv];
+    let mut first: Vec<u32> = Vec::with_capacity(nv);
+    for (t, idx) in mesh.indices.chunks_exact(3).enumerate() {
+        let m = mesh.material_ids[t] as u16;
+        for &v in idx {
+            let seen = &mut vm[v as usize];
+            if *seen == u16::MAX {
+                *seen = m;
+                first.push(v);
+            } else if *seen != m {
+                return None;
             }
-        });
-    if mixed.load(Relaxed) {
-        return None;
+        }
     }
-    let vm: Vec<u16> = vmat.into_iter().map(|m| m.into_inner() as u16).collect();
-    // The used vertices in order of first use.
-    let mut by_first: Vec<u64> = first_corner
-        .into_par_iter()
-        .enumerate()
-        .filter_map(|(v, c)| {
-            let c = c.into_inner();
-            (c != u32::MAX).then_some((c as u64) << 32 | v as u64)
-        })
-        .collect();
-    sort_total(&mut by_first, |&k| k);
-    let first: Vec<u32> = by_first.par_iter().map(|&k| k as u32).collect();
-    drop(by_first);
     // Rank = order of first use; equal keys take the smallest rank's id.
     let mut keyed: Vec<(PackedVertex, u16, u32)> = first
         .iter()
@@ -1434,12 +1415,17 @@ fn build_inner(
         fallback_groups,
         ..Default::default()
     };
-    let mut built = assemble(
+    let (mut built, sizes) = assemble(
         mesh, quant, vertices, vmat, &positions, clusters, groups, stats,
     );
     progress("paging");
     let resident_level = built.fallback_level(opts.fallback_triangles);
-    super::page::paginate(&mut built, super::page::PAGE_BYTES as usize, resident_level);
+    super::page::paginate_sized(
+        &mut built,
+        super::page::PAGE_BYTES as usize,
+        resident_level,
+        &sizes,
+    );
     Ok(built)
 }
 
@@ -1844,11 +1830,11 @@ fn assemble(
     wclusters: Vec<WCluster>,
     wgroups: Vec<WGroup>,
     mut stats: BuildStats,
-) -> BuiltMesh {
+) -> (BuiltMesh, Vec<usize>) {
     // Group bounds, then the BVH, which fixes the order of the groups (each leaf's groups
     // contiguous); clusters are stored by member group so that a group's members are contiguous.
     let pre: Vec<Group> = wgroups
-        .iter()
+        .par_iter()
         .map(|g| {
             let mut lo = [f32::MAX; 3];
             let mut hi = [f32::MIN; 3];
@@ -1896,7 +1882,9 @@ fn assemble(
     // vertex references, bounds; then concatenated in order.
     let nverts = vertices.len();
     let one_material = mesh.materials.len() <= 1;
-    let packed: Vec<(Cluster, Vec<u32>, Vec<u8>)> = order
+    // (`BuiltMesh::has_material_stream`: a material per vertex only with several materials.)
+    let has_mats = !one_material;
+    let packed: Vec<(Cluster, Vec<u32>, Vec<u8>, usize)> = order
         .par_iter()
         .map(|&ci| {
             let w = &wclusters[ci as usize];
@@ -1923,6 +1911,15 @@ fn assemble(
                 one_material || material(t[0]) == material(t[1]) && material(t[0]) == material(t[2])
             });
             let local_idx: Vec<u8> = local_tris.iter().flatten().map(|&l| l as u8).collect();
+            // Its encoded bytes in a page (`page::paginate`'s sizes, from what is at hand here).
+            let coded: Vec<(PackedVertex, u16)> = local
+                .iter()
+                .map(|&v| {
+                    let m = if has_mats { vmat[v as usize] } else { 0 };
+                    (vertices[v as usize], m)
+                })
+                .collect();
+            let bytes = super::page::cluster_bytes(&coded, &local_tris, mesh.has_uvs, has_mats);
             let mut tri_bytes = Vec::new();
             super::pack_indices(&local_idx, local.len() as u32, &mut tri_bytes);
             // Full u32 references until `page::paginate` gives each page its own u16 ones.
@@ -1954,21 +1951,25 @@ fn assemble(
                 level: w.level,
                 page: 0,
             };
-            (cluster, refs, tri_bytes)
+            (cluster, refs, tri_bytes, bytes)
         })
         .collect();
     let mut clusters = Vec::with_capacity(order.len());
-    let mut refs: Vec<u32> = Vec::with_capacity(packed.iter().map(|p| p.1.len()).sum());
-    let mut triangles: Vec<u8> = Vec::with_capacity(packed.iter().map(|p| p.2.len()).sum());
+    let mut sizes = Vec::with_capacity(order.len());
+    let (mut ref_at, mut tri_at) = (0u32, 0u32);
     let mut stored = 0;
-    for (mut c, r, t) in packed {
-        c.vertex_ref_offset = refs.len() as u32;
-        c.triangle_offset = triangles.len() as u32;
+    for (c, r, t, bytes) in &packed {
+        let mut c = *c;
+        c.vertex_ref_offset = ref_at;
+        c.triangle_offset = tri_at;
+        ref_at += r.len() as u32;
+        tri_at += t.len() as u32;
         stored += c.triangle_count() as usize;
-        refs.extend_from_slice(&r);
-        triangles.extend_from_slice(&t);
         clusters.push(c);
+        sizes.push(*bytes);
     }
+    let refs = super::concat(&packed, |p| &p.1);
+    let triangles = super::concat(&packed, |p| &p.2);
     let root = wgroups
         .iter()
         .find(|g| g.iteration == u32::MAX)
@@ -1979,7 +1980,7 @@ fn assemble(
     stats.bvh_nodes = bvh.len();
     stats.stored_triangles = stored;
     let single_material = mesh.materials.len() <= 1;
-    BuiltMesh {
+    let built = BuiltMesh {
         name: mesh.name.clone(),
         quantization: quant,
         has_normals: mesh.has_normals,
@@ -1996,7 +1997,8 @@ fn assemble(
         pages: Vec::new(),
         resident_pages: 0,
         stats,
-    }
+    };
+    (built, sizes)
 }
 
 #[cfg(test)]

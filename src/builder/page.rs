@@ -213,6 +213,25 @@ pub fn cluster_words(
         + triangle_words
 }
 
+/// Encoded bytes of a cluster with `vertices` (in reference order, with their materials) and
+/// local triangles `tris` (in the canonical order): what [`paginate`] places in a page.
+pub(crate) fn cluster_bytes(
+    vertices: &[(PackedVertex, u16)],
+    tris: &[[u32; 3]],
+    has_uvs: bool,
+    has_materials: bool,
+) -> usize {
+    let code = ClusterCode::of(vertices, has_uvs, has_materials);
+    let n = vertices.len() as u32;
+    4 * cluster_words(
+        &code,
+        n,
+        super::tricode::encoded_words(tris, n),
+        has_uvs,
+        has_materials,
+    )
+}
+
 /// Appends bits to a u32 stream, from word `start` of `out` on (it may leave one spare word
 /// after the last bit written).
 pub(super) struct BitWriter<'a> {
@@ -571,18 +590,25 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
         mm.clusters
             .par_iter()
             .map(|c| {
-                let code = ClusterCode::of(&cluster_vertices(mm, c), has_uvs, has_mats);
                 let tris = mm.cluster_local_triangles(c);
-                4 * cluster_words(
-                    &code,
-                    c.vertex_count(),
-                    super::tricode::encoded_words(&tris, c.vertex_count()),
-                    has_uvs,
-                    has_mats,
-                )
+                cluster_bytes(&cluster_vertices(mm, c), &tris, has_uvs, has_mats)
             })
             .collect()
     };
+    paginate_sized(m, page_bytes, resident_level, &sizes);
+}
+
+/// [`paginate`] given each cluster's encoded bytes ([`cluster_bytes`]), which the builder
+/// computes while it packs the clusters.
+pub(crate) fn paginate_sized(
+    m: &mut BuiltMesh,
+    page_bytes: usize,
+    resident_level: u32,
+    sizes: &[usize],
+) {
+    use rayon::prelude::*;
+    let has_mats = m.has_material_stream();
+    debug_assert_eq!(sizes.len(), m.clusters.len());
     // Groups from the root down; ties in stored (BVH) order.
     let mut order: Vec<u32> = (0..m.groups.len() as u32).collect();
     order.sort_by_key(|&g| (std::cmp::Reverse(m.groups[g as usize].iteration), g));
@@ -743,22 +769,26 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
             })
             .collect()
     };
-    let mut vertices = Vec::with_capacity(laid.iter().map(|l| l.vertices.len()).sum());
-    let mut vmat = Vec::with_capacity(laid.iter().map(|l| l.vmat.len()).sum());
-    let mut refs = Vec::with_capacity(laid.iter().map(|l| l.refs.len()).sum());
-    let mut triangles = Vec::with_capacity(laid.iter().map(|l| l.triangles.len()).sum());
+    // Offsets first (serial, one step per page), then the streams copied page by page in
+    // parallel.
     let mut out_pages = Vec::with_capacity(pages.len());
-    for (pi, (members, l)) in pages.iter().zip(laid).enumerate() {
+    let mut at = (0u32, 0u32, 0u32);
+    for (pi, (members, l)) in pages.iter().zip(&laid).enumerate() {
         let page = Page {
-            vertex_first: vertices.len() as u32,
+            vertex_first: at.0,
             vertex_count: l.vertices.len() as u32,
-            ref_first: refs.len() as u32,
+            ref_first: at.1,
             ref_words: l.refs.len() as u32,
-            triangle_first: triangles.len() as u32,
+            triangle_first: at.2,
             triangle_bytes: l.triangles.len() as u32,
             cluster_count: members.len() as u32,
             bytes: 4 * (l.words + 1),
         };
+        at = (
+            at.0 + page.vertex_count,
+            at.1 + page.ref_words,
+            at.2 + page.triangle_bytes,
+        );
         for (&ci, &(t, r, w)) in members.iter().zip(&l.at) {
             let cm = &mut m.clusters[ci as usize];
             cm.triangle_offset = page.triangle_first + t;
@@ -767,12 +797,12 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
             cm.counts &= !(CLUSTER_FLAG_REFS_U32 << 16);
             cm.page = pi as u32;
         }
-        vertices.extend_from_slice(&l.vertices);
-        vmat.extend_from_slice(&l.vmat);
-        refs.extend_from_slice(&l.refs);
-        triangles.extend_from_slice(&l.triangles);
         out_pages.push(page);
     }
+    let vertices = super::concat(&laid, |l| &l.vertices);
+    let vmat = super::concat(&laid, |l| &l.vmat);
+    let refs = super::concat(&laid, |l| &l.refs);
+    let triangles = super::concat(&laid, |l| &l.triangles);
     // Groups: the pages of their members (consecutive by construction).
     for g in m.groups.iter_mut() {
         let members = g.first_cluster as usize..(g.first_cluster + g.cluster_count) as usize;
@@ -838,7 +868,6 @@ pub fn close_residency(m: &BuiltMesh, needs: &[Vec<u32>], resident: &mut [bool])
     }
 }
 
-#[cfg(test)]
 #[cfg(test)]
 mod tests {
     use super::*;
