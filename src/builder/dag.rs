@@ -1452,6 +1452,7 @@ fn build_inner(
         super::page::PAGE_BYTES as usize,
         resident_level,
         &sizes,
+        true,
     );
     Ok(built)
 }

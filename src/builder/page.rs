@@ -595,16 +595,25 @@ pub fn paginate(m: &mut BuiltMesh, page_bytes: usize, resident_level: u32) {
             })
             .collect()
     };
-    paginate_sized(m, page_bytes, resident_level, &sizes);
+    paginate_sized(m, page_bytes, resident_level, &sizes, false);
+}
+
+thread_local! {
+    /// Per-thread map vertex index -> slot in the page being laid out (all `u32::MAX` between
+    /// pages); see [`paginate_sized`].
+    static PAGE_SLOTS: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// [`paginate`] given each cluster's encoded bytes ([`cluster_bytes`]), which the builder
-/// computes while it packs the clusters.
+/// computes while it packs the clusters. `unique_vertices`: no two of `m`'s vertices are equal
+/// (with their materials), as the builder's welding leaves them, so a page's vertices are told
+/// apart by index (a hash of each vertex's value took most of the layout's time otherwise).
 pub(crate) fn paginate_sized(
     m: &mut BuiltMesh,
     page_bytes: usize,
     resident_level: u32,
     sizes: &[usize],
+    unique_vertices: bool,
 ) {
     use rayon::prelude::*;
     let has_mats = m.has_material_stream();
@@ -731,40 +740,68 @@ pub(crate) fn paginate_sized(
                     at: Vec::with_capacity(members.len()),
                     words: 0,
                 };
-                // Sized for every member vertex up front (no rehash as the page fills).
-                let mut slot: HashMap<VertexKey, u32, FxBuild> = HashMap::with_capacity_and_hasher(
-                    members
-                        .iter()
-                        .map(|&ci| mm.clusters[ci as usize].vertex_count() as usize)
-                        .sum(),
-                    FxBuild::default(),
-                );
-                for &ci in members {
-                    let c = &mm.clusters[ci as usize];
-                    let local: Vec<u32> = cluster_vertices(mm, c)
-                        .iter()
-                        .map(|(v, mat)| {
-                            let next = l.vertices.len() as u32;
-                            let s = *slot.entry(vertex_key(v, *mat)).or_insert(next);
-                            if s == next {
-                                l.vertices.push(*v);
-                                if has_mats {
-                                    l.vmat.push(*mat);
-                                }
-                            }
-                            s
-                        })
-                        .collect();
-                    let src = c.triangle_offset as usize;
-                    let len = super::packed_triangle_bytes(c.vertex_count(), c.triangle_count());
-                    l.at.push((l.triangles.len() as u32, l.refs.len() as u32, l.words));
-                    l.triangles.extend_from_slice(&mm.triangles[src..src + len]);
-                    l.words += (sizes[ci as usize] / 4) as u32;
-                    for pair in local.chunks(2) {
-                        l.refs
-                            .push(pair[0] | pair.get(1).copied().unwrap_or(0) << 16);
+                // A page's slot of each distinct vertex: by value in a hash map sized for every
+                // member vertex up front, or, where equal vertices have one index, by index in a
+                // per-thread map (reset to `u32::MAX` after the page).
+                let mut by_key: HashMap<VertexKey, u32, FxBuild> = if unique_vertices {
+                    HashMap::default()
+                } else {
+                    HashMap::with_capacity_and_hasher(
+                        members
+                            .iter()
+                            .map(|&ci| mm.clusters[ci as usize].vertex_count() as usize)
+                            .sum(),
+                        FxBuild::default(),
+                    )
+                };
+                PAGE_SLOTS.with(|cell| {
+                    let mut by_index = cell.borrow_mut();
+                    if unique_vertices && by_index.len() < mm.vertices.len() {
+                        by_index.resize(mm.vertices.len(), u32::MAX);
                     }
-                }
+                    let mut placed: Vec<u32> = Vec::new();
+                    for &ci in members {
+                        let c = &mm.clusters[ci as usize];
+                        let local: Vec<u32> = (0..c.vertex_count())
+                            .map(|i| {
+                                let g = mm.vertex_ref(c, i) as usize;
+                                let v = mm.vertices[g];
+                                let mat = if has_mats { mm.vertex_materials[g] } else { 0 };
+                                let next = l.vertices.len() as u32;
+                                let s = if unique_vertices {
+                                    let e = &mut by_index[g];
+                                    if *e == u32::MAX {
+                                        *e = next;
+                                        placed.push(g as u32);
+                                    }
+                                    *e
+                                } else {
+                                    *by_key.entry(vertex_key(&v, mat)).or_insert(next)
+                                };
+                                if s == next {
+                                    l.vertices.push(v);
+                                    if has_mats {
+                                        l.vmat.push(mat);
+                                    }
+                                }
+                                s
+                            })
+                            .collect();
+                        let src = c.triangle_offset as usize;
+                        let len =
+                            super::packed_triangle_bytes(c.vertex_count(), c.triangle_count());
+                        l.at.push((l.triangles.len() as u32, l.refs.len() as u32, l.words));
+                        l.triangles.extend_from_slice(&mm.triangles[src..src + len]);
+                        l.words += (sizes[ci as usize] / 4) as u32;
+                        for pair in local.chunks(2) {
+                            l.refs
+                                .push(pair[0] | pair.get(1).copied().unwrap_or(0) << 16);
+                        }
+                    }
+                    for g in placed {
+                        by_index[g as usize] = u32::MAX;
+                    }
+                });
                 l
             })
             .collect()
