@@ -694,36 +694,14 @@ impl Edges {
             // A counting sort by the smaller point, then each point's few entries (its larger
             // point << 1 | forward) sorted in place (`bucket_edges`, as `Level0` does for the
             // whole mesh): the order of `(min, max, direction)`.
-            let mut start = vec![0u32; k + 1];
-            for t in tris {
-                let l = t.map(|v| lp[v as usize]);
-                for e in 0..3 {
-                    start[l[e].min(l[(e + 1) % 3]) as usize] += 1;
-                }
-            }
-            let mut sum = 0;
-            for s in start.iter_mut() {
-                (*s, sum) = (sum, sum + *s);
-            }
-            let mut entries = vec![0u32; tris.len() * 3];
-            for t in tris {
-                let l = t.map(|v| lp[v as usize]);
-                for e in 0..3 {
-                    let (a, b) = (l[e], l[(e + 1) % 3]);
-                    let slot = &mut start[a.min(b) as usize];
-                    entries[*slot as usize] = a.max(b) << 1 | (a < b) as u32;
-                    *slot += 1;
-                }
-            }
-            // `start[p]` is now the end of point p's entries, the start of p + 1's.
+            let (start, mut entries) = bucket_uses(tris, |v| lp[v as usize], k);
             let mut out: Vec<(u64, u32, u32)> = Vec::with_capacity(entries.len());
-            let mut begin = 0;
-            for (p, &end) in start[..k].iter().enumerate() {
+            for p in 0..k {
                 let a = (points[p] as u64) << 32;
-                bucket_edges(&mut entries[begin..end as usize], |b, f, r| {
+                let bucket = &mut entries[start[p] as usize..start[p + 1] as usize];
+                bucket_edges(bucket, |b, f, r| {
                     out.push((a | points[b as usize] as u64, f, r))
                 });
-                begin = end as usize;
             }
             Edges(out)
         } else {
@@ -784,6 +762,44 @@ fn bucket_edges(bucket: &mut [u32], mut edge: impl FnMut(u32, u32, u32)) {
     }
 }
 
+/// A directed edge use a -> b in the bucket of its smaller point: `larger << 1 | (a < b)`.
+fn bucket_entry(a: u32, b: u32) -> u32 {
+    a.max(b) << 1 | (a < b) as u32
+}
+
+/// The directed edge uses of `tris` (vertex `v` at point `point(v) < points`), bucketed by their
+/// smaller point with a counting sort: point p's uses ([`bucket_entry`], in triangle order) are
+/// `uses[start[p]..start[p + 1]]`. What [`Edges::of`] and [`Level0::new`] (on one thread or a
+/// small mesh) sort per bucket ([`bucket_edges`]).
+fn bucket_uses(
+    tris: &[[u32; 3]],
+    point: impl Fn(u32) -> u32,
+    points: usize,
+) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; points + 1];
+    for t in tris {
+        let p = t.map(&point);
+        for e in 0..3 {
+            start[p[e].min(p[(e + 1) % 3]) as usize + 1] += 1;
+        }
+    }
+    for i in 0..points {
+        start[i + 1] += start[i];
+    }
+    let mut cursor = start[..points].to_vec();
+    let mut uses = vec![0u32; start[points] as usize];
+    for t in tris {
+        let p = t.map(&point);
+        for e in 0..3 {
+            let (a, b) = (p[e], p[(e + 1) % 3]);
+            let at = &mut cursor[a.min(b) as usize];
+            uses[*at as usize] = bucket_entry(a, b);
+            *at += 1;
+        }
+    }
+    (start, uses)
+}
+
 /// Sort key of the directed edge a -> b: the undirected key `min << 32 | max` shifted left
 /// by one, with the low bit set when a < b (the forward direction). Position ids are below
 /// 2^31 (`prepare` checks), so the key fits.
@@ -812,29 +828,10 @@ impl Level0 {
             let p = t.map(|v| pid[v as usize]);
             [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])]
         };
-        let entry = |a: u32, b: u32| a.max(b) << 1 | (a < b) as u32;
         let (start, mut uses) = if rayon::current_num_threads() == 1 || tris.len() < 1 << 18 {
             // Plain counters on one thread or a small mesh: the atomic form cost lucy (100 K
             // triangles) 7.4 ms of a 208 ms one-thread build on the device host.
-            let mut start = vec![0u32; npid + 1];
-            for t in tris {
-                for (a, b) in edges(t) {
-                    start[a.min(b) as usize + 1] += 1;
-                }
-            }
-            for i in 0..npid {
-                start[i + 1] += start[i];
-            }
-            let mut cursor = start[..npid].to_vec();
-            let mut uses = vec![0u32; start[npid] as usize];
-            for t in tris {
-                for (a, b) in edges(t) {
-                    let at = &mut cursor[a.min(b) as usize];
-                    uses[*at as usize] = entry(a, b);
-                    *at += 1;
-                }
-            }
-            (start, uses)
+            bucket_uses(tris, |v| pid[v as usize], npid)
         } else {
             let counts: Vec<AtomicU32> = (0..npid).map(|_| AtomicU32::new(0)).collect();
             tris.par_iter().for_each(|t| {
@@ -855,7 +852,7 @@ impl Level0 {
             tris.par_iter().for_each(|t| {
                 for (a, b) in edges(t) {
                     let at = cursor[a.min(b) as usize].fetch_add(1, Relaxed);
-                    slots[at as usize].store(entry(a, b), Relaxed);
+                    slots[at as usize].store(bucket_entry(a, b), Relaxed);
                 }
             });
             (
