@@ -1,9 +1,10 @@
 #version 460
 // Pass `instance_cull`.
 // Main phase: a thread per instance; frustum test of the mesh's bounding sphere, then the previous
-// frame's HZB: visible instances whose whole cut is the DAG's root cluster emit it directly
-// (instance-level LOD, cull.glsl), small ones walk their BVH here (walk_or_push), the others push
-// their BVH root into cluster_cull's queue;
+// frame's HZB: visible instances whose cut is in their mesh's table of small-instance cuts emit
+// it directly (emit_tiny_cut, cull.glsl), as do those whose whole cut is the DAG's root cluster
+// (instance-level LOD), small ones walk their BVH here (walk_or_push), the others push their BVH
+// root into cluster_cull's queue;
 // occluded ones wait in `post_instances` for the post phase.
 // Post phase: grid-stride over what the main phase deferred: instances (tested against this frame's
 // HZB, walked or pushed if visible), BVH-node items (walked here for small instances, else pushed
@@ -28,7 +29,7 @@ void instance_main(uint i) {
         return;
     }
     CULL_STAT(instances_visible, 1u)
-    if (!emit_root_if_whole_cut(i, inst, mesh)) {
+    if (!emit_tiny_cut(i, inst, mesh) && !emit_root_if_whole_cut(i, inst, mesh)) {
         walk_or_push(i, inst, mesh);
     }
 }
@@ -57,7 +58,7 @@ void main() {
             continue;
         }
         CULL_STAT(instances_visible, 1u)
-        if (!emit_root_if_whole_cut(i, inst, mesh)) {
+        if (!emit_tiny_cut(i, inst, mesh) && !emit_root_if_whole_cut(i, inst, mesh)) {
             walk_or_push(i, inst, mesh);
         }
     }

@@ -12,6 +12,7 @@ use std::borrow::Borrow;
 use glam::{DMat4, DVec3, Mat3};
 
 use crate::builder::BuiltMesh;
+use crate::builder::cut::TinyCuts;
 use crate::builder::page::Page;
 use crate::gpu::{Buffer, Cmd, Context, Desc, GpuError, GpuResult, MemoryKind, vk};
 use crate::material::{MeshMaterialSource, SceneMaterials};
@@ -67,7 +68,7 @@ fn instance_of(mesh: u32, transform: &DMat4, color: [f32; 3]) -> InstanceVgeo {
 const MESH_GPU_BYTES: u64 = std::mem::size_of::<MeshGpu>() as u64;
 
 /// Bounding sphere (center, radius) of a built mesh's level-0 bounds.
-fn mesh_sphere(m: &BuiltMesh) -> ([f32; 3], f32) {
+pub(crate) fn mesh_sphere(m: &BuiltMesh) -> ([f32; 3], f32) {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for c in &m.clusters {
@@ -240,17 +241,20 @@ impl std::fmt::Display for SceneMemory {
 }
 
 /// The geometry arenas, in the order of [`GpuScene::arena_buffer`].
-const ARENAS: usize = 5;
+const ARENAS: usize = 6;
 const ARENA_NAMES: [&str; ARENAS] = [
     "scene cluster locators",
     "scene groups",
     "scene bvh",
     "scene pages",
     "scene geometry pool",
+    "scene tiny cuts",
 ];
 /// The arena of [`PageGpu`] entries and the geometry pool's (u32 words).
 const PAGES: usize = 3;
 const POOL: usize = 4;
+/// The arena of the meshes' small-instance cut tables (u32 words, `MeshGpu::tiny_offset`).
+const TINY: usize = 5;
 
 /// A live mesh: its ranges in the arenas and what instances need of it.
 struct LiveMesh {
@@ -320,6 +324,9 @@ pub struct GpuScene {
     /// [`PageGpu`] per page of every live mesh (`MeshGpu::page_offset`): where the page lies in
     /// the pool.
     pub pages: Buffer,
+    /// Every live mesh's table of small-instance cuts (u32 words, `MeshGpu::tiny_offset`;
+    /// [`crate::builder::cut::TinyCuts::words`]), read by `instance_cull`.
+    pub tiny_cuts: Buffer,
     /// The geometry pool (u32 words): every page's bytes (`src/builder/page.rs`: vertices,
     /// references and packed triangles of its clusters).
     pub pool: Buffer,
@@ -429,6 +436,7 @@ impl GpuScene {
             size_of::<crate::builder::BvhNode>(),
             size_of::<PageGpu>(),
             4,
+            4,
         ];
         Ok(Self {
             ctx: ctx.clone(),
@@ -439,6 +447,7 @@ impl GpuScene {
             bvh: buf(ARENA_NAMES[2])?,
             pages: buf(ARENA_NAMES[PAGES])?,
             pool: buf(ARENA_NAMES[POOL])?,
+            tiny_cuts: buf(ARENA_NAMES[TINY])?,
             page_requests: buf("scene page requests")?,
             page_usage: buf("scene page usage")?,
             mesh_table: Vec::new(),
@@ -479,6 +488,7 @@ impl GpuScene {
             &self.bvh,
             &self.pages,
             &self.pool,
+            &self.tiny_cuts,
         ]
     }
 
@@ -488,7 +498,8 @@ impl GpuScene {
             1 => &mut self.groups,
             2 => &mut self.bvh,
             PAGES => &mut self.pages,
-            _ => &mut self.pool,
+            POOL => &mut self.pool,
+            _ => &mut self.tiny_cuts,
         };
         (&mut self.arenas[k], buf)
     }
@@ -508,8 +519,8 @@ impl GpuScene {
         self.retired.clear();
     }
 
-    /// Element counts of `m` per arena.
-    fn lengths(m: &BuiltMesh, present: Option<&[Vec<u8>]>) -> [u64; ARENAS] {
+    /// Element counts of `m` per arena (`tiny`: its small-instance cut table's words).
+    fn lengths(m: &BuiltMesh, present: Option<&[Vec<u8>]>, tiny: &[u32]) -> [u64; ARENAS] {
         [
             m.clusters.len() as u64,
             m.groups.len() as u64,
@@ -519,6 +530,7 @@ impl GpuScene {
                 None => m.pages.iter().map(|p| (p.bytes / 4) as u64).sum(),
                 Some(b) => b.iter().map(|b| (b.len() / 4) as u64).sum(),
             },
+            tiny.len() as u64,
         ]
     }
 
@@ -575,10 +587,15 @@ impl GpuScene {
         if built.is_empty() {
             return Ok(Vec::new());
         }
+        // The small-instance cut tables (a few KiB per mesh).
+        let tiny: Vec<Vec<u32>> = built
+            .iter()
+            .map(|&(m, _)| TinyCuts::of(m).words())
+            .collect();
         // Room for all of them after the last allocated element of each arena.
         let mut totals = [0u64; ARENAS];
-        for &(m, present) in built {
-            for (k, l) in Self::lengths(m, present).into_iter().enumerate() {
+        for (&(m, present), tiny) in built.iter().zip(&tiny) {
+            for (k, l) in Self::lengths(m, present, tiny).into_iter().enumerate() {
                 totals[k] += self.arenas[k].rounded(l);
             }
         }
@@ -619,8 +636,8 @@ impl GpuScene {
         let mut copies: Vec<(usize, u64, u64, u64)> = Vec::new();
         let mut new_slots = Vec::with_capacity(built.len());
         let old_slots = self.mesh_table.len() as u64;
-        for &(m, present) in built {
-            let lens = Self::lengths(m, present);
+        for (&(m, present), tiny) in built.iter().zip(&tiny) {
+            let lens = Self::lengths(m, present, tiny);
             let mut ranges = [(0u64, 0u64); ARENAS];
             for k in 0..ARENAS {
                 let ctx = self.ctx.clone();
@@ -658,7 +675,7 @@ impl GpuScene {
                 walk_error_wide,
                 walk_radius,
                 normal_scale: crate::builder::quantize::normal_scale(q.normal_bits),
-                _pad: 0,
+                tiny_offset: ranges[TINY].0 as u32,
             };
             let (pages, pool) = page_upload(m, ranges[POOL].0 as u32, present);
             let partial = pages.iter().any(|e| e.word == PAGE_NOT_RESIDENT);
@@ -680,6 +697,7 @@ impl GpuScene {
                 bytemuck::cast_slice(&m.bvh),
                 bytemuck::cast_slice(&pages),
                 &pool,
+                bytemuck::cast_slice(tiny),
             ];
             for (k, d) in data.iter().enumerate() {
                 if !d.is_empty() {
@@ -1309,7 +1327,8 @@ impl GpuScene {
         ]
     }
 
-    /// GPU bytes of geometry (clusters, groups, BVH, pages, the pool), as allocated.
+    /// GPU bytes of geometry (clusters, groups, BVH, pages, the pool, the small-instance cut
+    /// tables), as allocated.
     pub fn geometry_bytes(&self) -> u64 {
         self.arena_buffers().iter().map(|b| b.size()).sum()
     }
@@ -1396,7 +1415,7 @@ impl PageGpu {
 /// on a sphere inside that radius, so when `walk_error` projects under the threshold there, none
 /// of them is in the cut (nor walked): the walk is short. Only the walk's length depends on it,
 /// never the cut.
-fn walk_bound(m: &BuiltMesh, center: [f32; 3]) -> (f32, f32, f32) {
+pub(crate) fn walk_bound(m: &BuiltMesh, center: [f32; 3]) -> (f32, f32, f32) {
     let mut errors: Vec<f32> = m.clusters.iter().map(|c| c.parent_error).collect();
     errors.sort_unstable_by(|a, b| b.total_cmp(a));
     let beyond = |k: u32| errors.get(k as usize).map_or(0.0, |e| e.max(0.0));

@@ -66,6 +66,16 @@ pub const WALK_CLUSTERS: u32 = 16;
 pub const WALK_CLUSTERS_WIDE: u32 = 64;
 /// Instances of a view from which `instance_cull` walks with [`WALK_CLUSTERS_WIDE`].
 pub const WALK_WIDE_INSTANCES: u32 = 4096;
+/// Most clusters of a small instance's cut that `instance_cull` draws from its mesh's table of
+/// cuts ([`crate::builder::cut::TinyCuts`]) in O(1), without a BVH walk.
+pub const TINY_CUT_CLUSTERS: u32 = 64;
+/// Most cluster entries of one mesh's table of small-instance cuts (all its rows together).
+pub const TINY_CUT_ENTRIES: u32 = 4096;
+/// Largest projected radius (pixels, of the mesh's bounding sphere at its point nearest to the
+/// camera) of an instance that takes its cut from the table: a larger one keeps the per-cluster
+/// frustum and occlusion tests of the walk (a small mesh's table reaches its first level, which
+/// would otherwise serve a close instance too).
+pub const TINY_CUT_RADIUS_PX: f32 = 32.0;
 /// `cluster_cull` tests a BVH leaf's clusters in ranges of at most this many, each range a queue
 /// item of its own (so lanes share a leaf's clusters instead of one lane testing them all, one
 /// after another: a close mesh's leaves hold a hundred). An item's low word is then
@@ -273,7 +283,10 @@ pub struct MeshGpu {
     pub walk_radius: f32,
     /// Largest magnitude of a normal component code (`builder::quantize::normal_scale`).
     pub normal_scale: f32,
-    pub _pad: u32,
+    /// The mesh's small-instance cuts in the scene's tiny-cut words
+    /// ([`crate::builder::cut::TinyCuts::words`]): `instance_cull` draws an instance whose cut
+    /// is one of them without walking its BVH.
+    pub tiny_offset: u32,
 }
 
 /// Where one page of a mesh lies in the scene's geometry pool: the pool word where its encoded
@@ -396,7 +409,9 @@ pub struct CullCounters {
     pub hw_mesh: [u32; 4],
     /// With [`VIEW_FLAG_HW_MESH`]: HW clusters beyond [`MESH_MAX_CLUSTERS`], not drawn (reported).
     pub hw_overflow: u32,
-    pub _pad1: u32,
+    /// Statistic: instances drawn with a cut from their mesh's small-instance table
+    /// (`emit_tiny_cut`, no BVH walk).
+    pub tiny_cuts: u32,
     /// `vkCmdDispatchIndirect` arguments of the post phase's `depth_pyramid` (x, y, z) + pad: its
     /// workgroups when the phase drew anything, else none (the visibility buffer, and so the
     /// HZB, are what the main phase left).

@@ -1020,3 +1020,79 @@ fn packing_sizes_equal_the_sizes_paginate_derives() {
         assert!(small == small_again, "{}: small pages differ", built.name);
     }
 }
+
+/// The small-instance cut table (`builder::cut::TinyCuts`, what `instance_cull` draws without a
+/// BVH walk): row `k` is exactly the DAG's cut at one error for every group (parent error above
+/// the row's error, self error at most it), from the root alone down to `TINY_CUT_CLUSTERS`
+/// clusters, each a closed surface on a closed sphere (no crack: every edge of its triangles is
+/// used by exactly two of them), and `row_for` picks the first row whose error projects to at
+/// most the threshold.
+#[test]
+fn small_instance_cuts_are_whole_cuts_of_the_dag() {
+    use std::collections::HashMap;
+    use vgeo::builder::cut::TinyCuts;
+    use vgeo::shared::{TINY_CUT_CLUSTERS, TINY_CUT_ENTRIES};
+    let (p, i) = sphere(64, 40, [0.0; 3], 1.0);
+    let b = build_and_verify(&mesh_from("sphere", p, i));
+    let t = TinyCuts::of(&b);
+    assert!(t.rows.len() > 3, "{} rows", t.rows.len());
+    assert_eq!(
+        t.clusters[..t.rows[0].count as usize],
+        [b.root],
+        "row 0 is the root"
+    );
+    assert!(t.clusters.len() <= TINY_CUT_ENTRIES as usize);
+    for w in t.rows.windows(2) {
+        assert!(w[0].error > w[1].error, "errors decrease");
+    }
+    for (k, r) in t.rows.iter().enumerate() {
+        let got = &t.clusters[r.first as usize..(r.first + r.count) as usize];
+        let want: Vec<u32> = (0..b.clusters.len() as u32)
+            .filter(|&c| {
+                let c = &b.clusters[c as usize];
+                c.parent_error > r.error && c.self_error <= r.error
+            })
+            .collect();
+        assert_eq!(got, &want[..], "row {k}: the cut at error {}", r.error);
+        assert!(r.count as usize <= TINY_CUT_CLUSTERS as usize);
+        // Closed: every edge (by position) used twice.
+        let mut edges: HashMap<[[u32; 3]; 2], u32> = HashMap::new();
+        let key = |v: u32| b.position(v).map(f32::to_bits);
+        for &c in got {
+            for tri in b.cluster_triangles(c as usize) {
+                for e in 0..3 {
+                    let (a, z) = (key(tri[e]), key(tri[(e + 1) % 3]));
+                    *edges
+                        .entry(if a < z { [a, z] } else { [z, a] })
+                        .or_default() += 1;
+                }
+            }
+        }
+        let open = edges.values().filter(|&&n| n != 2).count();
+        assert_eq!(
+            open, 0,
+            "row {k}: {open} edges not shared by two triangles (a crack)"
+        );
+    }
+    // The last row of this sphere is its first level (every error above 0 refined).
+    assert_eq!(t.rows.last().unwrap().error, 0.0);
+    // row_for: the first row whose error projects to at most tau (here the projection is x2).
+    for (k, r) in t.rows.iter().enumerate() {
+        let tau = 2.0 * r.error;
+        let got = t.row_for(tau, |e| 2.0 * e).expect("a row");
+        assert_eq!(got, r, "row {k}");
+    }
+    assert!(t.row_for(-1.0, |e| e).is_none());
+    // The words instance_cull reads.
+    let w = t.words();
+    assert_eq!(w[0] as usize, t.rows.len());
+    for (k, r) in t.rows.iter().enumerate() {
+        let row = &w[1 + 3 * k..4 + 3 * k];
+        assert_eq!(f32::from_bits(row[0]), r.error);
+        let first = row[1] as usize;
+        assert_eq!(
+            &w[first..first + row[2] as usize],
+            &t.clusters[r.first as usize..(r.first + r.count) as usize]
+        );
+    }
+}

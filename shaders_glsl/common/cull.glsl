@@ -253,6 +253,80 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     return true;
 }
 
+// Small instances (src/builder/cut.rs, TinyCuts): the cut of an instance far from the camera
+// compared to its size comes from its mesh's table. Every group error is projected at the point
+// of the mesh's LOD bound (`walk_radius` around `bounds_center`, enclosing every group's LOD
+// sphere) nearest to the camera, never farther than the group's own sphere, so the cut is as fine
+// or finer than the per-group rule everywhere; with one distance for all, it is the first row
+// whose error projects to at most the threshold. Its clusters are tested for the frustum and
+// the HZB and emitted, with no BVH walk and no LOD test. False when the
+// instance's bounding sphere projects to a radius over TINY_CUT_RADIUS_PX or the table holds no
+// cut fine enough (a larger instance: walk it), in a view of fewer than WALK_WIDE_INSTANCES
+// instances, for a mesh that streams and for the fallback cut.
+bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
+    // One thread tests and emits the whole cut: in a view of few instances that is the frame's
+    // latency (outdoor, 91 instances: +11 % with cuts of up to 64 clusters, +3 % with 16), so
+    // only views of many instances, where every thread has its instance, take the table.
+    if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u || mesh_partial(mesh)
+        || view.instance_count < WALK_WIDE_INSTANCES) {
+        return false;
+    }
+    uint base = mesh.tiny_offset;
+    uint rows = tiny_cuts[base];
+    if (rows == 0u) {
+        return false;
+    }
+    float scale = inst.max_scale;
+    vec3 c = relative_position(inst, view, mesh.bounds_center);
+    float br = mesh.bounds_radius * scale;
+    if (lod_error_px(br, c, br, view.proj_scale) > TINY_CUT_RADIUS_PX) {
+        return false;
+    }
+    float r = mesh.walk_radius * scale;
+    uint row0 = base + 1u;
+    float last = uintBitsToFloat(tiny_cuts[row0 + 3u * (rows - 1u)]);
+    if (lod_error_px(last * scale, c, r, view.proj_scale) > view.error_px) {
+        return false;
+    }
+    // The first row whose error projects to at most the threshold (the projection grows with
+    // the error, and the rows' errors decrease).
+    uint lo = 0u;
+    uint hi = rows - 1u;
+    while (lo < hi) {
+        uint mid = (lo + hi) / 2u;
+        float e = uintBitsToFloat(tiny_cuts[row0 + 3u * mid]);
+        if (lod_error_px(e * scale, c, r, view.proj_scale) <= view.error_px) {
+            hi = mid;
+        } else {
+            lo = mid + 1u;
+        }
+    }
+    uint row = row0 + 3u * lo;
+    uint first = base + tiny_cuts[row + 1u];
+    uint count = tiny_cuts[row + 2u];
+    CULL_STAT(tiny_cuts, 1u)
+    CULL_STAT(clusters_tested, count)
+    // Each cluster is still tested (frustum, HZB) as test_cluster tests a drawn one: emitting
+    // the whole cut untested drew 14 % more triangles on stress N=100 (clusters these tests
+    // reject), and rasterizing them cost more than the tests.
+    bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
+    for (uint k = 0u; k < count; k++) {
+        uint ci = mesh.cluster_offset + tiny_cuts[first + k];
+        uint at = cluster_word(mesh, ci);
+        vec3 bmin = cluster_bounds_min(at);
+        vec3 bmax = cluster_bounds_max(at);
+        vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
+        float cr = length(bmax - bmin) * 0.5 * scale;
+        if (frustum && !sphere_in_frustum(view, cc, cr)) {
+            continue;
+        }
+        if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
+            emit_cluster(instance, ci, cluster_info(at), cc, cr);
+        }
+    }
+    return true;
+}
+
 // Nodes a local walk (instance_cull) keeps pending; per invocation.
 uint walk_stack[WALK_STACK];
 uint walk_sp;

@@ -30,6 +30,8 @@ layout(set = 0, binding = 18) buffer PageRequests { uint page_requests[]; };
 layout(set = 0, binding = 19) buffer PageUsage { uint page_usage[]; };
 // The geometry pool: the resident pages' bytes (a cluster's cull words are read from its page).
 layout(set = 0, binding = 20) readonly buffer Pool { uint pool[]; };
+// The meshes' small-instance cut tables (MeshGpu::tiny_offset; src/builder/cut.rs TinyCuts::words).
+layout(set = 0, binding = 21) readonly buffer TinyCutTables { uint tiny_cuts[]; };
 
 // 0: main phase (test against the previous frame's HZB, defer what it rejects);
 // 1: post phase (retest what was deferred against this frame's HZB).

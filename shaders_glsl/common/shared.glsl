@@ -37,7 +37,7 @@ struct MeshGpu {
     float walk_error_wide;  // the same for WALK_CLUSTERS_WIDE, with WALK_WIDE_INSTANCES instances
     float walk_radius;
     float normal_scale;  // largest normal component code (src/builder/quantize.rs normal_scale)
-    uint _pad0;
+    uint tiny_offset;    // the mesh's small-instance cuts in tiny_cuts[] (builder/cut.rs TinyCuts)
 };
 
 // Where a page lies in the geometry pool (src/shared.rs PageGpu): the pool word of its encoded
@@ -99,7 +99,7 @@ struct CullCounters {
     uint occluded_clusters;
     uvec4 hw_mesh;
     uint hw_overflow;
-    uint _pad1;
+    uint tiny_cuts;
     uvec4 hzb_dispatch;
 };
 

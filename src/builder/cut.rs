@@ -15,6 +15,7 @@
 use glam::Vec3;
 
 use super::{BVH_FLAG_LEAF, BuiltMesh, Cluster, NO_GROUP};
+use crate::shared::{TINY_CUT_CLUSTERS, TINY_CUT_ENTRIES};
 
 /// Projected size in pixels of object-space `error` at the point of the sphere nearest to the
 /// camera: `error * proj_scale / (distance(center, camera) - radius)`.
@@ -171,4 +172,119 @@ pub fn cut_bvh(
     }
     out.sort_unstable();
     Some(out)
+}
+
+/// One cut of a small instance ([`TinyCuts`]): the clusters `first .. first + count` of
+/// [`TinyCuts::clusters`]. It is the instance's cut when `error` (the next group error to refine)
+/// projects to at most the threshold on the mesh's LOD bound and the previous row's does not.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TinyRow {
+    pub error: f32,
+    pub first: u32,
+    pub count: u32,
+}
+
+/// The cuts of a small instance, from the root down to [`TINY_CUT_CLUSTERS`] clusters: what
+/// `instance_cull` draws (each cluster still tested for the frustum and the HZB) without walking
+/// the BVH (docs/architecture.md, "Small instances: a cut from a table").
+///
+/// An instance far from the camera compared to its size projects every group's error at about
+/// the same distance. Measuring all of them at the point of the mesh's LOD bound (a sphere around
+/// the mesh's centre enclosing every group's LOD sphere: `MeshGpu::walk_radius`) nearest to the
+/// camera makes each projection at least as large as at its own sphere, so the cut is as fine
+/// or finer everywhere (never coarser than the threshold allows). With one distance for all, the
+/// cut depends only on which group errors project over the threshold: as the threshold falls it
+/// refines the groups in decreasing order of error, so there is one cut per distinct group error,
+/// and the coarse ones, up to [`TINY_CUT_CLUSTERS`] clusters, fit a small table. Each is a cut
+/// of the DAG with monotonic errors (crack-free): a cluster is in row `k`'s cut iff its parent
+/// error is larger than the row's `error` and its self error is at most that.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TinyCuts {
+    /// Coarsest first; `error` decreasing.
+    pub rows: Vec<TinyRow>,
+    /// The rows' clusters (mesh-local indices), row after row.
+    pub clusters: Vec<u32>,
+}
+
+impl TinyCuts {
+    /// The table of `m`'s small-instance cuts: rows while a cut has at most
+    /// [`TINY_CUT_CLUSTERS`] clusters and all rows together at most [`TINY_CUT_ENTRIES`].
+    pub fn of(m: &BuiltMesh) -> Self {
+        let mut out = TinyCuts::default();
+        if m.clusters.is_empty() {
+            return out;
+        }
+        // The thresholds: every distinct finite group error, decreasing, then 0 (below every
+        // positive error: the cut of the whole first level).
+        let mut errors: Vec<f32> = m
+            .clusters
+            .iter()
+            .map(|c| c.parent_error)
+            .filter(|e| e.is_finite())
+            .map(|e| e.max(0.0))
+            .collect();
+        errors.sort_unstable_by(|a, b| b.total_cmp(a));
+        errors.dedup();
+        if errors.last().is_none_or(|&e| e > 0.0) {
+            errors.push(0.0);
+        }
+        // Clusters by decreasing parent error: a row's cut lies in the prefix whose parent error
+        // is above its threshold, which grows as the threshold falls.
+        let mut order: Vec<u32> = (0..m.clusters.len() as u32).collect();
+        order.sort_by(|&a, &b| {
+            let (a, b) = (&m.clusters[a as usize], &m.clusters[b as usize]);
+            b.parent_error.total_cmp(&a.parent_error)
+        });
+        let mut prefix = 0;
+        for &e in &errors {
+            while prefix < order.len() && m.clusters[order[prefix] as usize].parent_error > e {
+                prefix += 1;
+            }
+            let first = out.clusters.len();
+            for &ci in &order[..prefix] {
+                if m.clusters[ci as usize].self_error <= e {
+                    out.clusters.push(ci);
+                }
+            }
+            let count = out.clusters.len() - first;
+            if count > TINY_CUT_CLUSTERS as usize || out.clusters.len() > TINY_CUT_ENTRIES as usize
+            {
+                out.clusters.truncate(first);
+                break;
+            }
+            out.clusters[first..].sort_unstable();
+            out.rows.push(TinyRow {
+                error: e,
+                first: first as u32,
+                count: count as u32,
+            });
+        }
+        out
+    }
+
+    /// The table as `instance_cull` reads it (u32 words): the row count; per row its error's
+    /// bits, the word where its clusters start (relative to the table's first word) and its
+    /// cluster count; then the clusters.
+    pub fn words(&self) -> Vec<u32> {
+        let head = 1 + 3 * self.rows.len() as u32;
+        let mut w = Vec::with_capacity(head as usize + self.clusters.len());
+        w.push(self.rows.len() as u32);
+        for r in &self.rows {
+            w.extend([r.error.to_bits(), head + r.first, r.count]);
+        }
+        w.extend_from_slice(&self.clusters);
+        w
+    }
+
+    /// The row a cut for threshold `tau` takes, where `px(error)` projects an error onto the
+    /// mesh's LOD bound: the first whose error projects to at most `tau`, if any (`None`: the
+    /// instance needs a finer cut than the table holds). `px` must be non-decreasing.
+    pub fn row_for(&self, tau: f32, px: impl Fn(f32) -> f32) -> Option<&TinyRow> {
+        let last = self.rows.last()?;
+        if px(last.error) > tau {
+            return None;
+        }
+        let k = self.rows.partition_point(|r| px(r.error) > tau);
+        self.rows.get(k)
+    }
 }

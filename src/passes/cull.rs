@@ -44,7 +44,7 @@ pub fn layout() -> Vec<vk::DescriptorType> {
     let mut v = vec![D::UNIFORM_BUFFER];
     v.extend([D::STORAGE_BUFFER; 10]);
     v.push(D::UNIFORM_BUFFER);
-    v.extend([D::STORAGE_BUFFER; 9]);
+    v.extend([D::STORAGE_BUFFER; 10]);
     v
 }
 
@@ -54,7 +54,7 @@ pub fn descriptors<'a>(
     fb: &'a FrameBuffers,
     hzb: &'a Buffer,
     phase: Phase,
-) -> [Desc<'a>; 21] {
+) -> [Desc<'a>; 22] {
     let (counters, sw, hw, occ) = match phase {
         Phase::Main => (&fb.counters, &fb.sw_list, &fb.hw_list, &fb.occ_main),
         Phase::Post => (
@@ -86,6 +86,7 @@ pub fn descriptors<'a>(
         Desc::Storage(&scene.page_requests),
         Desc::Storage(&scene.page_usage),
         Desc::Storage(&scene.pool),
+        Desc::Storage(&scene.tiny_cuts),
     ]
 }
 

@@ -4,11 +4,12 @@
 
 use glam::Vec3;
 
+use crate::builder::cut::TinyCuts;
 use crate::builder::{BuiltMesh, lod_error_px};
 use crate::camera::Camera;
 use crate::render::Placement;
 use crate::scene_gpu::instance_gpu;
-use crate::shared::{InstanceVgeo, ViewGpu};
+use crate::shared::{InstanceVgeo, TINY_CUT_RADIUS_PX, ViewGpu, WALK_WIDE_INSTANCES};
 
 /// One cluster of the CPU cut.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,6 +65,9 @@ pub fn reference_cut(
 
 /// [`reference_cut`] under page residency: `residency[mesh]` is the mesh's resident pages
 /// (`None`: all), the cut rule of `builder::cut` (a group not wholly resident counts error 0).
+/// Small instances of meshes with every page resident, in a view of many instances, take
+/// `instance_cull`'s cut from the mesh's table ([`TinyCuts`]): every error projected on the
+/// mesh's LOD bound.
 pub fn reference_cut_resident(
     built: &[BuiltMesh],
     residency: &[Option<&[bool]>],
@@ -81,24 +85,63 @@ pub fn reference_cut_resident(
     let near = |v: f32| {
         (v - tau).abs() <= rel_margin * tau.max(1e-6) || (v.is_infinite() && tau.is_infinite())
     };
+    // Per mesh: its small-instance cuts and the LOD bound they are projected on (as the GPU's
+    // MeshGpu holds them).
+    let tiny: Vec<(TinyCuts, Vec3, f32)> = built
+        .iter()
+        .map(|m| {
+            let (center, _) = crate::scene_gpu::mesh_sphere(m);
+            let (_, _, radius) = crate::scene_gpu::walk_bound(m, center);
+            (TinyCuts::of(m), Vec3::from(center), radius)
+        })
+        .collect();
     let mut cut = Vec::new();
     let mut borderline = Vec::new();
     for (i, p) in placements.iter().enumerate() {
         let inst = instance_gpu(p);
         let m = &built[p.mesh as usize];
+        let res = residency.get(p.mesh as usize).copied().flatten();
+        let partial = res.is_some_and(|r| r.iter().any(|&x| !x));
+        // `instance_cull`'s small-instance path (`emit_tiny_cut`): every error projected on the
+        // mesh's LOD bound. Its cut is the first row's whose error projects to at most tau, which
+        // is the per-cluster rule with that one projection (builder::cut::TinyCuts).
+        let (table, center, radius) = &tiny[p.mesh as usize];
+        let bound = [center.x, center.y, center.z, *radius];
+        let uniform = |e: f32| projected(&inst, view, bound, e);
+        let last = table.rows.last().map(|r| uniform(r.error));
+        // The instance's bounding sphere's projected radius (the same projection, its radius as
+        // the "error").
+        let (bc, br) = crate::scene_gpu::mesh_sphere(m);
+        let size = projected(&inst, view, [bc[0], bc[1], bc[2], br], br);
+        // Only in a view of many instances (`emit_tiny_cut`; the view's instance count is the
+        // scene's).
+        let wide = placements.len() >= WALK_WIDE_INSTANCES as usize;
+        let small =
+            !partial && wide && size <= TINY_CUT_RADIUS_PX && last.is_some_and(|px| px <= tau);
+        // Near the table's edges (its size limit, a row's error at the threshold) the GPU may
+        // take either path: clusters the two cuts disagree on are borderline.
+        let size_edge = (size - TINY_CUT_RADIUS_PX).abs() <= rel_margin * TINY_CUT_RADIUS_PX;
+        let either = !partial && wide && (size_edge || last.is_some_and(near));
         for (ci, c) in m.clusters.iter().enumerate() {
-            let res = residency.get(p.mesh as usize).copied().flatten();
             let (se, pe) = crate::builder::cut::resident_errors(m, c, res);
             let s = projected(&inst, view, c.self_sphere, se);
             let q = projected(&inst, view, c.parent_sphere, pe);
+            let (us, uq) = (uniform(se), uniform(pe));
             let e = CutEntry {
                 instance: i as u32,
                 cluster: offsets[p.mesh as usize] + ci as u32,
             };
-            if s <= tau && q > tau {
+            let by_group = s <= tau && q > tau;
+            let by_bound = us <= tau && uq > tau;
+            if if small { by_bound } else { by_group } {
                 cut.push(e);
             }
-            if near(s) || near(q) {
+            let edge = if small {
+                near(us) || near(uq)
+            } else {
+                near(s) || near(q)
+            };
+            if edge || (either && by_group != by_bound) {
                 borderline.push(e);
             }
         }
