@@ -92,8 +92,14 @@ void main() {
         uint finished = atomicAdd(counters.finished_workgroups, 1u);
         if (finished == gl_NumWorkGroups.x - 1u) {
             uint sw = min(atomicAdd(counters.sw_count, 0u), view.visible_capacity);
+            uint small = min(atomicAdd(counters.sw_small_count, 0u), view.visible_capacity - sw);
             uint hw = min(atomicAdd(counters.hw_count, 0u), view.visible_capacity);
-            counters.sw_dispatch = uvec4(min(sw, 65535u), 1u, 1u, 0u);
+            // raster_sw: the first workgroups take the small clusters two at a time (their
+            // number in w), the rest the others; sw_count from here on counts both.
+            uint small_groups = min((small + 1u) / 2u, 32768u);
+            counters.sw_small_count = small;
+            counters.sw_count = sw + small;
+            counters.sw_dispatch = uvec4(small_groups + min(sw, 65535u - small_groups), 1u, 1u, small_groups);
             counters.hw_draw = uvec4(MAX_CLUSTER_TRIANGLES * 3u, hw, 0u, 0u);
             // The mesh path: rows of MESH_GROUPS_X workgroups (src/shared.rs hw_mesh_args).
             uint hw_mesh = min(hw, MESH_MAX_CLUSTERS);
@@ -106,7 +112,7 @@ void main() {
             // half the frame), none when this phase drew nothing.
             uvec2 level0 = (uvec2(view.viewport.xy) + 1u) / 2u;
             uvec2 groups = (level0 + 2u * HZB_GROUP - 1u) / (2u * HZB_GROUP);
-            counters.hzb_dispatch = uvec4(sw + hw > 0u ? groups.x : 0u, groups.y, 1u, 0u);
+            counters.hzb_dispatch = uvec4(sw + small + hw > 0u ? groups.x : 0u, groups.y, 1u, 0u);
         }
     }
 }

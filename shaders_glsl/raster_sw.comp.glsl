@@ -1,6 +1,8 @@
 #version 460
-// Pass `raster_sw`: the compute rasterizer for small triangles. One workgroup per SW cluster
-// (grid-stride over CullCounters.sw_count), the cluster's vertices decoded, transformed and snapped
+// Pass `raster_sw`: the compute rasterizer for small triangles. The first CullCounters.sw_dispatch.w
+// workgroups take the small clusters (CullCounters.sw_small_count, at the SW list's end) two at a
+// time (raster_small, below); the others one workgroup per SW cluster (grid-stride over the
+// list's front: sw_count - sw_small_count entries), the cluster's vertices decoded, transformed and snapped
 // into shared memory, then one thread per triangle: fixed-point edge functions (SUBPIXEL_BITS) with
 // the top-left rule exactly as src/reference/raster.rs, depth from the snapped positions, atomicMax
 // into the visibility buffer. Small triangles walk their bounding box with int32 edge functions,
@@ -145,15 +147,16 @@ void raster_row(Tri t, int y, int xa, int xb, uint visible_index, uint tri, uint
 }
 
 // One invocation's triangle: small boxes walked pixel by pixel here, larger ones by rows here,
-// the largest left to the workgroup (s_big).
-void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint width, uint height) {
+// the largest left to the workgroup (s_big) when `shared_big`.
+void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint width, uint height,
+                     bool shared_big) {
     Tri t;
     if (!tri_setup(v, z, width, height, t)) {
         return;
     }
     ivec2 extent = max(t.v[0], max(t.v[1], t.v[2])) - t.lo;
     int box = (t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1);
-    if (box > RASTER_SW_BIG_BOX_PIXELS) {
+    if (shared_big && box > RASTER_SW_BIG_BOX_PIXELS) {
         uint b = atomicAdd(s_big_count, 1u);
         s_big[b] = tri;
         s_big_pieces[b] = (uint(t.x1 - t.x0) / RASTER_SW_CHUNK + 1u) * uint(t.y1 - t.y0 + 1);
@@ -190,12 +193,88 @@ void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint widt
     }
 }
 
+// The small clusters (CullCounters::sw_small_count, at the end of the SW list): two to a
+// workgroup, each half of it (RASTER_SW_WORKGROUP_SIZE / 2 invocations) one cluster, two
+// triangles an invocation, every triangle walked by its invocation (no shared pass: a cluster
+// projecting to at most RASTER_SW_SMALL_PX across has no large triangle). Their cost is per
+// cluster (a chain of dependent reads, the barrier), so a workgroup takes two.
+// Each half keeps its cluster's vertices in its half of s_xy / s_z (the cull sends only clusters
+// of at most MAX_CLUSTER_VERTICES / 2 vertices here): no shared memory beyond the other path's,
+// whose size bounds how many workgroups an SM holds.
+#define SMALL_HALF (RASTER_SW_WORKGROUP_SIZE / 2u)
+#define SMALL_VERTICES (MAX_CLUSTER_VERTICES / 2u)
+
+void raster_small(uint first_group, uint groups, uint small_count, uint width, uint height) {
+    uint half_id = gl_LocalInvocationID.x / SMALL_HALF;
+    uint lane = gl_LocalInvocationID.x % SMALL_HALF;
+    uint at = half_id * SMALL_VERTICES;
+    uint last = view.visible_capacity - 1u;
+    for (uint p = first_group; 2u * p < small_count; p += groups) {
+        uint j = 2u * p + half_id;
+        bool in_list = j < small_count;
+        uint visible_index = in_list ? sw_list[last - j] : 0u;
+        uint vcount = 0u;
+        uint tcount = 0u;
+        uvec3 t0 = uvec3(0u);
+        uvec3 t1 = uvec3(0u);
+        InstanceVgeo inst;
+        MeshGpu mesh;
+        Cluster c;
+        ClusterData d;
+        if (in_list) {
+            uvec2 entry = visible[visible_index];
+            inst = instances[entry.x];
+            mesh = meshes[inst.mesh];
+            c = cluster_at(mesh, entry.y);
+            d = cluster_data(mesh, c);
+            vcount = cluster_vertex_count(c);
+            tcount = cluster_triangle_count(c);
+            for (uint k = lane; k < vcount; k += SMALL_HALF) {
+                vec4 clip = cluster_vertex_clip(inst, mesh, d, k);
+                ivec2 xy;
+                float z;
+                bool ok = project_fixed(clip, xy, z);
+                s_xy[at + k] = xy;
+                s_z[at + k] = ok ? z : -1.0;
+            }
+            if (lane < tcount) {
+                t0 = cluster_triangle(d, c, lane);
+            }
+            if (lane + SMALL_HALF < tcount) {
+                t1 = cluster_triangle(d, c, lane + SMALL_HALF);
+            }
+        }
+        barrier();
+        for (uint k = 0u; k < 2u; k++) {
+            uint tri = lane + k * SMALL_HALF;
+            uvec3 t = k == 0u ? t0 : t1;
+            if (tri < tcount) {
+                vec3 z = vec3(s_z[at + t.x], s_z[at + t.y], s_z[at + t.z]);
+                // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
+                if (min(z.x, min(z.y, z.z)) >= 0.0) {
+                    ivec2 v[3] = ivec2[3](s_xy[at + t.x], s_xy[at + t.y], s_xy[at + t.z]);
+                    raster_triangle(v, z, visible_index, tri, width, height, false);
+                }
+            }
+        }
+        barrier();
+    }
+}
+
 void main() {
     uint width = uint(view.viewport.x);
     uint height = uint(view.viewport.y);
-    uint sw_count = min(counters.sw_count, view.visible_capacity);
+    // The first sw_dispatch.w workgroups take the small clusters; the others the rest.
+    uint small_groups = counters.sw_dispatch.w;
+    uint small_count = min(counters.sw_small_count, view.visible_capacity);
+    if (gl_WorkGroupID.x < small_groups) {
+        raster_small(gl_WorkGroupID.x, small_groups, small_count, width, height);
+        return;
+    }
+    uint sw_count = min(counters.sw_count, view.visible_capacity) - min(small_count, counters.sw_count);
     uint tid = gl_LocalInvocationID.x;
-    for (uint i = gl_WorkGroupID.x; i < sw_count; i += gl_NumWorkGroups.x) {
+    uint groups = gl_NumWorkGroups.x - small_groups;
+    for (uint i = gl_WorkGroupID.x - small_groups; i < sw_count; i += groups) {
         uint visible_index = sw_list[i];
         uvec2 entry = visible[visible_index];
         InstanceVgeo inst = instances[entry.x];
@@ -222,7 +301,7 @@ void main() {
             // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
             if (min(z.x, min(z.y, z.z)) >= 0.0) {
                 ivec2 v[3] = ivec2[3](s_xy[t.x], s_xy[t.y], s_xy[t.z]);
-                raster_triangle(v, z, visible_index, tid, width, height);
+                raster_triangle(v, z, visible_index, tid, width, height, true);
             }
         }
         barrier();

@@ -1092,7 +1092,14 @@ fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> Gpu
         let n = (n.min(fb.visible_capacity)) as usize;
         Ok(words(&b.download_prefix(4 * n as u64)?))
     };
-    let sw = list(sw_buf, counters.sw_count)?;
+    // The small SW clusters fill the list from its end (`CullCounters::sw_small_count`).
+    let small = counters.sw_small_count.min(counters.sw_count);
+    let mut sw = list(sw_buf, counters.sw_count - small)?;
+    if small > 0 {
+        let all = words(&sw_buf.download()?);
+        let last = fb.visible_capacity as usize - 1;
+        sw.extend((0..small as usize).map(|j| all[last - j]));
+    }
     let hw = list(hw_buf, counters.hw_count)?;
     let table = read_visible_table(fb, sw.iter().chain(&hw).copied().max())?;
     let visible = sw

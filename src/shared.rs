@@ -44,6 +44,11 @@ pub const INSTANCE_CULL_WORKGROUP_SIZE: u32 = 64;
 pub const CLUSTER_CULL_WORKGROUP_SIZE: u32 = 64;
 /// Threads of one `raster_sw` workgroup: one per triangle of a cluster.
 pub const RASTER_SW_WORKGROUP_SIZE: u32 = 128;
+/// SW clusters whose bounding sphere projects to at most this many pixels across go to the small
+/// end of the SW list, which `raster_sw` draws two clusters to a workgroup (64 threads, two
+/// triangles a thread, no shared pass for large triangles): on tiny clusters its cost is per
+/// cluster, not per triangle.
+pub const RASTER_SW_SMALL_PX: f32 = 7.0;
 /// Threads of one `raster_hw` mesh-shader workgroup (the mesh path, one workgroup per HW cluster):
 /// one per triangle, each also decoding up to two of the cluster's vertices.
 pub const RASTER_HW_MESH_WORKGROUP_SIZE: u32 = 128;
@@ -378,6 +383,8 @@ pub struct CullCounters {
     pub nodes_visited: u32,
     pub clusters_tested: u32,
     /// Entries of the visible-cluster list, and how many of them go to each rasterizer.
+    /// `sw_count` counts every SW cluster once the phase's cull is done; while it runs, only
+    /// those at the front of the SW list (the last `cluster_cull` workgroup adds the small ones).
     pub visible_count: u32,
     pub sw_count: u32,
     pub hw_count: u32,
@@ -412,12 +419,16 @@ pub struct CullCounters {
     /// Statistic: instances drawn with a cut from their mesh's small-instance table
     /// (`emit_tiny_cut`, no BVH walk).
     pub tiny_cuts: u32,
+    /// SW clusters whose bounds project to at most [`RASTER_SW_SMALL_PX`] across: the last
+    /// `sw_small_count` entries of the SW list, from its end backwards (`raster_sw` draws two at
+    /// a time in a workgroup; `sw_dispatch[3]` holds how many workgroups take them).
+    pub sw_small_count: u32,
     /// `vkCmdDispatchIndirect` arguments of the post phase's `depth_pyramid` (x, y, z) + pad: its
     /// workgroups when the phase drew anything, else none (the visibility buffer, and so the
     /// HZB, are what the main phase left).
     pub hzb_dispatch: [u32; 4],
 }
-const _: () = assert!(size_of::<CullCounters>() == 160);
+const _: () = assert!(size_of::<CullCounters>() == 164);
 const _: () = assert!(std::mem::offset_of!(CullCounters, hw_mesh) % 4 == 0);
 
 /// [`CullCounters::hw_mesh`] for `clusters` HW clusters, as `cluster_cull` writes it: rows of

@@ -24,7 +24,10 @@ use vgeo::passes::{FrameBuffers, VisPath, visbuffer};
 use vgeo::reference::{RasterTarget, rasterize};
 use vgeo::render::Placement;
 use vgeo::scene_gpu::GpuScene;
-use vgeo::shared::{CullCounters, MAX_CLUSTER_TRIANGLES, VISBUFFER_TRIANGLE_BITS, hw_mesh_args};
+use vgeo::shared::{
+    CullCounters, MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES, VISBUFFER_TRIANGLE_BITS,
+    hw_mesh_args,
+};
 
 const W: u32 = 128;
 const H: u32 = 96;
@@ -47,6 +50,10 @@ enum Split {
     AllHw,
     /// Alternating by visible index (even: SW, odd: HW).
     Mixed,
+    /// All SW: two of every three clusters of at most `MAX_CLUSTER_VERTICES / 2` vertices at the
+    /// SW list's small end (`CullCounters::sw_small_count`, drawn two to a workgroup), the others
+    /// at its front.
+    SmallSw,
 }
 
 /// Two spot instances (the second turned, scaled and shifted so that they overlap on screen),
@@ -125,6 +132,8 @@ struct Rig {
     camera: Camera,
     placements: Vec<Placement>,
     visible: Vec<[u32; 2]>,
+    /// Clusters the last `render` put at the SW list's small end.
+    last_small: u32,
 }
 
 impl Rig {
@@ -153,6 +162,7 @@ impl Rig {
             camera,
             placements,
             visible,
+            last_small: 0,
         }
     }
 
@@ -178,25 +188,46 @@ impl Rig {
             .view
             .write(0, bytemuck::bytes_of(&view))
             .expect("view upload");
-        let (mut sw_list, mut hw_list) = (Vec::new(), Vec::new());
+        let (mut sw_list, mut hw_list, mut small) = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..self.visible.len() as u32 {
             let to_sw = match split {
-                Split::AllSw => true,
+                Split::AllSw | Split::SmallSw => true,
                 Split::AllHw => false,
                 Split::Mixed => i % 2 == 0,
             };
-            if to_sw {
+            let cluster = &spot().clusters[self.visible[i as usize][1] as usize];
+            if split == Split::SmallSw
+                && cluster.vertex_count() <= MAX_CLUSTER_VERTICES / 2
+                && i % 3 != 0
+            {
+                small.push(i)
+            } else if to_sw {
                 sw_list.push(i)
             } else {
                 hw_list.push(i)
             }
         }
         let (sw_count, hw_count) = (sw_list.len() as u32, hw_list.len() as u32);
+        let small_count = small.len() as u32;
+        self.last_small = small_count;
+        // The small ones from the list's end backwards (as the cull writes them).
+        let cap = self.fb.visible_capacity as usize;
+        sw_list.resize(cap, 0);
+        for (j, &v) in small.iter().enumerate() {
+            sw_list[cap - 1 - j] = v;
+        }
+        let small_groups = small_count.div_ceil(2);
         let counters = CullCounters {
             visible_count: self.visible.len() as u32,
-            sw_count,
+            sw_count: sw_count + small_count,
+            sw_small_count: small_count,
             hw_count,
-            sw_dispatch: [sw_count.min(65535), 1, 1, 0],
+            sw_dispatch: [
+                small_groups + sw_count.min(65535 - small_groups),
+                1,
+                1,
+                small_groups,
+            ],
             hw_draw: [MAX_CLUSTER_TRIANGLES * 3, hw_count, 0, 0],
             hw_mesh: hw_mesh_args(hw_count),
             ..Default::default()
@@ -224,9 +255,7 @@ impl Rig {
             use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
             timer.reset(cmd);
             cmd.copy_buffer(&s_visible, &fb.visible, 8 * self.visible.len() as u64);
-            if sw_count > 0 {
-                cmd.copy_buffer(&s_sw, &fb.sw_list, 4 * sw_count as u64);
-            }
+            cmd.copy_buffer(&s_sw, &fb.sw_list, 4 * cap as u64);
             if hw_count > 0 {
                 cmd.copy_buffer(&s_hw, &fb.hw_list, 4 * hw_count as u64);
             }
@@ -618,4 +647,27 @@ fn every_view_mode_renders() {
         );
     }
     assert_no_validation_errors(&rig.ctx);
+}
+
+/// `raster_sw`'s path for small clusters (`CullCounters::sw_small_count`: two clusters to a
+/// workgroup, two triangles an invocation, every triangle walked by its own invocation) draws
+/// what its path for the others draws, bit for bit: on the usual view (level 0) and on coarse
+/// levels whose large triangles the other path shares across the workgroup, with small and other
+/// clusters in the same dispatch.
+#[test]
+fn the_small_clusters_path_draws_what_the_other_sw_path_draws() {
+    for levels in [[0u32, 0], [3, 4]] {
+        let mut rig = Rig::new(DVec3::ZERO, &levels);
+        let sw = rig.render(Split::AllSw, None);
+        let small = rig.render(Split::SmallSw, None);
+        let n = rig.visible.len() as u32;
+        eprintln!(
+            "levels {levels:?}: {} of {n} clusters on the small path",
+            rig.last_small
+        );
+        assert!(rig.last_small > 0 && rig.last_small < n, "both paths run");
+        assert!(sw.iter().filter(|&&p| p != 0).count() as u32 > W * H / 8);
+        assert!(small == sw, "the small clusters' path draws differently");
+    }
+    assert_no_validation_errors(&gpu());
 }

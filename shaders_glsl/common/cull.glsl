@@ -89,15 +89,25 @@ void emit_cluster(uint instance, uint cluster_index, uint info, vec3 center, flo
         float size_px = info_size_ratio(info) * 2.0 * radius * view.proj_scale / dist;
         hw = size_px > view.hw_threshold_px;
     }
+    // SW clusters that project to at most RASTER_SW_SMALL_PX across (of at most half the most
+    // vertices) fill the SW list from its end (raster_sw draws them two to a workgroup); the
+    // others from its start. Each emitted
+    // cluster holds its own visible slot below visible_capacity, so the two ends never meet.
+    bool small = !hw && 2.0 * radius * view.proj_scale / dist <= RASTER_SW_SMALL_PX
+        && (info & 0xffu) <= MAX_CLUSTER_VERTICES / 2u;
     // The lists hold visible_capacity entries each; a cluster emitted twice (never, by the cut's
     // rule, but a direct slot is not a count) must not write past them.
-    uint slot = hw ? atomicAdd(counters.hw_count, 1u) : atomicAdd(counters.sw_count, 1u);
+    uint slot = hw ? atomicAdd(counters.hw_count, 1u)
+        : small    ? atomicAdd(counters.sw_small_count, 1u)
+                   : atomicAdd(counters.sw_count, 1u);
     if (slot >= view.visible_capacity) {
         atomicAdd(counters.visible_overflow, 1u);
         return;
     }
     if (hw) {
         hw_list[slot] = v;
+    } else if (small) {
+        sw_list[view.visible_capacity - 1u - slot] = v;
     } else {
         sw_list[slot] = v;
     }
@@ -121,6 +131,22 @@ bool cluster_occluded(uint instance, InstanceVgeo inst, vec3 bmin, vec3 bmax, ui
         CULL_STAT(occluded_clusters, 1u)
     }
     return true;
+}
+
+// The tests a cluster of the cut gets before it is drawn (frustum by its bounds' sphere, the HZB:
+// deferred in the main phase, rejected in the post phase), then its emission. `at`: its pool word,
+// `info`: its info word.
+void draw_if_visible(uint instance, InstanceVgeo inst, uint ci, uint at, uint info) {
+    vec3 bmin = cluster_bounds_min(at);
+    vec3 bmax = cluster_bounds_max(at);
+    vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
+    float cr = length(bmax - bmin) * 0.5 * inst.max_scale;
+    if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, cc, cr)) {
+        return;
+    }
+    if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
+        emit_cluster(instance, ci, info, cc, cr);
+    }
 }
 
 // Partial residency (meshes with MESH_STREAM_PARTIAL; src/builder/cut.rs): a group is refinable
@@ -240,16 +266,7 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     }
     mark_used(mesh, ci);
     CULL_STAT(clusters_tested, 1u)
-    vec3 bmin = cluster_bounds_min(at);
-    vec3 bmax = cluster_bounds_max(at);
-    vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
-    float cr = length(bmax - bmin) * 0.5 * scale;
-    if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, cc, cr)) {
-        return true;
-    }
-    if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
-        emit_cluster(instance, ci, info, cc, cr);
-    }
+    draw_if_visible(instance, inst, ci, at, info);
     return true;
 }
 
@@ -309,20 +326,10 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     // Each cluster is still tested (frustum, HZB) as test_cluster tests a drawn one: emitting
     // the whole cut untested drew 14 % more triangles on stress N=100 (clusters these tests
     // reject), and rasterizing them cost more than the tests.
-    bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
     for (uint k = 0u; k < count; k++) {
         uint ci = mesh.cluster_offset + tiny_cuts[first + k];
         uint at = cluster_word(mesh, ci);
-        vec3 bmin = cluster_bounds_min(at);
-        vec3 bmax = cluster_bounds_max(at);
-        vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
-        float cr = length(bmax - bmin) * 0.5 * scale;
-        if (frustum && !sphere_in_frustum(view, cc, cr)) {
-            continue;
-        }
-        if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
-            emit_cluster(instance, ci, cluster_info(at), cc, cr);
-        }
+        draw_if_visible(instance, inst, ci, at, cluster_info(at));
     }
     return true;
 }
@@ -361,16 +368,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
         return;
     }
     mark_used(mesh, ci);
-    vec3 bmin = cluster_bounds_min(at);
-    vec3 bmax = cluster_bounds_max(at);
-    vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
-    float cr = length(bmax - bmin) * 0.5 * scale;
-    if (frustum && !sphere_in_frustum(view, cc, cr)) {
-        return;
-    }
-    if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
-        emit_cluster(instance, ci, info, cc, cr);
-    }
+    draw_if_visible(instance, inst, ci, at, info);
 }
 
 #ifdef CULL_RANGE_ITEMS

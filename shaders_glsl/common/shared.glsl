@@ -100,6 +100,7 @@ struct CullCounters {
     uvec4 hw_mesh;
     uint hw_overflow;
     uint tiny_cuts;
+    uint sw_small_count;
     uvec4 hzb_dispatch;
 };
 
