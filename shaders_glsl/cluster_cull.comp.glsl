@@ -91,8 +91,15 @@ void main() {
         memoryBarrierBuffer();
         uint finished = atomicAdd(counters.finished_workgroups, 1u);
         if (finished == gl_NumWorkGroups.x - 1u) {
-            uint sw = min(atomicAdd(counters.sw_count, 0u), view.visible_capacity);
-            uint small = min(atomicAdd(counters.sw_small_count, 0u), view.visible_capacity - sw);
+            uint sw_front = atomicAdd(counters.sw_count, 0u);
+            uint sw_small = atomicAdd(counters.sw_small_count, 0u);
+            uint sw = min(sw_front, view.visible_capacity);
+            uint small = min(sw_small, view.visible_capacity - sw);
+            // The two ends of the SW list meet only if a cluster was emitted twice under direct
+            // visible slots (never, by the cut's rule): reported, never silent.
+            if (sw_front + sw_small > view.visible_capacity) {
+                atomicAdd(counters.visible_overflow, sw_front + sw_small - view.visible_capacity);
+            }
             uint hw = min(atomicAdd(counters.hw_count, 0u), view.visible_capacity);
             // raster_sw: the first workgroups take the small clusters two at a time (their
             // number in w), the rest the others; sw_count from here on counts both.

@@ -257,8 +257,7 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
             "the second grid uses the wide bound"
         );
         let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
-        // The big grid at one threshold (the CPU cut of 4,096 instances takes a while here).
-        let taus: &[f32] = if side == 12 { &[0.5, 1.0, 4.0] } else { &[1.0] };
+        let taus: &[f32] = &[0.5, 1.0, 4.0];
         for &tau in taus {
             r.set_cull_workgroups(2).unwrap();
             let (n, border) = compare(&mut r, &meshes, &placements, &camera, tau);

@@ -50,9 +50,9 @@ enum Split {
     AllHw,
     /// Alternating by visible index (even: SW, odd: HW).
     Mixed,
-    /// All SW: two of every three clusters of at most `MAX_CLUSTER_VERTICES / 2` vertices at the
-    /// SW list's small end (`CullCounters::sw_small_count`, drawn two to a workgroup), the others
-    /// at its front.
+    /// All SW: most clusters of at most `MAX_CLUSTER_VERTICES / 2` vertices at the SW list's
+    /// small end (`CullCounters::sw_small_count`, drawn two to a workgroup), the others at its
+    /// front.
     SmallSw,
 }
 
@@ -196,9 +196,11 @@ impl Rig {
                 Split::Mixed => i % 2 == 0,
             };
             let cluster = &spot().clusters[self.visible[i as usize][1] as usize];
+            // An odd number of them (a workgroup half with no cluster), and some at the front.
             if split == Split::SmallSw
                 && cluster.vertex_count() <= MAX_CLUSTER_VERTICES / 2
-                && i % 3 != 0
+                && i != 0
+                && i % 7 != 3
             {
                 small.push(i)
             } else if to_sw {
@@ -666,6 +668,7 @@ fn the_small_clusters_path_draws_what_the_other_sw_path_draws() {
             rig.last_small
         );
         assert!(rig.last_small > 0 && rig.last_small < n, "both paths run");
+        assert!(rig.last_small % 2 == 1, "a workgroup half has no cluster");
         assert!(sw.iter().filter(|&&p| p != 0).count() as u32 > W * H / 8);
         assert!(small == sw, "the small clusters' path draws differently");
     }

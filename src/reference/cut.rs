@@ -103,8 +103,9 @@ pub fn reference_cut_resident(
         let res = residency.get(p.mesh as usize).copied().flatten();
         let partial = res.is_some_and(|r| r.iter().any(|&x| !x));
         // `instance_cull`'s small-instance path (`emit_tiny_cut`): every error projected on the
-        // mesh's LOD bound. Its cut is the first row's whose error projects to at most tau, which
-        // is the per-cluster rule with that one projection (builder::cut::TinyCuts).
+        // mesh's LOD bound. Its cut is the first row whose error projects to at most tau, the
+        // per-cluster rule with that one projection (builder::cut::TinyCuts; `by_bound` below
+        // marks the borderline clusters by it).
         let (table, center, radius) = &tiny[p.mesh as usize];
         let bound = [center.x, center.y, center.z, *radius];
         let uniform = |e: f32| projected(&inst, view, bound, e);
@@ -118,6 +119,11 @@ pub fn reference_cut_resident(
         let wide = placements.len() >= WALK_WIDE_INSTANCES as usize;
         let small =
             !partial && wide && size <= TINY_CUT_RADIUS_PX && last.is_some_and(|px| px <= tau);
+        // A small instance's cut is the table's row (`emit_tiny_cut`'s binary search).
+        let row: &[u32] = match table.row_for(tau, uniform).filter(|_| small) {
+            Some(r) => &table.clusters[r.first as usize..(r.first + r.count) as usize],
+            None => &[],
+        };
         // Near the table's edges (its size limit, a row's error at the threshold) the GPU may
         // take either path: clusters the two cuts disagree on are borderline.
         let size_edge = (size - TINY_CUT_RADIUS_PX).abs() <= rel_margin * TINY_CUT_RADIUS_PX;
@@ -133,7 +139,12 @@ pub fn reference_cut_resident(
             };
             let by_group = s <= tau && q > tau;
             let by_bound = us <= tau && uq > tau;
-            if if small { by_bound } else { by_group } {
+            let in_cut = if small {
+                row.binary_search(&(ci as u32)).is_ok()
+            } else {
+                by_group
+            };
+            if in_cut {
                 cut.push(e);
             }
             let edge = if small {
