@@ -193,6 +193,32 @@ void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint widt
     }
 }
 
+// Decodes, transforms and snaps the cluster's vertices `first, first + stride, ...` into
+// s_xy / s_z from entry `base` on (s_z < 0: the vertex cannot be snapped).
+void snap_vertices(InstanceVgeo inst, MeshGpu mesh, ClusterData d, uint vcount, uint first,
+                   uint stride, uint base) {
+    for (uint k = first; k < vcount; k += stride) {
+        vec4 clip = cluster_vertex_clip(inst, mesh, d, k);
+        ivec2 xy;
+        float z;
+        bool ok = project_fixed(clip, xy, z);
+        s_xy[base + k] = xy;
+        s_z[base + k] = ok ? z : -1.0;
+    }
+}
+
+// Triangle `tri` (local corners `t`, snapped from entry `base` of s_xy / s_z) of the cluster of
+// `visible_index`.
+void raster_snapped(uvec3 t, uint base, uint visible_index, uint tri, uint width, uint height,
+                    bool shared_big) {
+    vec3 z = vec3(s_z[base + t.x], s_z[base + t.y], s_z[base + t.z]);
+    // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
+    if (min(z.x, min(z.y, z.z)) >= 0.0) {
+        ivec2 v[3] = ivec2[3](s_xy[base + t.x], s_xy[base + t.y], s_xy[base + t.z]);
+        raster_triangle(v, z, visible_index, tri, width, height, shared_big);
+    }
+}
+
 // The small clusters (CullCounters::sw_small_count, at the end of the SW list): two to a
 // workgroup, each half of it (RASTER_SW_WORKGROUP_SIZE / 2 invocations) one cluster, two
 // triangles an invocation, every triangle walked by its invocation (no shared pass: a cluster
@@ -229,14 +255,7 @@ void raster_small(uint first_group, uint groups, uint small_count, uint width, u
             d = cluster_data(mesh, c);
             vcount = cluster_vertex_count(c);
             tcount = cluster_triangle_count(c);
-            for (uint k = lane; k < vcount; k += SMALL_HALF) {
-                vec4 clip = cluster_vertex_clip(inst, mesh, d, k);
-                ivec2 xy;
-                float z;
-                bool ok = project_fixed(clip, xy, z);
-                s_xy[at + k] = xy;
-                s_z[at + k] = ok ? z : -1.0;
-            }
+            snap_vertices(inst, mesh, d, vcount, lane, SMALL_HALF, at);
             if (lane < tcount) {
                 t0 = cluster_triangle(d, c, lane);
             }
@@ -247,14 +266,8 @@ void raster_small(uint first_group, uint groups, uint small_count, uint width, u
         barrier();
         for (uint k = 0u; k < 2u; k++) {
             uint tri = lane + k * SMALL_HALF;
-            uvec3 t = k == 0u ? t0 : t1;
             if (tri < tcount) {
-                vec3 z = vec3(s_z[at + t.x], s_z[at + t.y], s_z[at + t.z]);
-                // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
-                if (min(z.x, min(z.y, z.z)) >= 0.0) {
-                    ivec2 v[3] = ivec2[3](s_xy[at + t.x], s_xy[at + t.y], s_xy[at + t.z]);
-                    raster_triangle(v, z, visible_index, tri, width, height, false);
-                }
+                raster_snapped(k == 0u ? t0 : t1, at, visible_index, tri, width, height, false);
             }
         }
         barrier();
@@ -286,23 +299,10 @@ void main() {
         if (tid == 0u) {
             s_big_count = 0u;
         }
-        for (uint k = tid; k < vcount; k += RASTER_SW_WORKGROUP_SIZE) {
-            vec4 clip = cluster_vertex_clip(inst, mesh, d, k);
-            ivec2 xy;
-            float z;
-            bool ok = project_fixed(clip, xy, z);
-            s_xy[k] = xy;
-            s_z[k] = ok ? z : -1.0;
-        }
+        snap_vertices(inst, mesh, d, vcount, tid, RASTER_SW_WORKGROUP_SIZE, 0u);
         barrier();
         if (tid < tcount) {
-            uvec3 t = cluster_triangle(d, c, tid);
-            vec3 z = vec3(s_z[t.x], s_z[t.y], s_z[t.z]);
-            // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
-            if (min(z.x, min(z.y, z.z)) >= 0.0) {
-                ivec2 v[3] = ivec2[3](s_xy[t.x], s_xy[t.y], s_xy[t.z]);
-                raster_triangle(v, z, visible_index, tid, width, height, true);
-            }
+            raster_snapped(cluster_triangle(d, c, tid), 0u, visible_index, tid, width, height, true);
         }
         barrier();
         // The large triangles, by the whole workgroup: their rows cut into pieces of
