@@ -6,7 +6,8 @@
 // into shared memory, then one thread per triangle: fixed-point edge functions (SUBPIXEL_BITS) with
 // the top-left rule exactly as src/reference/raster.rs, depth from the snapped positions, atomicMax
 // into the visibility buffer. Small triangles walk their bounding box with int32 edge functions,
-// larger ones walk scanlines (the covered span of each row solved from the edge functions, int64),
+// larger ones walk scanlines (the covered span of each row solved from the int64 edge functions
+// without an int64 division: a float estimate made exact, first_inside / last_inside),
 // and those whose box exceeds RASTER_SW_BIG_BOX_PIXELS are left to the whole workgroup after the
 // per-thread pass (pieces of rows, one per invocation), so one large triangle does not hold its
 // cluster's workgroup for as many steps as it has pixels.
@@ -108,8 +109,41 @@ bool tri_setup(ivec2 v[3], vec3 z, uint width, uint height, out Tri t) {
     return true;
 }
 
+// The first i in 0..n + 1 with r + i a >= 0, for a > 0 (n + 1: none up to n). ceil(-r / a) is
+// estimated in float: three roundings put the quotient within 2^-22 of its value relative to it, so
+// while it is at most n + 2 (n < 2^20) the estimate is within one of the answer, and the int64
+// value at the estimate or its neighbour makes it exact. An int64 division is a long emulated
+// sequence on GPUs: solving rows with it cost foliage 11 % of its frame
+// (bench/results/2026-11-26-session24, call 6).
+int first_inside(int64_t r, int64_t a, int n) {
+    if (r >= 0) {
+        return 0;
+    }
+    int i = int(min(ceil(float(-r) / float(a)), float(n + 1)));
+    if (r + int64_t(i) * a < 0) {
+        i++;
+    } else if (i > 0 && r + int64_t(i - 1) * a >= 0) {
+        i--;
+    }
+    return min(i, n + 1);
+}
+
+// The last i in -1..n with r + i a >= 0, for a < 0 (-1: none from 0 on), as first_inside.
+int last_inside(int64_t r, int64_t a, int n) {
+    if (r < 0) {
+        return -1;
+    }
+    int i = int(min(floor(float(r) / float(-a)), float(n)));
+    if (r + int64_t(i) * a < 0) {
+        i--;
+    } else if (i < n && r + int64_t(i + 1) * a >= 0) {
+        i++;
+    }
+    return i;
+}
+
 // Pixels xa..xb of row y (inside the box) that the triangle covers: the span where every
-// e_k + bias_k >= 0, solved per edge in int64 from the edge functions at (xa, y).
+// e_k + bias_k >= 0, solved per edge from the int64 edge functions at (xa, y).
 void raster_row(Tri t, int y, int xa, int xb, uint visible_index, uint tri, uint width) {
     ivec2 start = ivec2(xa, y) * RASTER_ONE + RASTER_HALF;
     i64vec3 e0, step_x;
@@ -117,23 +151,22 @@ void raster_row(Tri t, int y, int xa, int xb, uint visible_index, uint tri, uint
         e0[k] = edge_fn(t.v[(k + 1) % 3], t.v[(k + 2) % 3], start);
         step_x[k] = -int64_t(t.dy[k]) * RASTER_ONE;
     }
-    int64_t t_lo = 0;
-    int64_t t_hi = int64_t(xb - xa);
+    int n = xb - xa;
+    int lo = 0;
+    int hi = n;
     for (int k = 0; k < 3; k++) {
         int64_t r = e0[k] + t.bias[k];
         int64_t a = step_x[k];
         if (a > 0) {
-            // r + i a >= 0  <=>  i >= ceil(-r / a)
-            if (r < 0) {
-                t_lo = max(t_lo, (-r + a - 1) / a);
-            }
+            lo = max(lo, first_inside(r, a, n));
         } else if (a < 0) {
-            // r + i a >= 0  <=>  i <= floor(r / -a)
-            t_hi = r < 0 ? int64_t(-1) : min(t_hi, r / (-a));
+            hi = min(hi, last_inside(r, a, n));
         } else if (r < 0) {
-            t_hi = -1;
+            hi = -1;
         }
     }
+    int64_t t_lo = lo;
+    int64_t t_hi = hi;
     if (t_lo <= t_hi) {
         i64vec3 e = e0 + step_x * t_lo;
         for (int64_t i = t_lo; i <= t_hi; i++) {
