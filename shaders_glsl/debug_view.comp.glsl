@@ -124,7 +124,7 @@ vec3 level_color(uint level) {
 vec3 residency_color(uvec2 entry) {
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
-    Cluster cl = cluster_at(mesh, entry.y);
+    Cluster cl = cluster_at(entry.y);
     if ((mesh.streams & MESH_STREAM_PARTIAL) == 0u || cl.creator == NO_GROUP_ID) {
         return unpackUnorm4x8(RESIDENCY_COLOR_RESIDENT).rgb;
     }
@@ -156,7 +156,7 @@ vec3 residency_color(uvec2 entry) {
 vec3 lit_color(uvec2 entry, uint tri, ivec2 px) {
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
-    Cluster c = cluster_at(mesh, entry.y);
+    Cluster c = cluster_at(entry.y);
     ClusterData d = cluster_data(mesh, c);
     uvec3 t = cluster_triangle(d, c, tri);
     vec3 p[3];
@@ -228,16 +228,22 @@ void main() {
             color = hash_color(lo);
             break;
         case 3u:
-            color = hash_color(entry.y * 0x9e3779b9u + entry.x);
+        {
+            // By what the cluster is (its group and bounds), not where its page lies in the pool
+            // (the visible entry's word): a streamed cluster keeps its colour.
+            Cluster c = cluster_at(entry.y);
+            uint id = c.group * 0x9e3779b9u ^ floatBitsToUint(c.bounds_min.x + c.bounds_max.z);
+            color = hash_color(id + entry.x);
             break;
+        }
         case 4u:
             color = hash_color(entry.x);
             break;
         case 5u:
-            color = level_color(cluster_at(meshes[instances[entry.x].mesh], entry.y).level);
+            color = level_color(cluster_at(entry.y).level);
             break;
         case 7u:
-            color = group_color(entry.x, cluster_at(meshes[instances[entry.x].mesh], entry.y).group);
+            color = group_color(entry.x, cluster_at(entry.y).group);
             break;
         case 9u:
         {

@@ -79,6 +79,6 @@ void main() {
         }
         vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
         float cr = length(bmax - bmin) * 0.5 * inst.max_scale;
-        emit_cluster(e.x, e.y, cluster_info(at), cc, cr);
+        emit_cluster(e.x, e.y, at, cluster_info(at), cc, cr);
     }
 }

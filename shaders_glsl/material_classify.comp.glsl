@@ -60,7 +60,7 @@ void main() {
                     uint mi = instances[entry.x].mesh;
                     MeshGpu mesh = meshes[mi];
                     MeshMaterialGpu mm = mesh_materials[mi];
-                    Cluster c = cluster_at(mesh, entry.y);
+                    Cluster c = cluster_at(entry.y);
                     id = mm.material_offset;
                     if ((mesh.streams & MESH_STREAM_MATERIALS) != 0u) {
                         ClusterData d = cluster_data(mesh, c);

@@ -42,7 +42,7 @@ void main() {
     uvec2 entry = visible[visible_index];
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
-    Cluster c = cluster_at(mesh, entry.y);
+    Cluster c = cluster_at(entry.y);
     ClusterData d = cluster_data(mesh, c);
     uint vcount = cluster_vertex_count(c);
     uint tcount = cluster_triangle_count(c);

@@ -20,7 +20,7 @@ void main() {
     uvec2 entry = visible[visible_index];
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
-    Cluster c = cluster_at(mesh, entry.y);
+    Cluster c = cluster_at(entry.y);
     uint tri = uint(gl_VertexIndex) / 3u;
     uint corner = uint(gl_VertexIndex) % 3u;
     out_id = 0u;

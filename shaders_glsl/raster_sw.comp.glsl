@@ -284,7 +284,7 @@ void raster_small(uint first_group, uint groups, uint small_count, uint width, u
             uvec2 entry = visible[visible_index];
             inst = instances[entry.x];
             mesh = meshes[inst.mesh];
-            c = cluster_at(mesh, entry.y);
+            c = cluster_at(entry.y);
             d = cluster_data(mesh, c);
             vcount = cluster_vertex_count(c);
             tcount = cluster_triangle_count(c);
@@ -325,7 +325,7 @@ void main() {
         uvec2 entry = visible[visible_index];
         InstanceVgeo inst = instances[entry.x];
         MeshGpu mesh = meshes[inst.mesh];
-        Cluster c = cluster_at(mesh, entry.y);
+        Cluster c = cluster_at(entry.y);
         ClusterData d = cluster_data(mesh, c);
         uint vcount = cluster_vertex_count(c);
         uint tcount = cluster_triangle_count(c);

@@ -519,15 +519,15 @@ impl VgeoRenderer {
         let debug_view = present(self.debug_view.as_ref(), "debug view")?;
         let materials = self.materials.as_ref().filter(|_| mode.is_material());
         let overdraw = self.overdraw.as_ref().filter(|_| counting);
-        let main_res = read_cull(fb, Phase::Main, Vec::new())?;
-        let post_res = read_cull(fb, Phase::Post, Vec::new())?;
+        let main_res = read_cull(fb, &self.scene, Phase::Main, Vec::new())?;
+        let post_res = read_cull(fb, &self.scene, Phase::Post, Vec::new())?;
         let vis = visbuffer::download(fb)?;
         let max_slot = vis
             .iter()
             .filter(|v| **v != 0)
             .map(|v| (*v as u32) >> crate::shared::VISBUFFER_TRIANGLE_BITS)
             .max();
-        let visible_table = read_visible_table(fb, max_slot)?;
+        let visible_table = read_visible_table(fb, &self.scene, max_slot)?;
         let color = match materials {
             Some(m) => m.download()?,
             None => debug_view.download()?,
@@ -955,7 +955,7 @@ impl VgeoRenderer {
         self.scene.updates_submitted();
         self.scene.release_retired();
         let gpu_ms = timer.results()?;
-        read_cull(fb, Phase::Main, gpu_ms)
+        read_cull(fb, &self.scene, Phase::Main, gpu_ms)
     }
 }
 
@@ -1085,7 +1085,12 @@ fn read_counters(fb: &FrameBuffers, phase: Phase) -> GpuResult<CullCounters> {
 /// Reads one phase's counters, its SW and HW lists and the visible entries they name (in list
 /// order: SW, then HW). With direct slots the visible list has holes, so entries are found through
 /// the lists, never by position.
-fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> GpuResult<CullResult> {
+fn read_cull(
+    fb: &FrameBuffers,
+    scene: &GpuScene,
+    phase: Phase,
+    gpu_ms: Vec<(String, f64)>,
+) -> GpuResult<CullResult> {
     let (_, sw_buf, hw_buf) = fb.phase_lists(phase);
     let counters = read_counters(fb, phase)?;
     let list = |b: &Buffer, n: u32| -> GpuResult<Vec<u32>> {
@@ -1101,7 +1106,7 @@ fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> Gpu
         sw.extend((0..small as usize).map(|j| all[last - j]));
     }
     let hw = list(hw_buf, counters.hw_count)?;
-    let table = read_visible_table(fb, sw.iter().chain(&hw).copied().max())?;
+    let table = read_visible_table(fb, scene, sw.iter().chain(&hw).copied().max())?;
     let visible = sw
         .iter()
         .chain(&hw)
@@ -1116,14 +1121,24 @@ fn read_cull(fb: &FrameBuffers, phase: Phase, gpu_ms: Vec<(String, f64)>) -> Gpu
     })
 }
 
-/// The visible list up to and including slot `max` (empty when `None`).
-fn read_visible_table(fb: &FrameBuffers, max: Option<u32>) -> GpuResult<Vec<[u32; 2]>> {
+/// The visible list up to and including slot `max` (empty when `None`), as (instance, cluster
+/// index): the GPU's entries name a cluster by the pool word of its data
+/// ([`GpuScene::clusters_at_words`]).
+fn read_visible_table(
+    fb: &FrameBuffers,
+    scene: &GpuScene,
+    max: Option<u32>,
+) -> GpuResult<Vec<[u32; 2]>> {
     let Some(max) = max else {
         return Ok(Vec::new());
     };
     let n = (max as usize + 1).min(fb.visible_capacity as usize);
     let w = words(&fb.visible.download_prefix(8 * n as u64)?);
-    Ok(w.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
+    let mut table: Vec<[u32; 2]> = w.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+    scene
+        .clusters_at_words(&mut table)
+        .map_err(GpuError::Other)?;
+    Ok(table)
 }
 
 /// Little-endian u32 words of a readback (whatever the byte vector's alignment).

@@ -250,6 +250,9 @@ const ARENA_NAMES: [&str; ARENAS] = [
     "scene geometry pool",
     "scene tiny cuts",
 ];
+/// The arena of the cluster locators ([`ClusterLocGpu`]): a mesh's range starts at its
+/// `MeshGpu::cluster_offset`.
+const CLUSTERS: usize = 0;
 /// The arena of [`PageGpu`] entries and the geometry pool's (u32 words).
 const PAGES: usize = 3;
 const POOL: usize = 4;
@@ -266,6 +269,9 @@ struct LiveMesh {
     /// [`PAGE_NOT_RESIDENT`].
     loaded: Vec<u32>,
     resident_pages: u32,
+    /// Its clusters as (page, word in the page, index in the mesh), sorted: where a visible-list
+    /// entry's pool word points ([`GpuScene::clusters_at_words`]).
+    by_page: Vec<(u32, u32, u32)>,
     instances: u32,
     /// Items one instance of the mesh can push to `cluster_cull`'s queue at most: its BVH nodes
     /// and its groups' cluster ranges (`CULL_RANGE_CLUSTERS` each).
@@ -725,6 +731,15 @@ impl GpuScene {
                 page_records: m.pages.clone(),
                 loaded: pages.iter().map(|e| e.word).collect(),
                 resident_pages: m.resident_pages,
+                by_page: {
+                    let mut v: Vec<(u32, u32, u32)> = locs
+                        .iter()
+                        .enumerate()
+                        .map(|(i, l)| (l.page, l.data_offset, i as u32))
+                        .collect();
+                    v.sort_unstable();
+                    v
+                },
                 instances: 0,
                 queue_items: m.bvh.len() as u64
                     + m.groups
@@ -910,6 +925,70 @@ impl GpuScene {
             );
         })?;
         Ok(())
+    }
+
+    /// Turns visible-list entries as the cull writes them, (instance, pool word of the cluster's
+    /// data), into (instance, cluster index in the scene's cluster array), in place. Entries of
+    /// all ones (unused slots) stay. A word that starts no cluster of a page in the pool is an
+    /// error. The pool words are those of the last recorded frame as long as no page was loaded
+    /// or evicted since ([`GpuScene::update_pages`]); read-backs call this right after the frame.
+    #[doc(hidden)]
+    pub fn clusters_at_words(&self, entries: &mut [[u32; 2]]) -> Result<(), String> {
+        // Every page in the pool: (first word, words, mesh slot, page), by first word.
+        let mut pages: Vec<(u32, u32, usize, u32)> = Vec::new();
+        for (slot, ms) in self.mesh_slots.iter().enumerate() {
+            let Some(live) = ms.live.as_ref() else {
+                continue;
+            };
+            for (p, &w) in live.loaded.iter().enumerate() {
+                if w != PAGE_NOT_RESIDENT {
+                    pages.push((w, live.page_records[p].bytes / 4, slot, p as u32));
+                }
+            }
+        }
+        pages.sort_unstable();
+        for e in entries.iter_mut() {
+            if *e == [u32::MAX; 2] {
+                continue;
+            }
+            let word = e[1];
+            let i = pages.partition_point(|&(w, ..)| w <= word);
+            let found = i.checked_sub(1).and_then(|i| {
+                let (first, words, slot, page) = pages[i];
+                if word - first >= words {
+                    return None;
+                }
+                let live = self.mesh_slots[slot].live.as_ref()?;
+                let k = live
+                    .by_page
+                    .binary_search_by(|&(p, o, _)| (p, o).cmp(&(page, word - first)))
+                    .ok()?;
+                Some(live.ranges[CLUSTERS].0 as u32 + live.by_page[k].2)
+            });
+            e[1] = found.ok_or_else(|| {
+                format!("a visible cluster at pool word {word} is no cluster of a page in the pool")
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The pool word where cluster `cluster` (an index in the scene's cluster array) starts, as
+    /// the cull writes it into the visible list; `None` for no live mesh's cluster or one whose
+    /// page is not in the pool. For tests that write visible lists themselves.
+    #[doc(hidden)]
+    pub fn cluster_word(&self, cluster: u32) -> Option<u32> {
+        let live = self
+            .mesh_slots
+            .iter()
+            .filter_map(|m| m.live.as_ref())
+            .find(|l| {
+                let (first, len) = l.ranges[CLUSTERS];
+                (first..first + len).contains(&(cluster as u64))
+            })?;
+        let local = cluster - live.ranges[CLUSTERS].0 as u32;
+        let &(page, offset, _) = live.by_page.iter().find(|&&(_, _, i)| i == local)?;
+        let w = *live.loaded.get(page as usize)?;
+        (w != PAGE_NOT_RESIDENT).then_some(w + offset)
     }
 
     /// Makes room for `words` more u32 words after the geometry pool's last allocation, in one

@@ -247,7 +247,19 @@ impl Rig {
             b.write(0, bytes).expect("staging write");
             b
         };
-        let s_visible = staging("test visible", bytemuck::cast_slice(&self.visible));
+        // The GPU's entries name a cluster by the pool word of its data, as the cull writes them.
+        let words: Vec<[u32; 2]> = self
+            .visible
+            .iter()
+            .map(|&[instance, cluster]| {
+                let word = self
+                    .gpu_scene
+                    .cluster_word(cluster)
+                    .expect("cluster in the pool");
+                [instance, word]
+            })
+            .collect();
+        let s_visible = staging("test visible", bytemuck::cast_slice(&words));
         let s_sw = staging("test sw list", bytemuck::cast_slice(&sw_list));
         let s_hw = staging("test hw list", bytemuck::cast_slice(&hw_list));
         let mut timer = Timer::new(ctx, 8).expect("timer");
@@ -673,4 +685,34 @@ fn the_small_clusters_path_draws_what_the_other_sw_path_draws() {
         assert!(small == sw, "the small clusters' path draws differently");
     }
     assert_no_validation_errors(&gpu());
+}
+
+/// The visible list names a cluster by the pool word of its data; the CPU's read-back turns every
+/// cluster's word back into its index, keeps unused slots (all ones), and refuses a word inside a
+/// cluster's data (no cluster starts there) instead of naming a wrong cluster.
+#[test]
+fn visible_words_turn_back_into_cluster_indices() {
+    let rig = Rig::new(DVec3::ZERO, &[0, 0]);
+    let scene = &rig.gpu_scene;
+    let n = spot().clusters.len() as u32;
+    let mut entries: Vec<[u32; 2]> = (0..n)
+        .map(|c| {
+            [
+                c % 2,
+                scene.cluster_word(c).expect("every page is in the pool"),
+            ]
+        })
+        .collect();
+    entries.push([u32::MAX; 2]);
+    scene
+        .clusters_at_words(&mut entries)
+        .expect("words of clusters");
+    for c in 0..n {
+        assert_eq!(entries[c as usize], [c % 2, c]);
+    }
+    assert_eq!(entries[n as usize], [u32::MAX; 2]);
+    let inside = scene.cluster_word(1).expect("in the pool") + 1;
+    assert!(scene.clusters_at_words(&mut [[0, inside]]).is_err());
+    assert!(scene.clusters_at_words(&mut [[0, u32::MAX - 1]]).is_err());
+    assert_eq!(scene.cluster_word(n), None, "no such cluster");
 }

@@ -3,7 +3,12 @@
 // CLUSTER_CULL_WORDS words are what the passes need of it. Their layout, read only here:
 // words 0-2 bounds min and 3-5 bounds max (f32 bits), 6 `vertex_count | triangle_count << 8 |
 // level << 16 | size_code << 24` (8 bits each; the size code of its triangles: src/builder/size.rs),
-// 7 its group, 8 its creator group. Its LOD pairs are its groups' (cull.glsl).
+// 7 its group, 8 its creator group. Its LOD pairs are its groups' (cull.glsl). The cull writes
+// that pool word into the visible list (`uvec2(instance, word)`), so the passes that read a
+// visible cluster (rasterizers, material passes, debug views) go straight to its data with
+// `cluster_at`, without the locator and the page table: a chain of dependent reads shorter by two
+// (stress -1.5 to -2 % on the H100, bench/results/2026-11-26-session24, calls 1 and 6). The CPU's
+// read-back turns words back into cluster indices (GpuScene::clusters_at_words).
 //
 // The including shader declares `cluster_locs[]` (ClusterLoc), `pages[]` (PageGpu) and `pool[]`
 // (uint) before including this file. The cluster's page must be resident.
@@ -42,8 +47,8 @@ uint cluster_creator(uint at) {
     return pool[at + 8u];
 }
 
-Cluster cluster_at(MeshGpu mesh, uint ci) {
-    uint at = cluster_word(mesh, ci);
+// The cluster whose data starts at pool word `at`: what a visible-list entry names.
+Cluster cluster_at(uint at) {
     uint info = cluster_info(at);
     Cluster c;
     c.bounds_min = cluster_bounds_min(at);
@@ -52,8 +57,7 @@ Cluster cluster_at(MeshGpu mesh, uint ci) {
     c.level = info_level(info);
     c.group = cluster_group(at);
     c.creator = cluster_creator(at);
-    c.page = cluster_locs[ci].page;
-    c.data_offset = cluster_locs[ci].data_offset;
+    c.word = at;
     return c;
 }
 

@@ -53,10 +53,11 @@ void push_item(uint64_t item) {
     atomicExchange(queue[slot], item);
 }
 
-// Appends a drawn cluster to the visible list and to the SW or HW list. `info`: its cull words'
-// info word (common/cluster.glsl); `center`/`radius`: its camera-relative bounding sphere (the
+// Appends a drawn cluster to the visible list and to the SW or HW list. `at`: the pool word of
+// its data (what the visible list holds), `info`: its cull words' info word
+// (common/cluster.glsl); `center`/`radius`: its camera-relative bounding sphere (the
 // radius is half its bounds' diagonal times the instance's largest axis scale).
-void emit_cluster(uint instance, uint cluster_index, uint info, vec3 center, float radius) {
+void emit_cluster(uint instance, uint cluster_index, uint at, uint info, vec3 center, float radius) {
     uint triangles = info_triangles(info);
     uint v = atomicAdd(counters.visible_count, 1u);
     if ((view.flags & VIEW_FLAG_DIRECT_VISIBLE) != 0u) {
@@ -68,7 +69,7 @@ void emit_cluster(uint instance, uint cluster_index, uint info, vec3 center, flo
         atomicAdd(counters.visible_overflow, 1u);
         return;
     }
-    visible[v] = uvec2(instance, cluster_index);
+    visible[v] = uvec2(instance, at);
     // Clusters reaching the near plane always go to HW (the SW rasterizer cannot clip); otherwise
     // by the projected size of their triangles, unless forced.
     float dist = length(center) - radius;
@@ -145,7 +146,7 @@ void draw_if_visible(uint instance, InstanceVgeo inst, uint ci, uint at, uint in
         return;
     }
     if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {
-        emit_cluster(instance, ci, info, cc, cr);
+        emit_cluster(instance, ci, at, info, cc, cr);
     }
 }
 

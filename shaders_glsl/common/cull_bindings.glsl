@@ -12,6 +12,7 @@ layout(set = 0, binding = 4) coherent buffer Queue { uint64_t queue[]; };
 layout(set = 0, binding = 5, scalar) readonly buffer Bvh { BvhNode bvh[]; };
 layout(set = 0, binding = 6, scalar) readonly buffer Groups { Group groups[]; };
 layout(set = 0, binding = 7, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
+// (instance, pool word of the cluster's data): common/cluster.glsl.
 layout(set = 0, binding = 8) writeonly buffer Visible { uvec2 visible[]; };
 layout(set = 0, binding = 9) writeonly buffer SwList { uint sw_list[]; };
 layout(set = 0, binding = 10) writeonly buffer HwList { uint hw_list[]; };

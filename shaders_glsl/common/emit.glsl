@@ -35,7 +35,7 @@ bool emit_pixel(ivec2 px, uint material, out vec4 out_albedo, out vec4 out_norma
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
     MeshMaterialGpu mm = mesh_materials[inst.mesh];
-    Cluster c = cluster_at(mesh, entry.y);
+    Cluster c = cluster_at(entry.y);
     ClusterData d = cluster_data(mesh, c);
     uvec3 t = cluster_triangle(d, c, tri);
     vec3 p[3];

@@ -68,7 +68,7 @@ uint64_t pool_bits64(uint word0, uint bit) {
 // The cluster's data, from its page's slot (the page must be resident).
 ClusterData cluster_data(MeshGpu mesh, Cluster c) {
     ClusterData d;
-    uint at = pages[mesh.page_offset + c.page].word + c.data_offset + CLUSTER_CULL_WORDS;
+    uint at = c.word + CLUSTER_CULL_WORDS;
     // The smallest coordinates, x's high bits the triangle code's header.
     uint px = pool[at];
     d.position_min = uvec3(px & ((1u << CLUSTER_COORD_BITS) - 1u), pool[at + 1u], pool[at + 2u]);

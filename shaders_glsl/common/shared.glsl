@@ -115,17 +115,16 @@ struct OcclusionGpu {
     uint _pad;
 };
 
-// A cluster as the passes use it: read from its page (`cluster_at`, common/cluster.glsl) through
-// its locator. Its LOD pairs are not here: they are its groups' (common/cull.glsl).
+// A cluster as the passes use it: read from the pool word a visible-list entry holds (`cluster_at`,
+// common/cluster.glsl). Its LOD pairs are not here: they are its groups' (common/cull.glsl).
 struct Cluster {
     vec3 bounds_min;
     vec3 bounds_max;
-    uint data_offset;  // word of the cluster's encoded data in its page
+    uint word;  // pool word of the cluster's encoded data
     uint counts;  // vertex_count | triangle_count << 8
     uint group;
     uint creator;
     uint level;
-    uint page;
 };
 
 // Where a cluster lies (ClusterLocGpu in src/shared.rs): the only per-cluster data kept resident.
