@@ -77,6 +77,21 @@ uint hash_u32(uint x) {
     return x;
 }
 
+// A cluster's identity for its colour: its group and its bounds' six words, hashed. By what the
+// cluster is, not where its page lies in the pool (a visible entry's word): a streamed cluster
+// keeps its colour when its page moves to another slot.
+uint cluster_id(uint at) {
+    Cluster c = cluster_at(at);
+    uvec3 lo = floatBitsToUint(c.bounds_min);
+    uvec3 hi = floatBitsToUint(c.bounds_max);
+    uint words[6] = uint[6](lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+    uint h = hash_u32(c.group);
+    for (int k = 0; k < 6; k++) {
+        h = hash_u32(h ^ words[k]);
+    }
+    return h;
+}
+
 vec3 hash_color(uint x) {
     x = hash_u32(x);
     return vec3(uvec3(x, x >> 8, x >> 16) & 0xffu) / 255.0 * 0.8 + 0.2;
@@ -228,14 +243,8 @@ void main() {
             color = hash_color(lo);
             break;
         case 3u:
-        {
-            // By what the cluster is (its group and bounds), not where its page lies in the pool
-            // (the visible entry's word): a streamed cluster keeps its colour.
-            Cluster c = cluster_at(entry.y);
-            uint id = c.group * 0x9e3779b9u ^ floatBitsToUint(c.bounds_min.x + c.bounds_max.z);
-            color = hash_color(id + entry.x);
+            color = hash_color(cluster_id(entry.y) * 0x9e3779b9u + entry.x);
             break;
-        }
         case 4u:
             color = hash_color(entry.x);
             break;
@@ -250,7 +259,7 @@ void main() {
             // The fallback (root) clusters: Lambert, a light tint per cluster, dark lines where the
             // right or lower neighbour shows another cluster, faint ones where it shows another
             // triangle of the same cluster (the proxy's wireframe).
-            vec3 tint = hash_color(entry.y * 0x9e3779b9u + entry.x);
+            vec3 tint = hash_color(cluster_id(entry.y) * 0x9e3779b9u + entry.x);
             color = lit_color(entry, tri, px) * mix(vec3(1.0), tint, 0.35);
             float edge = 1.0;
             for (int k = 0; k < 2; k++) {

@@ -110,9 +110,10 @@ bool tri_setup(ivec2 v[3], vec3 z, uint width, uint height, out Tri t) {
 }
 
 // The first i in 0..n + 1 with r + i a >= 0, for a > 0 (n + 1: none up to n). ceil(-r / a) is
-// estimated in float: three roundings put the quotient within 2^-22 of its value relative to it, so
-// while it is at most n + 2 (n < 2^20) the estimate is within one of the answer, and the int64
-// value at the estimate or its neighbour makes it exact. An int64 division is a long emulated
+// estimated in float: two int64-to-float conversions (an ulp each, whichever way they round) and
+// a division (Vulkan allows 2.5 ulp) put the quotient within 2^-20 of its value relative to it,
+// so while it is at most n + 2 (n < 2^19, rows are at most a viewport wide) the estimate is within
+// one of the answer, and the int64 value at the estimate or its neighbour makes it exact. An int64 division is a long emulated
 // sequence on GPUs: solving rows with it cost foliage 11 % of its frame
 // (bench/results/2026-11-26-session24, call 6).
 int first_inside(int64_t r, int64_t a, int n) {

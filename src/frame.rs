@@ -1036,8 +1036,8 @@ pub struct VgeoFrame {
     pub main: CullResult,
     /// Culling results of the post phase (what the main phase deferred).
     pub post: CullResult,
-    /// The visible list as the GPU left it (up to the largest slot in use): what a visibility-buffer
-    /// value's cluster index points at. Unused slots are all ones.
+    /// The visible list up to the largest slot in use, as (instance, cluster index): what a
+    /// visibility-buffer value's visible index points at. Unused slots are all ones.
     pub visible_table: Vec<[u32; 2]>,
     /// Rasterizer writes per pixel (row-major, both phases), when the frame counted them
     /// ([`ViewMode::Overdraw`] or [`VIEW_FLAG_COUNT_OVERDRAW`]).

@@ -930,8 +930,10 @@ impl GpuScene {
     /// Turns visible-list entries as the cull writes them, (instance, pool word of the cluster's
     /// data), into (instance, cluster index in the scene's cluster array), in place. Entries of
     /// all ones (unused slots) stay. A word that starts no cluster of a page in the pool is an
-    /// error. The pool words are those of the last recorded frame as long as no page was loaded
-    /// or evicted since ([`GpuScene::update_pages`]); read-backs call this right after the frame.
+    /// error. The CPU's page table must be the one the frame ran with: `render` and `cull` record
+    /// every staged page change in their own submission and read back right after it; a host that
+    /// stages page changes ([`GpuScene::update_pages`]) and records them into a command buffer of
+    /// its own must have it executed before it reads back a frame this way.
     #[doc(hidden)]
     pub fn clusters_at_words(&self, entries: &mut [[u32; 2]]) -> Result<(), String> {
         // Every page in the pool: (first word, words, mesh slot, page), by first word.
