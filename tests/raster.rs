@@ -441,6 +441,14 @@ fn large_triangles_match_reference() {
     // 0.14 % of pixels over 1e-4, max 1.3e-3). SW and HW still agree bit for bit (below).
     check_rig_against_reference(&mut rig, Split::AllSw, 0.995);
     let sw = rig.render(Split::AllSw, None);
+    // Coverage is exact: the same snapped vertices, the same top-left rule. Here raster_sw solves
+    // most of it by scanline spans (a float estimate made exact, first_inside / last_inside), so
+    // every pixel's coverage and triangle must be the reference's, not 99.9 % of them.
+    let (cover, _, ids, _, _) = compare(&sw, &rig.reference());
+    assert!(
+        cover == 1.0 && ids == 1.0,
+        "large triangles by scanline: coverage {cover}, ids {ids} (exact expected)"
+    );
     let mut first_hw: Option<Vec<u64>> = None;
     for p in hw_paths(&rig.ctx) {
         rig.set_hw_path(p);
