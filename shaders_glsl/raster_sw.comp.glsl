@@ -1,17 +1,17 @@
 #version 460
-// Pass `raster_sw`: the compute rasterizer for small triangles. The first CullCounters.sw_dispatch.w
-// workgroups take the small clusters (CullCounters.sw_small_count, at the SW list's end) two at a
-// time (raster_small, below); the others one workgroup per SW cluster (grid-stride over the
-// list's front: sw_count - sw_small_count entries), the cluster's vertices decoded, transformed and snapped
-// into shared memory, then one thread per triangle: fixed-point edge functions (SUBPIXEL_BITS) with
-// the top-left rule exactly as src/reference/raster.rs, depth from the snapped positions, atomicMax
-// into the visibility buffer. Small triangles walk their bounding box with int32 edge functions,
-// larger ones walk scanlines (the covered span of each row solved from the int64 edge functions
-// without an int64 division: a float estimate made exact, first_inside / last_inside),
-// and those whose box exceeds RASTER_SW_BIG_BOX_PIXELS are left to the whole workgroup after the
-// per-thread pass (pieces of rows, one per invocation), so one large triangle does not hold its
-// cluster's workgroup for as many steps as it has pixels.
-// With VIEW_FLAG_COUNT_OVERDRAW each covered pixel also adds 1 to the overdraw counter (binding 11)
+// Pass `raster_sw`: the compute rasterizer for small triangles. The first
+// CullCounters.sw_dispatch.w workgroups take the small clusters (CullCounters.sw_small_count, at
+// the SW list's end) two at a time (raster_small, below); the others one workgroup per SW cluster
+// (grid-stride over the list's front: sw_count - sw_small_count entries), the cluster's vertices
+// decoded, transformed and snapped into shared memory, then one thread per triangle: fixed-point
+// edge functions (SUBPIXEL_BITS) with the top-left rule exactly as src/reference/raster.rs, depth
+// from the snapped positions, atomicMax into the visibility buffer. Small triangles walk their
+// bounding box with int32 edge functions, larger ones walk scanlines (the covered span of each
+// row solved from the int64 edge functions without an int64 division: a float estimate made
+// exact, first_inside / last_inside), and those whose box exceeds RASTER_SW_BIG_BOX_PIXELS are
+// left to the whole workgroup after the per-thread pass (pieces of rows, one per invocation), so
+// one large triangle does not hold its cluster's workgroup for as many steps as it has pixels.
+// With VIEW_FLAG_COUNT_OVERDRAW each covered pixel also adds 1 to the overdraw counter (binding 10).
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define VISBUFFER_BINDING 9
@@ -113,9 +113,9 @@ bool tri_setup(ivec2 v[3], vec3 z, uint width, uint height, out Tri t) {
 // estimated in float: two int64-to-float conversions (an ulp each, whichever way they round) and
 // a division (Vulkan allows 2.5 ulp) put the quotient within 2^-20 of its value relative to it,
 // so while it is at most n + 2 (n < 2^19, rows are at most a viewport wide) the estimate is within
-// one of the answer, and the int64 value at the estimate or its neighbour makes it exact. An int64 division is a long emulated
-// sequence on GPUs: solving rows with it cost foliage 11 % of its frame
-// (bench/results/2026-11-26-session24, call 6).
+// one of the answer, and the int64 value at the estimate or its neighbour makes it exact. An int64
+// division is a long emulated sequence on GPUs: solving rows with it cost foliage 11 % of its
+// frame (bench/results/2026-11-26-session24, call 6).
 int first_inside(int64_t r, int64_t a, int n) {
     if (r >= 0) {
         return 0;

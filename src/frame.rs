@@ -34,7 +34,7 @@ use crate::passes::raster_sw::RasterSw;
 use crate::passes::view::{FrameSettings, MaterialViewGpu, view_gpu};
 use crate::passes::{FrameBuffers, VisPath, visbuffer};
 use crate::render::{Frame, Light, Placement};
-use crate::scene_gpu::GpuScene;
+use crate::scene_gpu::{GpuScene, PoolWords};
 use crate::shared::{
     CullCounters, MESH_MAX_CLUSTERS, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_CULL_STATS,
     VIEW_FLAG_DIRECT_VISIBLE, VIEW_FLAG_HW_MESH, ViewGpu,
@@ -519,15 +519,16 @@ impl VgeoRenderer {
         let debug_view = present(self.debug_view.as_ref(), "debug view")?;
         let materials = self.materials.as_ref().filter(|_| mode.is_material());
         let overdraw = self.overdraw.as_ref().filter(|_| counting);
-        let main_res = read_cull(fb, &self.scene, Phase::Main, Vec::new())?;
-        let post_res = read_cull(fb, &self.scene, Phase::Post, Vec::new())?;
+        let pool = self.scene.pool_words();
+        let main_res = read_cull(fb, &pool, Phase::Main, Vec::new())?;
+        let post_res = read_cull(fb, &pool, Phase::Post, Vec::new())?;
         let vis = visbuffer::download(fb)?;
         let max_slot = vis
             .iter()
             .filter(|v| **v != 0)
             .map(|v| (*v as u32) >> crate::shared::VISBUFFER_TRIANGLE_BITS)
             .max();
-        let visible_table = read_visible_table(fb, &self.scene, max_slot)?;
+        let visible_table = read_visible_table(fb, &pool, max_slot)?;
         let color = match materials {
             Some(m) => m.download()?,
             None => debug_view.download()?,
@@ -955,7 +956,7 @@ impl VgeoRenderer {
         self.scene.updates_submitted();
         self.scene.release_retired();
         let gpu_ms = timer.results()?;
-        read_cull(fb, &self.scene, Phase::Main, gpu_ms)
+        read_cull(fb, &self.scene.pool_words(), Phase::Main, gpu_ms)
     }
 }
 
@@ -1087,7 +1088,7 @@ fn read_counters(fb: &FrameBuffers, phase: Phase) -> GpuResult<CullCounters> {
 /// the lists, never by position.
 fn read_cull(
     fb: &FrameBuffers,
-    scene: &GpuScene,
+    pool: &PoolWords,
     phase: Phase,
     gpu_ms: Vec<(String, f64)>,
 ) -> GpuResult<CullResult> {
@@ -1098,15 +1099,19 @@ fn read_cull(
         Ok(words(&b.download_prefix(4 * n as u64)?))
     };
     // The small SW clusters fill the list from its end (`CullCounters::sw_small_count`).
-    let small = counters.sw_small_count.min(counters.sw_count);
+    let small = counters
+        .sw_small_count
+        .min(counters.sw_count)
+        .min(fb.visible_capacity);
     let mut sw = list(sw_buf, counters.sw_count - small)?;
     if small > 0 {
-        let all = words(&sw_buf.download()?);
-        let last = fb.visible_capacity as usize - 1;
-        sw.extend((0..small as usize).map(|j| all[last - j]));
+        // Only the list's tail: its last `small` entries, stored from the end backwards.
+        let first = (fb.visible_capacity - small) as u64;
+        let tail = words(&sw_buf.download_range(4 * first, 4 * small as u64)?);
+        sw.extend(tail.iter().rev());
     }
     let hw = list(hw_buf, counters.hw_count)?;
-    let table = read_visible_table(fb, scene, sw.iter().chain(&hw).copied().max())?;
+    let table = read_visible_table(fb, pool, sw.iter().chain(&hw).copied().max())?;
     let visible = sw
         .iter()
         .chain(&hw)
@@ -1123,10 +1128,10 @@ fn read_cull(
 
 /// The visible list up to and including slot `max` (empty when `None`), as (instance, cluster
 /// index): the GPU's entries name a cluster by the pool word of its data
-/// ([`GpuScene::clusters_at_words`]).
+/// ([`GpuScene::clusters_at_words`]; `pool`: the frame's index of the pool's pages).
 fn read_visible_table(
     fb: &FrameBuffers,
-    scene: &GpuScene,
+    pool: &PoolWords,
     max: Option<u32>,
 ) -> GpuResult<Vec<[u32; 2]>> {
     let Some(max) = max else {
@@ -1135,8 +1140,7 @@ fn read_visible_table(
     let n = (max as usize + 1).min(fb.visible_capacity as usize);
     let w = words(&fb.visible.download_prefix(8 * n as u64)?);
     let mut table: Vec<[u32; 2]> = w.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
-    scene
-        .clusters_at_words(&mut table)
+    pool.clusters_at_words(&mut table)
         .map_err(GpuError::Other)?;
     Ok(table)
 }

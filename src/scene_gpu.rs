@@ -928,15 +928,21 @@ impl GpuScene {
     }
 
     /// Turns visible-list entries as the cull writes them, (instance, pool word of the cluster's
-    /// data), into (instance, cluster index in the scene's cluster array), in place. Entries of
-    /// all ones (unused slots) stay. A word that starts no cluster of a page in the pool is an
-    /// error. The CPU's page table must be the one the frame ran with: `render` and `cull` record
-    /// every staged page change in their own submission and read back right after it; a host that
-    /// stages page changes ([`GpuScene::update_pages`]) and records them into a command buffer of
-    /// its own must have it executed before it reads back a frame this way.
+    /// data), into (instance, cluster index in the scene's cluster array), in place, over an index
+    /// of the pool's pages made for this call (a frame's read-backs share one). Entries of all
+    /// ones (unused slots) stay; a word that starts no cluster of a page in the pool is an error.
     #[doc(hidden)]
     pub fn clusters_at_words(&self, entries: &mut [[u32; 2]]) -> Result<(), String> {
-        // Every page in the pool: (first word, words, mesh slot, page), by first word.
+        self.pool_words().clusters_at_words(entries)
+    }
+
+    /// Every page in the pool by its first word: what turns a visible-list entry's pool word back
+    /// into a cluster. The CPU's page table must be the one the frame ran with: `render` and
+    /// `cull` record every staged page change in their own submission and read back right after
+    /// it; a host that stages page changes ([`GpuScene::update_pages`]) and records them into a
+    /// command buffer of its own must have it executed before it reads back a frame this way.
+    /// One index serves every read-back of a frame.
+    pub(crate) fn pool_words(&self) -> PoolWords<'_> {
         let mut pages: Vec<(u32, u32, usize, u32)> = Vec::new();
         for (slot, ms) in self.mesh_slots.iter().enumerate() {
             let Some(live) = ms.live.as_ref() else {
@@ -949,29 +955,7 @@ impl GpuScene {
             }
         }
         pages.sort_unstable();
-        for e in entries.iter_mut() {
-            if *e == [u32::MAX; 2] {
-                continue;
-            }
-            let word = e[1];
-            let i = pages.partition_point(|&(w, ..)| w <= word);
-            let found = i.checked_sub(1).and_then(|i| {
-                let (first, words, slot, page) = pages[i];
-                if word - first >= words {
-                    return None;
-                }
-                let live = self.mesh_slots[slot].live.as_ref()?;
-                let k = live
-                    .by_page
-                    .binary_search_by(|&(p, o, _)| (p, o).cmp(&(page, word - first)))
-                    .ok()?;
-                Some(live.ranges[CLUSTERS].0 as u32 + live.by_page[k].2)
-            });
-            e[1] = found.ok_or_else(|| {
-                format!("a visible cluster at pool word {word} is no cluster of a page in the pool")
-            })?;
-        }
-        Ok(())
+        PoolWords { scene: self, pages }
     }
 
     /// The pool word where cluster `cluster` (an index in the scene's cluster array) starts, as
@@ -1486,6 +1470,45 @@ impl PageGpu {
         PageGpu {
             word: PAGE_NOT_RESIDENT,
         }
+    }
+}
+
+/// The pages in a scene's pool by first word ([`GpuScene::pool_words`]).
+pub(crate) struct PoolWords<'a> {
+    scene: &'a GpuScene,
+    /// (first word, words, mesh slot, page), by first word.
+    pages: Vec<(u32, u32, usize, u32)>,
+}
+
+impl PoolWords<'_> {
+    /// Turns visible-list entries as the cull writes them, (instance, pool word of the cluster's
+    /// data), into (instance, cluster index in the scene's cluster array), in place. Entries of
+    /// all ones (unused slots) stay. A word that starts no cluster of a page in the pool is an
+    /// error.
+    pub(crate) fn clusters_at_words(&self, entries: &mut [[u32; 2]]) -> Result<(), String> {
+        for e in entries.iter_mut() {
+            if *e == [u32::MAX; 2] {
+                continue;
+            }
+            let word = e[1];
+            let i = self.pages.partition_point(|&(w, ..)| w <= word);
+            let found = i.checked_sub(1).and_then(|i| {
+                let (first, words, slot, page) = self.pages[i];
+                if word - first >= words {
+                    return None;
+                }
+                let live = self.scene.mesh_slots[slot].live.as_ref()?;
+                let k = live
+                    .by_page
+                    .binary_search_by(|&(p, o, _)| (p, o).cmp(&(page, word - first)))
+                    .ok()?;
+                Some(live.ranges[CLUSTERS].0 as u32 + live.by_page[k].2)
+            });
+            e[1] = found.ok_or_else(|| {
+                format!("a visible cluster at pool word {word} is no cluster of a page in the pool")
+            })?;
+        }
+        Ok(())
     }
 }
 

@@ -200,7 +200,15 @@ impl Buffer {
     /// The first `bytes` bytes of the buffer (at most its size; at least 1 is copied), for
     /// reading back the used part of a large list.
     pub fn download_prefix(&self, bytes: u64) -> GpuResult<Vec<u8>> {
-        let size = bytes.clamp(1, self.size);
+        self.download_range(0, bytes)
+    }
+
+    /// `bytes` bytes from byte `offset` on (clamped to the buffer; at least 1 is copied), for
+    /// reading back the used part of a list filled from its end.
+    pub fn download_range(&self, offset: u64, bytes: u64) -> GpuResult<Vec<u8>> {
+        let offset = offset.min(self.size.saturating_sub(1));
+        let len = bytes.min(self.size - offset);
+        let size = len.max(1);
         let rb = Self::new(
             &self.ctx,
             &format!("{} (readback)", self.name),
@@ -210,10 +218,10 @@ impl Buffer {
         )?;
         self.ctx
             .submit_and_wait(&format!("download {}", self.name), |cmd| {
-                cmd.copy_buffer(self, &rb, size)
+                cmd.copy_buffer_region(self, offset, &rb, 0, size)
             })?;
         let mut out = rb.read()?;
-        out.truncate(bytes.min(self.size) as usize);
+        out.truncate(len as usize);
         Ok(out)
     }
 }
