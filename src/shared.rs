@@ -77,9 +77,9 @@ pub const TINY_CUT_CLUSTERS: u32 = 64;
 /// Most cluster entries of one mesh's table of small-instance cuts (all its rows together).
 pub const TINY_CUT_ENTRIES: u32 = 4096;
 /// Largest projected radius (pixels, of the mesh's bounding sphere at its point nearest to the
-/// camera) of an instance that takes its cut from the table: a larger one keeps the per-cluster
-/// frustum and occlusion tests of the walk (a small mesh's table reaches its first level, which
-/// would otherwise serve a close instance too).
+/// camera) of an instance that takes its cut from the table, unless its mesh has at most
+/// [`WALK_CLUSTERS`] clusters: a larger instance of a bigger mesh walks its BVH, whose per-group
+/// LOD test at each group's own sphere draws fewer clusters than the table's one distance.
 pub const TINY_CUT_RADIUS_PX: f32 = 32.0;
 /// `cluster_cull` tests a BVH leaf's clusters in ranges of at most this many, each range a queue
 /// item of its own (so lanes share a leaf's clusters instead of one lane testing them all, one

@@ -209,14 +209,15 @@ fn frustum_culling_removes_what_is_behind_the_camera() {
 
 /// In a view of many instances (`WALK_WIDE_INSTANCES`), small instances take their cut from their
 /// mesh's table (`emit_tiny_cut`: no BVH walk, no global queue): grass clumps (a DAG of 6
-/// clusters: always) and spots at many distances (only where the table holds a fine enough cut:
-/// `TINY_CUT_CLUSTERS`); the nearest spots go through `cluster_cull`'s queue. In a view of fewer,
+/// clusters, at most `WALK_CLUSTERS`: always, the ones nearest the camera too, over
+/// `TINY_CUT_RADIUS_PX`) and spots at many distances (only where the table holds a fine enough
+/// cut: `TINY_CUT_CLUSTERS`); the nearest spots go through `cluster_cull`'s queue. In a view of fewer,
 /// small instances walk their BVH inside `instance_cull` (where at most `WALK_CLUSTERS` of their
 /// clusters can be in the cut). The cut is the CPU's (`reference_cut`, which projects a small
 /// instance's errors as the table does) either way.
 #[test]
 fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
-    use vgeo::shared::{WALK_CLUSTERS, WALK_WIDE_INSTANCES};
+    use vgeo::shared::{TINY_CUT_RADIUS_PX, WALK_CLUSTERS, WALK_WIDE_INSTANCES};
     let ctx = gpu();
     let spot = built(&assets().join("spot.obj"));
     let grass = build(
@@ -226,6 +227,15 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
     .expect("grass builds");
     assert!(grass.clusters.len() <= WALK_CLUSTERS as usize);
     assert!(spot.clusters.len() > WALK_CLUSTERS as usize);
+    // Half the grass clump's largest extent: no sphere around it is smaller.
+    let grass_half = {
+        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        for c in &grass.clusters {
+            lo = lo.min(Vec3::from(c.bounds_min));
+            hi = hi.max(Vec3::from(c.bounds_max));
+        }
+        ((hi - lo).max_element() * 0.5, (lo + hi) * 0.5)
+    };
     let meshes = vec![spot, grass];
     let camera = Camera::look_at(
         DVec3::new(0.0, 1.0, 2.0),
@@ -274,9 +284,21 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
                 placements.len()
             );
             if side == 64 {
-                // Every grass clump (whose root alone is not fine) and some spots take the
-                // table's cut; the nearest spots still go through cluster_cull's queue.
-                assert!(tiny > grass / 2 && tiny < placements.len(), "{tiny}");
+                // Every grass clump (whose root alone is not fine), close ones too, and some
+                // spots take the table's cut; the nearest spots still go through cluster_cull's
+                // queue.
+                let proj_scale = 240.0 / (2.0 * (25f32.to_radians()).tan());
+                let large = placements
+                    .iter()
+                    .filter(|p| p.mesh == 1)
+                    .filter(|p| {
+                        let c = p.transform.transform_point3(grass_half.1.as_dvec3());
+                        let d = (c - camera.position).length() as f32;
+                        grass_half.0 * proj_scale / d > TINY_CUT_RADIUS_PX
+                    })
+                    .count();
+                assert!(large > 0, "no grass clump is over the table's size limit");
+                assert!(tiny > grass && tiny < placements.len(), "{tiny} of {grass}");
             } else {
                 // A view of few instances walks them instead (one thread's whole cut would be
                 // its latency): every grass clump and some spots locally.
@@ -285,6 +307,87 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
                 assert!(local > grass / 2 && local < placements.len(), "{local}");
             }
         }
+    }
+    assert_no_validation_errors(&ctx);
+}
+
+/// A mesh of at most `WALK_CLUSTERS` clusters (a grass clump) takes its cut from its table at any
+/// size in a view of many instances: clumps from far to around the camera (over
+/// `TINY_CUT_RADIUS_PX`, some reaching the near plane) all take it, none walks its BVH, and the
+/// cut is the CPU's.
+#[test]
+fn clumps_of_any_size_take_their_cut_from_the_table() {
+    use vgeo::shared::{TINY_CUT_RADIUS_PX, WALK_CLUSTERS, WALK_WIDE_INSTANCES};
+    let ctx = gpu();
+    let grass = build(
+        &vgeo::generated_mesh("grass").expect("grass"),
+        &BuildOptions::default(),
+    )
+    .expect("grass builds");
+    assert!(grass.clusters.len() <= WALK_CLUSTERS as usize);
+    let meshes = vec![grass];
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 0.5, 0.5),
+        DVec3::new(0.0, 0.3, -10.0),
+        Vec3::Y,
+        50f32.to_radians(),
+        0.05,
+    );
+    let side = 64usize;
+    let mut placements = Vec::new();
+    for i in 0..side {
+        for j in 0..side {
+            placements.push(Placement {
+                mesh: 0,
+                transform: DMat4::from_rotation_translation(
+                    DQuat::from_rotation_y(0.61 * (i * side + j) as f64),
+                    DVec3::new((i as f64 - side as f64 / 2.0) * 0.6, 0.0, -(j as f64) * 0.6),
+                ),
+                color: [1.0; 3],
+            });
+        }
+    }
+    assert!(placements.len() >= WALK_WIDE_INSTANCES as usize);
+    // Clumps the camera sees over the table's size limit (half the clump's largest extent: no
+    // sphere around it is smaller).
+    let (lo, hi) = meshes[0].clusters.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), c| (lo.min(c.bounds_min.into()), hi.max(c.bounds_max.into())),
+    );
+    let proj_scale = 240.0 / (2.0 * 25f32.to_radians().tan());
+    let large = placements
+        .iter()
+        .filter(|p| {
+            let c = p.transform.transform_point3(((lo + hi) * 0.5).as_dvec3());
+            let d = (c - camera.position).length() as f32;
+            (hi - lo).max_element() * 0.5 * proj_scale / d > TINY_CUT_RADIUS_PX
+        })
+        .count();
+    assert!(large > 8, "{large} clumps over the size limit");
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    for tau in [0.5f32, 1.0, 4.0] {
+        compare(&mut r, &meshes, &placements, &camera, tau);
+        let settings = FrameSettings {
+            error_px: tau,
+            flags: VIEW_FLAG_NO_FRUSTUM,
+            ..Default::default()
+        };
+        let res = r.cull(&camera, 320, 240, &settings).expect("cull runs");
+        let c = &res.counters;
+        eprintln!(
+            "tau={tau}: {} of {} instances cut from the table ({large} over the size limit), {} walks, {} BVH nodes",
+            c.tiny_cuts,
+            placements.len(),
+            c.local_walks,
+            c.nodes_visited
+        );
+        assert_eq!(c.local_walks, 0, "a clump walked its BVH");
+        assert_eq!(c.nodes_visited, 0, "a clump walked its BVH");
+        assert!(
+            c.tiny_cuts as usize >= large,
+            "{} cuts from the table",
+            c.tiny_cuts
+        );
     }
     assert_no_validation_errors(&ctx);
 }

@@ -9,7 +9,9 @@ use crate::builder::{BuiltMesh, lod_error_px};
 use crate::camera::Camera;
 use crate::render::Placement;
 use crate::scene_gpu::instance_gpu;
-use crate::shared::{InstanceVgeo, TINY_CUT_RADIUS_PX, ViewGpu, WALK_WIDE_INSTANCES};
+use crate::shared::{
+    InstanceVgeo, TINY_CUT_RADIUS_PX, ViewGpu, WALK_CLUSTERS, WALK_WIDE_INSTANCES,
+};
 
 /// One cluster of the CPU cut.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -117,8 +119,12 @@ pub fn reference_cut_resident(
         // Only in a view of many instances (`emit_tiny_cut`; the view's instance count is the
         // scene's).
         let wide = placements.len() >= WALK_WIDE_INSTANCES as usize;
-        let small =
-            !partial && wide && size <= TINY_CUT_RADIUS_PX && last.is_some_and(|px| px <= tau);
+        // A mesh of at most WALK_CLUSTERS clusters takes its table at any size.
+        let any_size = m.clusters.len() <= WALK_CLUSTERS as usize;
+        let small = !partial
+            && wide
+            && (any_size || size <= TINY_CUT_RADIUS_PX)
+            && last.is_some_and(|px| px <= tau);
         // A small instance's cut is the table's row (`emit_tiny_cut`'s binary search).
         let row: &[u32] = match table.row_for(tau, uniform).filter(|_| small) {
             Some(r) => &table.clusters[r.first as usize..(r.first + r.count) as usize],
@@ -126,7 +132,8 @@ pub fn reference_cut_resident(
         };
         // Near the table's edges (its size limit, a row's error at the threshold) the GPU may
         // take either path: clusters the two cuts disagree on are borderline.
-        let size_edge = (size - TINY_CUT_RADIUS_PX).abs() <= rel_margin * TINY_CUT_RADIUS_PX;
+        let size_edge =
+            !any_size && (size - TINY_CUT_RADIUS_PX).abs() <= rel_margin * TINY_CUT_RADIUS_PX;
         let either = !partial && wide && (size_edge || last.is_some_and(near));
         for (ci, c) in m.clusters.iter().enumerate() {
             let (se, pe) = crate::builder::cut::resident_errors(m, c, res);
