@@ -31,6 +31,8 @@ use vgeo::shared::{
 
 const W: u32 = 128;
 const H: u32 = 96;
+/// The zoom of `very_large_triangles_match_reference`.
+const ZOOM_VERY_LARGE: f64 = 0.1;
 
 /// spot.obj built once for all tests of this file.
 fn spot() -> &'static BuiltMesh {
@@ -462,6 +464,28 @@ fn large_triangles_match_reference() {
             Some(v) => assert!(*v == hw, "large triangles: the HW paths differ"),
         }
     }
+}
+
+/// The root chain's few triangles close up, their vertices far off the 128 x 96 frame: `raster_sw`
+/// solves their rows (int64 edge functions, the span's float estimate made exact) over boxes
+/// clamped to the screen. Coverage and triangles exactly the reference's. (Checked: a span one
+/// pixel too long in `raster_row`'s loop fails it.)
+#[test]
+fn very_large_triangles_match_reference() {
+    let levels = spot().stats.levels.len() as u32;
+    let root = levels - 1;
+    let mut rig = Rig::with_zoom(DVec3::ZERO, &[root, root], ZOOM_VERY_LARGE);
+    let sw = rig.render(Split::AllSw, None);
+    let (cover, depth, ids, _, both) = compare(&sw, &rig.reference());
+    eprintln!("root close up: {both} pixels covered by both, depth within 1e-4 {depth:.5}");
+    assert!(
+        both > 500,
+        "the root should cover a part of the frame: {both} pixels"
+    );
+    assert!(
+        cover == 1.0 && ids == 1.0 && depth >= 0.995,
+        "very large triangles: coverage {cover}, ids {ids} (exact expected), depth {depth}"
+    );
 }
 
 /// A camera so close that triangles cross the near plane: HW clips them like the reference, SW
