@@ -256,8 +256,10 @@ void raster_snapped(uvec3 t, uint base, uint visible_index, uint tri, uint width
 // The small clusters (CullCounters::sw_small_count, at the end of the SW list): two to a
 // workgroup, each half of it (RASTER_SW_WORKGROUP_SIZE / 2 invocations) one cluster, two
 // triangles an invocation, every triangle walked by its invocation (no shared pass: a cluster
-// projecting to at most RASTER_SW_SMALL_PX across has no large triangle). Their cost is per
-// cluster (a chain of dependent reads, the barrier), so a workgroup takes two.
+// projecting to at most RASTER_SW_SMALL_PX across, with triangles of at most
+// RASTER_SW_SMALL_TRIANGLE_PX, has few triangles of a large box, and none beyond the cluster's
+// extent). Their cost is per cluster (a chain of dependent reads, the barrier), so a workgroup
+// takes two.
 // Each half keeps its cluster's vertices in its half of s_xy / s_z (the cull sends only clusters
 // of at most MAX_CLUSTER_VERTICES / 2 vertices here): no shared memory beyond the other path's,
 // whose size bounds how many workgroups an SM holds.

@@ -44,11 +44,17 @@ pub const INSTANCE_CULL_WORKGROUP_SIZE: u32 = 64;
 pub const CLUSTER_CULL_WORKGROUP_SIZE: u32 = 64;
 /// Threads of one `raster_sw` workgroup: one per triangle of a cluster.
 pub const RASTER_SW_WORKGROUP_SIZE: u32 = 128;
-/// SW clusters whose bounding sphere projects to at most this many pixels across go to the small
-/// end of the SW list, which `raster_sw` draws two clusters to a workgroup (64 threads, two
-/// triangles a thread, no shared pass for large triangles): on tiny clusters its cost is per
-/// cluster, not per triangle.
-pub const RASTER_SW_SMALL_PX: f32 = 7.0;
+/// SW clusters whose bounding sphere projects to at most this many pixels across, and whose
+/// triangles to at most [`RASTER_SW_SMALL_TRIANGLE_PX`], go to the small end of the SW list, which
+/// `raster_sw` draws two clusters to a workgroup (64 threads, two triangles a thread, no shared
+/// pass for large triangles): on tiny clusters its cost is per cluster, not per triangle. 20 and 4
+/// against session 23's 7 px alone (H100, bench/results/2026-11-26-session25, calls 7-8): stress
+/// N=100 -3 %, N=20 -2 %, foliage -1 %, the other scenes the same; 20 px alone cost outdoor 1.5 %
+/// (clusters of a few large triangles, each walked by one invocation).
+pub const RASTER_SW_SMALL_PX: f32 = 20.0;
+/// The largest edge-length equivalent (pixels, `emit_cluster`'s `size_px`) of a small SW cluster's
+/// triangles ([`RASTER_SW_SMALL_PX`]).
+pub const RASTER_SW_SMALL_TRIANGLE_PX: f32 = 4.0;
 /// Threads of one `raster_hw` mesh-shader workgroup (the mesh path, one workgroup per HW cluster):
 /// one per triangle, each also decoding up to two of the cluster's vertices.
 pub const RASTER_HW_MESH_WORKGROUP_SIZE: u32 = 128;

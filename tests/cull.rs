@@ -524,3 +524,112 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
     assert!(r.scene.set_page_residency(h, &bad).is_err());
     assert_no_validation_errors(&ctx);
 }
+
+/// Which SW clusters `emit_cluster` sends to `raster_sw`'s small path (`CullCounters::
+/// sw_small_count`, the SW list's end): exactly those of at most half the most vertices that
+/// project to at most `RASTER_SW_SMALL_PX` across with triangles of at most
+/// `RASTER_SW_SMALL_TRIANGLE_PX` (the cluster's size code), by the CPU's evaluation of the same
+/// formulas; clusters within 0.1 % of a bound may go either way.
+#[test]
+fn small_sw_clusters_follow_the_rule() {
+    use vgeo::builder::size::size_ratio;
+    use vgeo::shared::{
+        MAX_CLUSTER_VERTICES, RASTER_SW_SMALL_PX, RASTER_SW_SMALL_TRIANGLE_PX, VIEW_FLAG_FORCE_SW,
+    };
+    let ctx = gpu();
+    let spot = built(&assets().join("spot.obj"));
+    let meshes = vec![spot];
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 1.0, 2.0),
+        DVec3::new(0.0, 0.0, -10.0),
+        Vec3::Y,
+        50f32.to_radians(),
+        0.05,
+    );
+    let side = 12usize;
+    let mut placements = Vec::new();
+    for i in 0..side {
+        for j in 0..side {
+            let z = -1.5 * (1.45f64).powf(j as f64);
+            let x = (i as f64 / side as f64 - 0.5) * 2.4 * z.abs().sqrt();
+            placements.push(Placement {
+                mesh: 0,
+                transform: DMat4::from_scale_rotation_translation(
+                    DVec3::splat(0.5 + 0.1 * (i % 4) as f64),
+                    DQuat::from_rotation_y(0.37 * (i * side + j) as f64),
+                    DVec3::new(x, 0.0, z),
+                ),
+                color: [1.0; 3],
+            });
+        }
+    }
+    let (w, h) = (320, 240);
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    // Small, other, borderline, small over 7 px across, and others within RASTER_SW_SMALL_PX
+    // across but of larger triangles.
+    let mut n = [0u32; 5];
+    // At 1 px, and at 8 px where coarse clusters of few large triangles are drawn small.
+    for error_px in [1.0f32, 8.0] {
+        let settings = FrameSettings {
+            error_px,
+            flags: VIEW_FLAG_NO_FRUSTUM | VIEW_FLAG_FORCE_SW,
+            ..Default::default()
+        };
+        let res = r.cull(&camera, w, h, &settings).expect("cull runs");
+        res.check().expect("no overflow, no watchdog");
+        let view = view_for(&camera, w, h, &settings);
+        let small_n = res.counters.sw_small_count as usize;
+        let sw_n = res.sw.len();
+        assert_eq!(res.visible.len(), sw_n + res.hw.len(), "SW, then HW");
+        for (k, &[inst, ci]) in res.visible[..sw_n].iter().enumerate() {
+            let on_small_path = k >= sw_n - small_n;
+            let p = &placements[inst as usize];
+            let c = &meshes[0].clusters[ci as usize];
+            let (lo, hi) = (Vec3::from(c.bounds_min), Vec3::from(c.bounds_max));
+            let centre = p.transform.transform_point3(((lo + hi) * 0.5).as_dvec3());
+            let radius = (hi - lo).length() * 0.5 * vgeo::render::max_axis_scale(&p.transform);
+            let dist = (centre - camera.position).length() as f32 - radius;
+            if dist <= view.near {
+                continue;
+            }
+            let across = 2.0 * radius * view.proj_scale / dist;
+            let size = size_ratio(c.counts >> 24) as f32 * across;
+            let near = |v: f32, bound: f32| (v - bound).abs() <= 1e-3 * bound;
+            if near(across, RASTER_SW_SMALL_PX) || near(size, RASTER_SW_SMALL_TRIANGLE_PX) {
+                n[2] += 1;
+                continue;
+            }
+            let expected = across <= RASTER_SW_SMALL_PX
+                && size <= RASTER_SW_SMALL_TRIANGLE_PX
+                && c.vertex_count() <= MAX_CLUSTER_VERTICES / 2;
+            assert_eq!(
+                on_small_path,
+                expected,
+                "{error_px} px, cluster {ci} of instance {inst}: {across:.2} px across, \
+                 triangles {size:.2} px, {} vertices",
+                c.vertex_count()
+            );
+            if expected {
+                n[0] += 1;
+                n[3] += (across > 7.0) as u32;
+            } else {
+                n[1] += 1;
+                n[4] += (across <= RASTER_SW_SMALL_PX) as u32;
+            }
+        }
+    }
+    let [small, other, borderline, over_7, coarse] = n;
+    eprintln!(
+        "{small} small ({over_7} over 7 px across), {other} other SW clusters ({coarse} within \
+         the size, of larger triangles), {borderline} borderline"
+    );
+    // Both kinds, small clusters beyond session 23's 7 px bound, and clusters kept off the small
+    // path by their triangles alone.
+    assert!(small > 10 && other > 10, "{small} small, {other} other");
+    assert!(over_7 > 0, "no small cluster over 7 px across");
+    assert!(
+        coarse > 0,
+        "no cluster kept off the small path by its triangles"
+    );
+    assert_no_validation_errors(&ctx);
+}

@@ -73,6 +73,13 @@ void emit_cluster(uint instance, uint cluster_index, uint at, uint info, vec3 ce
     // Clusters reaching the near plane always go to HW (the SW rasterizer cannot clip); otherwise
     // by the projected size of their triangles, unless forced.
     float dist = length(center) - radius;
+    // The cluster's size across and the edge-length equivalent of its triangles (src/builder/
+    // size.rs: the side of a square grid cell of their area-weighted mean area; stored relative
+    // to the bounds' diagonal, 2 * radius / scale), scaled by the instance and projected at the
+    // sphere's nearest point (conservative: no triangle of the cluster is nearer). Meaningful
+    // only beyond the near plane.
+    float across_px = 2.0 * radius * view.proj_scale / dist;
+    float size_px = info_size_ratio(info) * across_px;
     bool hw;
     if (dist <= view.near) {
         hw = true;
@@ -81,20 +88,15 @@ void emit_cluster(uint instance, uint cluster_index, uint at, uint info, vec3 ce
     } else if ((view.flags & VIEW_FLAG_FORCE_SW) != 0u) {
         hw = false;
     } else {
-        // The edge-length equivalent of its triangles (src/builder/size.rs: the side of a square
-        // grid cell of their area-weighted mean area; stored relative to the bounds' diagonal,
-        // 2 * radius / scale), scaled by the instance and projected at the sphere's nearest point
-        // (conservative: no triangle of the cluster is nearer). What the compute rasterizer's
-        // cost follows is the pixels per triangle; long thin blades (a large sphere, a small area)
-        // stay in software, large triangles go to hardware.
-        float size_px = info_size_ratio(info) * 2.0 * radius * view.proj_scale / dist;
+        // What the compute rasterizer's cost follows is the pixels per triangle; long thin
+        // blades (a large sphere, a small area) stay in software, large triangles go to hardware.
         hw = size_px > view.hw_threshold_px;
     }
-    // SW clusters that project to at most RASTER_SW_SMALL_PX across (of at most half the most
-    // vertices) fill the SW list from its end (raster_sw draws them two to a workgroup); the
-    // others from its start. Each emitted
+    // SW clusters that project to at most RASTER_SW_SMALL_PX across with triangles of at most
+    // RASTER_SW_SMALL_TRIANGLE_PX (of at most half the most vertices) fill the SW list from its
+    // end (raster_sw draws them two to a workgroup); the others from its start. Each emitted
     // cluster holds its own visible slot below visible_capacity, so the two ends never meet.
-    bool small = !hw && 2.0 * radius * view.proj_scale / dist <= RASTER_SW_SMALL_PX
+    bool small = !hw && across_px <= RASTER_SW_SMALL_PX && size_px <= RASTER_SW_SMALL_TRIANGLE_PX
         && (info & 0xffu) <= MAX_CLUSTER_VERTICES / 2u;
     // The lists hold visible_capacity entries each; a cluster emitted twice (never, by the cut's
     // rule, but a direct slot is not a count) must not write past them.
