@@ -21,6 +21,11 @@ fn built(path: &std::path::Path) -> BuiltMesh {
     build(&mesh, &BuildOptions::default()).expect("mesh builds")
 }
 
+/// A camera over a field of instances: 50 degrees, near plane at 0.05.
+fn field_camera(eye: DVec3, target: DVec3) -> Camera {
+    Camera::look_at(eye, target, Vec3::Y, 50f32.to_radians(), 0.05)
+}
+
 /// Compares GPU and CPU cuts; returns (cut size, borderline differences).
 fn compare(
     r: &mut VgeoRenderer,
@@ -237,13 +242,7 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
         ((hi - lo).max_element() * 0.5, (lo + hi) * 0.5)
     };
     let meshes = vec![spot, grass];
-    let camera = Camera::look_at(
-        DVec3::new(0.0, 1.0, 2.0),
-        DVec3::new(0.0, 0.0, -10.0),
-        Vec3::Y,
-        50f32.to_radians(),
-        0.05,
-    );
+    let camera = field_camera(DVec3::new(0.0, 1.0, 2.0), DVec3::new(0.0, 0.0, -10.0));
     // 12 x 12 instances (the narrow bound), then 64 x 64 (the wide one).
     for side in [12usize, 64] {
         let mut placements = Vec::new();
@@ -326,13 +325,7 @@ fn clumps_of_any_size_take_their_cut_from_the_table() {
     .expect("grass builds");
     assert!(grass.clusters.len() <= WALK_CLUSTERS as usize);
     let meshes = vec![grass];
-    let camera = Camera::look_at(
-        DVec3::new(0.0, 0.5, 0.5),
-        DVec3::new(0.0, 0.3, -10.0),
-        Vec3::Y,
-        50f32.to_radians(),
-        0.05,
-    );
+    let camera = field_camera(DVec3::new(0.0, 0.5, 0.5), DVec3::new(0.0, 0.3, -10.0));
     let side = 64usize;
     let mut placements = Vec::new();
     for i in 0..side {
@@ -539,13 +532,7 @@ fn small_sw_clusters_follow_the_rule() {
     let ctx = gpu();
     let spot = built(&assets().join("spot.obj"));
     let meshes = vec![spot];
-    let camera = Camera::look_at(
-        DVec3::new(0.0, 1.0, 2.0),
-        DVec3::new(0.0, 0.0, -10.0),
-        Vec3::Y,
-        50f32.to_radians(),
-        0.05,
-    );
+    let camera = field_camera(DVec3::new(0.0, 1.0, 2.0), DVec3::new(0.0, 0.0, -10.0));
     let side = 12usize;
     let mut placements = Vec::new();
     for i in 0..side {
