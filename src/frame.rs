@@ -51,7 +51,9 @@ pub const MAX_QUEUE: u32 = 1 << 25;
 pub struct CullResult {
     /// Counters the culling passes wrote.
     pub counters: CullCounters,
-    /// `(instance, global cluster)` of every drawn cluster, in the GPU's (unspecified) order.
+    /// `(instance, global cluster)` of every drawn cluster, in the order of the lists: the SW list's
+    /// front, then its small end (`CullCounters::sw_small_count`), then the HW list, each in the
+    /// GPU's (unspecified) order.
     pub visible: Vec<[u32; 2]>,
     /// Visible-list indices per rasterizer.
     pub sw: Vec<u32>,

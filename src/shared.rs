@@ -67,7 +67,10 @@ pub const MESH_GROUPS_X: u32 = 65535;
 pub const MESH_MAX_CLUSTERS: u32 = 4194240;
 /// `instance_cull` walks an instance's BVH itself (no global queue) when at most this many of
 /// its mesh's clusters can be in the cut (`MeshGpu::walk_error`), so a small instance costs one
-/// thread's short walk instead of a trip per node through `cluster_cull`'s persistent queue.
+/// thread's short walk instead of a trip per node through `cluster_cull`'s persistent queue. In a
+/// view of at least [`WALK_WIDE_INSTANCES`] instances, a mesh of at most this many clusters takes
+/// its small-instance table at any size instead ([`TINY_CUT_RADIUS_PX`]): its table holds every
+/// cut of it (asserted below against [`TINY_CUT_CLUSTERS`] and [`TINY_CUT_ENTRIES`]).
 pub const WALK_CLUSTERS: u32 = 16;
 /// With at least [`WALK_WIDE_INSTANCES`] instances in the view, the local walk takes meshes with up
 /// to this many clusters in the cut (`MeshGpu::walk_error_wide`): with many instances the GPU is
@@ -214,6 +217,11 @@ pub const LOD_LEVEL_OCCLUDED: u32 = 256;
 
 // `shade` deals each 16x16 block of its tile to its 16x16 threads.
 const _: () = assert!(SHADE_TILE.is_multiple_of(16) && SHADE_TILE >= 16);
+// A mesh of at most WALK_CLUSTERS clusters has at most WALK_CLUSTERS + 1 rows (a distinct parent
+// error each, and 0) of at most WALK_CLUSTERS clusters: its table always reaches its first level.
+const _: () = assert!(
+    WALK_CLUSTERS <= TINY_CUT_CLUSTERS && (WALK_CLUSTERS + 1) * WALK_CLUSTERS <= TINY_CUT_ENTRIES
+);
 const _: () = assert!(2 * HZB_GROUP == 1 << (HZB_HEAD_LEVELS - 1));
 
 /// Per-frame uniforms of the classic (brute) path. All positions are camera-relative.
@@ -425,7 +433,8 @@ pub struct CullCounters {
     /// Statistic: instances drawn with a cut from their mesh's small-instance table
     /// (`emit_tiny_cut`, no BVH walk).
     pub tiny_cuts: u32,
-    /// SW clusters whose bounds project to at most [`RASTER_SW_SMALL_PX`] across: the last
+    /// SW clusters whose bounds project to at most [`RASTER_SW_SMALL_PX`] across, with triangles
+    /// of at most [`RASTER_SW_SMALL_TRIANGLE_PX`] and at most half the most vertices: the last
     /// `sw_small_count` entries of the SW list, from its end backwards (`raster_sw` draws two at
     /// a time in a workgroup; `sw_dispatch[3]` holds how many workgroups take them).
     pub sw_small_count: u32,
