@@ -26,6 +26,31 @@ fn field_camera(eye: DVec3, target: DVec3) -> Camera {
     Camera::look_at(eye, target, Vec3::Y, 50f32.to_radians(), 0.05)
 }
 
+/// How many of the `placements` of mesh `index` (`mesh`) project to a radius over
+/// `TINY_CUT_RADIUS_PX` in `compare`'s 320 x 240 view from a `field_camera` (half the mesh's
+/// largest extent, at its box's centre: no sphere around it is smaller).
+fn over_tiny_cut_size(
+    mesh: &BuiltMesh,
+    placements: &[Placement],
+    index: u32,
+    camera: &Camera,
+) -> usize {
+    let (lo, hi) = mesh.clusters.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), c| (lo.min(c.bounds_min.into()), hi.max(c.bounds_max.into())),
+    );
+    let proj_scale = 240.0 / (2.0 * 25f32.to_radians().tan());
+    placements
+        .iter()
+        .filter(|p| p.mesh == index)
+        .filter(|p| {
+            let c = p.transform.transform_point3(((lo + hi) * 0.5).as_dvec3());
+            let d = (c - camera.position).length() as f32;
+            (hi - lo).max_element() * 0.5 * proj_scale / d > vgeo::shared::TINY_CUT_RADIUS_PX
+        })
+        .count()
+}
+
 /// Compares GPU and CPU cuts; returns (cut size, borderline differences).
 fn compare(
     r: &mut VgeoRenderer,
@@ -222,7 +247,7 @@ fn frustum_culling_removes_what_is_behind_the_camera() {
 /// instance's errors as the table does) either way.
 #[test]
 fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
-    use vgeo::shared::{TINY_CUT_RADIUS_PX, WALK_CLUSTERS, WALK_WIDE_INSTANCES};
+    use vgeo::shared::{WALK_CLUSTERS, WALK_WIDE_INSTANCES};
     let ctx = gpu();
     let spot = built(&assets().join("spot.obj"));
     let grass = build(
@@ -232,15 +257,6 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
     .expect("grass builds");
     assert!(grass.clusters.len() <= WALK_CLUSTERS as usize);
     assert!(spot.clusters.len() > WALK_CLUSTERS as usize);
-    // Half the grass clump's largest extent: no sphere around it is smaller.
-    let grass_half = {
-        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-        for c in &grass.clusters {
-            lo = lo.min(Vec3::from(c.bounds_min));
-            hi = hi.max(Vec3::from(c.bounds_max));
-        }
-        ((hi - lo).max_element() * 0.5, (lo + hi) * 0.5)
-    };
     let meshes = vec![spot, grass];
     let camera = field_camera(DVec3::new(0.0, 1.0, 2.0), DVec3::new(0.0, 0.0, -10.0));
     // 12 x 12 instances (the narrow bound), then 64 x 64 (the wide one).
@@ -286,16 +302,7 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
                 // Every grass clump (whose root alone is not fine), close ones too, and some
                 // spots take the table's cut; the nearest spots still go through cluster_cull's
                 // queue.
-                let proj_scale = 240.0 / (2.0 * (25f32.to_radians()).tan());
-                let large = placements
-                    .iter()
-                    .filter(|p| p.mesh == 1)
-                    .filter(|p| {
-                        let c = p.transform.transform_point3(grass_half.1.as_dvec3());
-                        let d = (c - camera.position).length() as f32;
-                        grass_half.0 * proj_scale / d > TINY_CUT_RADIUS_PX
-                    })
-                    .count();
+                let large = over_tiny_cut_size(&meshes[1], &placements, 1, &camera);
                 assert!(large > 0, "no grass clump is over the table's size limit");
                 assert!(tiny > grass && tiny < placements.len(), "{tiny} of {grass}");
             } else {
@@ -316,7 +323,7 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
 /// cut is the CPU's.
 #[test]
 fn clumps_of_any_size_take_their_cut_from_the_table() {
-    use vgeo::shared::{TINY_CUT_RADIUS_PX, WALK_CLUSTERS, WALK_WIDE_INSTANCES};
+    use vgeo::shared::{WALK_CLUSTERS, WALK_WIDE_INSTANCES};
     let ctx = gpu();
     let grass = build(
         &vgeo::generated_mesh("grass").expect("grass"),
@@ -341,21 +348,7 @@ fn clumps_of_any_size_take_their_cut_from_the_table() {
         }
     }
     assert!(placements.len() >= WALK_WIDE_INSTANCES as usize);
-    // Clumps the camera sees over the table's size limit (half the clump's largest extent: no
-    // sphere around it is smaller).
-    let (lo, hi) = meshes[0].clusters.iter().fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), c| (lo.min(c.bounds_min.into()), hi.max(c.bounds_max.into())),
-    );
-    let proj_scale = 240.0 / (2.0 * 25f32.to_radians().tan());
-    let large = placements
-        .iter()
-        .filter(|p| {
-            let c = p.transform.transform_point3(((lo + hi) * 0.5).as_dvec3());
-            let d = (c - camera.position).length() as f32;
-            (hi - lo).max_element() * 0.5 * proj_scale / d > TINY_CUT_RADIUS_PX
-        })
-        .count();
+    let large = over_tiny_cut_size(&meshes[0], &placements, 0, &camera);
     assert!(large > 8, "{large} clumps over the size limit");
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
     for tau in [0.5f32, 1.0, 4.0] {

@@ -300,9 +300,6 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     float scale = inst.max_scale;
     vec3 c = relative_position(inst, view, mesh.bounds_center);
     float br = mesh.bounds_radius * scale;
-    float r = mesh.walk_radius * scale;
-    uint row0 = base + 1u;
-    float last = uintBitsToFloat(tiny_cuts[row0 + 3u * (rows - 1u)]);
     // A mesh of at most WALK_CLUSTERS clusters (grass clumps; its table reaches the first level)
     // takes the table at any size: a close instance's local walk (which such a mesh always takes)
     // kept its whole subgroup waiting, where the table's cut is at most as many clusters, each
@@ -310,6 +307,9 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     if (mesh.cluster_count > WALK_CLUSTERS && lod_error_px(br, c, br, view.proj_scale) > TINY_CUT_RADIUS_PX) {
         return false;
     }
+    float r = mesh.walk_radius * scale;
+    uint row0 = base + 1u;
+    float last = uintBitsToFloat(tiny_cuts[row0 + 3u * (rows - 1u)]);
     if (lod_error_px(last * scale, c, r, view.proj_scale) > view.error_px) {
         return false;
     }
