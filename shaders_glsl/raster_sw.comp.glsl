@@ -46,12 +46,20 @@ layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 #define RASTER_SW_BIG_BOX_PIXELS 64
 #define RASTER_SW_CHUNK 32
 
-shared ivec2 s_xy[MAX_CLUSTER_VERTICES];
-shared float s_z[MAX_CLUSTER_VERTICES];  // ndc depth; < 0: the vertex cannot be snapped
-// Triangles left to the workgroup's shared pass (their index in the cluster) and their pieces
-// (rows x RASTER_SW_CHUNK columns).
-shared uint s_big[MAX_CLUSTER_TRIANGLES];
-shared uint s_big_pieces[MAX_CLUSTER_TRIANGLES];
+// Both paths keep their shared data in one array, so that the small path's two clusters fit in
+// what the other path needs for one (its size bounds how many workgroups an SM holds: arrays of
+// its own for the small path cost every scene 3-40 %, bench/results/2026-11-26-session23, call 9):
+// - a snapped vertex in three words from its entry on (sw_vertex_store): fixed-point x, y and the
+//   ndc depth's bits (< 0: the vertex cannot be snapped); the other path's cluster has vertex k at
+//   entry 3k, the small path's half h at SMALL_HALF_WORDS * h + 3k (clusters of at most
+//   RASTER_SW_SMALL_VERTICES vertices);
+// - the other path's triangles left to its shared pass (their index in the cluster) at
+//   SW_BIG + b, and their pieces (rows x RASTER_SW_CHUNK columns) at SW_PIECES + b.
+#define SW_BIG (3u * MAX_CLUSTER_VERTICES)
+#define SW_PIECES (SW_BIG + MAX_CLUSTER_TRIANGLES)
+#define SW_WORDS (SW_PIECES + MAX_CLUSTER_TRIANGLES)
+#define SMALL_HALF_WORDS (3u * RASTER_SW_SMALL_VERTICES)
+shared uint s_mem[SW_WORDS];
 shared uint s_big_count;
 
 // A triangle ready to rasterize: counter-clockwise snapped vertices, their depths, the pixel box
@@ -181,7 +189,7 @@ void raster_row(Tri t, int y, int xa, int xb, uint visible_index, uint tri, uint
 }
 
 // One invocation's triangle: small boxes walked pixel by pixel here, larger ones by rows here,
-// the largest left to the workgroup (s_big) when `shared_big`.
+// the largest left to the workgroup (SW_BIG) when `shared_big`.
 void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint width, uint height,
                      bool shared_big) {
     Tri t;
@@ -192,8 +200,8 @@ void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint widt
     int box = (t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1);
     if (shared_big && box > RASTER_SW_BIG_BOX_PIXELS) {
         uint b = atomicAdd(s_big_count, 1u);
-        s_big[b] = tri;
-        s_big_pieces[b] = (uint(t.x1 - t.x0) / RASTER_SW_CHUNK + 1u) * uint(t.y1 - t.y0 + 1);
+        s_mem[SW_BIG + b] = tri;
+        s_mem[SW_PIECES + b] = (uint(t.x1 - t.x0) / RASTER_SW_CHUNK + 1u) * uint(t.y1 - t.y0 + 1);
         return;
     }
     if (box <= SMALL_BOX_PIXELS && extent.x < SMALL_EXTENT_FIXED && extent.y < SMALL_EXTENT_FIXED) {
@@ -227,8 +235,16 @@ void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint widt
     }
 }
 
-// Decodes, transforms and snaps the cluster's vertices `first, first + stride, ...` into
-// s_xy / s_z from entry `base` on (s_z < 0: the vertex cannot be snapped).
+// The snapped vertex stored from s_mem's word `at` on.
+ivec2 sw_vertex_xy(uint at) {
+    return ivec2(int(s_mem[at]), int(s_mem[at + 1u]));
+}
+float sw_vertex_z(uint at) {
+    return uintBitsToFloat(s_mem[at + 2u]);
+}
+
+// Decodes, transforms and snaps the cluster's vertices `first, first + stride, ...` into s_mem
+// from word `base` on, three words a vertex (z < 0: the vertex cannot be snapped).
 void snap_vertices(InstanceVgeo inst, MeshGpu mesh, ClusterData d, uint vcount, uint first,
                    uint stride, uint base) {
     for (uint k = first; k < vcount; k += stride) {
@@ -236,19 +252,22 @@ void snap_vertices(InstanceVgeo inst, MeshGpu mesh, ClusterData d, uint vcount, 
         ivec2 xy;
         float z;
         bool ok = project_fixed(clip, xy, z);
-        s_xy[base + k] = xy;
-        s_z[base + k] = ok ? z : -1.0;
+        uint at = base + 3u * k;
+        s_mem[at] = uint(xy.x);
+        s_mem[at + 1u] = uint(xy.y);
+        s_mem[at + 2u] = floatBitsToUint(ok ? z : -1.0);
     }
 }
 
-// Triangle `tri` (local corners `t`, snapped from entry `base` of s_xy / s_z) of the cluster of
+// Triangle `tri` (local corners `t`, snapped from s_mem's word `base` on) of the cluster of
 // `visible_index`.
 void raster_snapped(uvec3 t, uint base, uint visible_index, uint tri, uint width, uint height,
                     bool shared_big) {
-    vec3 z = vec3(s_z[base + t.x], s_z[base + t.y], s_z[base + t.z]);
+    uvec3 at = base + 3u * t;
+    vec3 z = vec3(sw_vertex_z(at.x), sw_vertex_z(at.y), sw_vertex_z(at.z));
     // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
     if (min(z.x, min(z.y, z.z)) >= 0.0) {
-        ivec2 v[3] = ivec2[3](s_xy[base + t.x], s_xy[base + t.y], s_xy[base + t.z]);
+        ivec2 v[3] = ivec2[3](sw_vertex_xy(at.x), sw_vertex_xy(at.y), sw_vertex_xy(at.z));
         raster_triangle(v, z, visible_index, tri, width, height, shared_big);
     }
 }
@@ -260,16 +279,14 @@ void raster_snapped(uvec3 t, uint base, uint visible_index, uint tri, uint width
 // RASTER_SW_SMALL_TRIANGLE_PX, has few triangles of a large box, and none beyond the cluster's
 // extent). Their cost is per cluster (a chain of dependent reads, the barrier), so a workgroup
 // takes two.
-// Each half keeps its cluster's vertices in its half of s_xy / s_z (the cull sends only clusters
-// of at most MAX_CLUSTER_VERTICES / 2 vertices here): no shared memory beyond the other path's,
-// whose size bounds how many workgroups an SM holds.
+// Each half keeps its cluster's vertices in its half of s_mem (SMALL_HALF_WORDS words: the cull
+// sends only clusters of at most RASTER_SW_SMALL_VERTICES vertices here).
 #define SMALL_HALF (RASTER_SW_WORKGROUP_SIZE / 2u)
-#define SMALL_VERTICES (MAX_CLUSTER_VERTICES / 2u)
 
 void raster_small(uint first_group, uint groups, uint small_count, uint width, uint height) {
     uint half_id = gl_LocalInvocationID.x / SMALL_HALF;
     uint lane = gl_LocalInvocationID.x % SMALL_HALF;
-    uint at = half_id * SMALL_VERTICES;
+    uint at = half_id * SMALL_HALF_WORDS;
     uint last = view.visible_capacity - 1u;
     for (uint p = first_group; 2u * p < small_count; p += groups) {
         uint j = 2u * p + half_id;
@@ -348,18 +365,19 @@ void main() {
         uint big = s_big_count;
         uint dealt = 0u;
         for (uint b = 0u; b < big; b++) {
-            uint pieces = s_big_pieces[b];
+            uint pieces = s_mem[SW_PIECES + b];
             uint p = (tid + RASTER_SW_WORKGROUP_SIZE - dealt % RASTER_SW_WORKGROUP_SIZE) %
                      RASTER_SW_WORKGROUP_SIZE;
             dealt += pieces;
             if (p >= pieces) {
                 continue;
             }
-            uint tri = s_big[b];
-            uvec3 tv = cluster_triangle(d, c, tri);
-            ivec2 v[3] = ivec2[3](s_xy[tv.x], s_xy[tv.y], s_xy[tv.z]);
+            uint tri = s_mem[SW_BIG + b];
+            uvec3 tv = 3u * cluster_triangle(d, c, tri);
+            ivec2 v[3] = ivec2[3](sw_vertex_xy(tv.x), sw_vertex_xy(tv.y), sw_vertex_xy(tv.z));
             Tri t;
-            if (!tri_setup(v, vec3(s_z[tv.x], s_z[tv.y], s_z[tv.z]), width, height, t)) {
+            vec3 z = vec3(sw_vertex_z(tv.x), sw_vertex_z(tv.y), sw_vertex_z(tv.z));
+            if (!tri_setup(v, z, width, height, t)) {
                 continue;
             }
             uint pieces_x = uint(t.x1 - t.x0) / RASTER_SW_CHUNK + 1u;

@@ -55,6 +55,11 @@ pub const RASTER_SW_SMALL_PX: f32 = 20.0;
 /// The largest edge-length equivalent (pixels, `emit_cluster`'s `size_px`) of a small SW cluster's
 /// triangles ([`RASTER_SW_SMALL_PX`]).
 pub const RASTER_SW_SMALL_TRIANGLE_PX: f32 = 4.0;
+/// The most vertices of a small SW cluster ([`RASTER_SW_SMALL_PX`]): the small path keeps its
+/// two clusters' snapped vertices (three words each) where the other path keeps one cluster's
+/// vertices and its large triangles (`raster_sw`'s shared array). 170 takes foliage's grass
+/// clusters (152 and 132 vertices), which 127 kept out.
+pub const RASTER_SW_SMALL_VERTICES: u32 = 170;
 /// Threads of one `raster_hw` mesh-shader workgroup (the mesh path, one workgroup per HW cluster):
 /// one per triangle, each also decoding up to two of the cluster's vertices.
 pub const RASTER_HW_MESH_WORKGROUP_SIZE: u32 = 128;
@@ -98,6 +103,13 @@ pub const CULL_RANGE_CLUSTERS: u32 = 8;
 /// Bits of a range item's first cluster (global cluster index); a scene has fewer clusters.
 pub const CULL_RANGE_INDEX_BITS: u32 = 28;
 const _: () = assert!(CULL_RANGE_CLUSTERS <= 1 << (31 - CULL_RANGE_INDEX_BITS));
+// raster_sw's shared array: the small path's two clusters (three words a vertex) within the other
+// path's one cluster and its large triangles (two words each).
+const _: () = assert!(
+    2 * 3 * RASTER_SW_SMALL_VERTICES <= 3 * MAX_CLUSTER_VERTICES + 2 * MAX_CLUSTER_TRIANGLES
+        && RASTER_SW_SMALL_VERTICES <= MAX_CLUSTER_VERTICES
+        && 2 * RASTER_SW_SMALL_VERTICES > MAX_CLUSTER_VERTICES
+);
 /// Marks a queue item's low word as a range of clusters, not a BVH node.
 pub const CULL_RANGE_FLAG: u32 = 0x8000_0000;
 /// Nodes the local walk keeps pending in registers; more go to the global queue.

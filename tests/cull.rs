@@ -514,19 +514,24 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
 }
 
 /// Which SW clusters `emit_cluster` sends to `raster_sw`'s small path (`CullCounters::
-/// sw_small_count`, the SW list's end): exactly those of at most half the most vertices that
-/// project to at most `RASTER_SW_SMALL_PX` across with triangles of at most
+/// sw_small_count`, the SW list's end): exactly those of at most `RASTER_SW_SMALL_VERTICES`
+/// vertices that project to at most `RASTER_SW_SMALL_PX` across with triangles of at most
 /// `RASTER_SW_SMALL_TRIANGLE_PX` (the cluster's size code), by the CPU's evaluation of the same
-/// formulas; clusters within 0.1 % of a bound may go either way.
+/// formulas; clusters within 0.1 % of a bound may go either way. Spot's clusters and a grass
+/// field's, whose clusters hold more vertices.
 #[test]
 fn small_sw_clusters_follow_the_rule() {
     use vgeo::builder::size::size_ratio;
     use vgeo::shared::{
-        MAX_CLUSTER_VERTICES, RASTER_SW_SMALL_PX, RASTER_SW_SMALL_TRIANGLE_PX, VIEW_FLAG_FORCE_SW,
+        RASTER_SW_SMALL_PX, RASTER_SW_SMALL_TRIANGLE_PX, RASTER_SW_SMALL_VERTICES,
+        VIEW_FLAG_FORCE_SW,
     };
     let ctx = gpu();
     let spot = built(&assets().join("spot.obj"));
-    let meshes = vec![spot];
+    // Clusters of more vertices than spot's: 128 to RASTER_SW_SMALL_VERTICES, and more.
+    let grass = vgeo::builder::build(&common::shapes::grass_field(2), &BuildOptions::default())
+        .expect("the grass field builds");
+    let meshes = vec![spot, grass];
     let camera = field_camera(DVec3::new(0.0, 1.0, 2.0), DVec3::new(0.0, 0.0, -10.0));
     let side = 12usize;
     let mut placements = Vec::new();
@@ -535,7 +540,8 @@ fn small_sw_clusters_follow_the_rule() {
             let z = -1.5 * (1.45f64).powf(j as f64);
             let x = (i as f64 / side as f64 - 0.5) * 2.4 * z.abs().sqrt();
             placements.push(Placement {
-                mesh: 0,
+                // A third of them the grass.
+                mesh: ((i + j) % 3 == 0) as u32,
                 transform: DMat4::from_scale_rotation_translation(
                     DVec3::splat(0.5 + 0.1 * (i % 4) as f64),
                     DQuat::from_rotation_y(0.37 * (i * side + j) as f64),
@@ -547,9 +553,10 @@ fn small_sw_clusters_follow_the_rule() {
     }
     let (w, h) = (320, 240);
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
-    // Small, other, borderline, small over 7 px across, and others within RASTER_SW_SMALL_PX
-    // across and the vertex bound but of larger triangles.
-    let mut n = [0u32; 5];
+    // Small, other, borderline, small over 7 px across, others within RASTER_SW_SMALL_PX across
+    // and the vertex bound but of larger triangles, small of over 127 vertices (session 23's
+    // bound), and others kept off by their vertices alone.
+    let mut n = [0u32; 7];
     // At 1 px, and at 8 px where coarse clusters of few large triangles are drawn small.
     for error_px in [1.0f32, 8.0] {
         let settings = FrameSettings {
@@ -566,7 +573,13 @@ fn small_sw_clusters_follow_the_rule() {
         for (k, &[inst, ci]) in res.visible[..sw_n].iter().enumerate() {
             let on_small_path = k >= sw_n - small_n;
             let p = &placements[inst as usize];
-            let c = &meshes[0].clusters[ci as usize];
+            // Global cluster indices: the meshes' clusters one after the other.
+            let first = if p.mesh == 0 {
+                0
+            } else {
+                meshes[0].clusters.len()
+            };
+            let c = &meshes[p.mesh as usize].clusters[ci as usize - first];
             let (lo, hi) = (Vec3::from(c.bounds_min), Vec3::from(c.bounds_max));
             let centre = p.transform.transform_point3(((lo + hi) * 0.5).as_dvec3());
             let radius = (hi - lo).length() * 0.5 * vgeo::render::max_axis_scale(&p.transform);
@@ -583,7 +596,7 @@ fn small_sw_clusters_follow_the_rule() {
             }
             let expected = across <= RASTER_SW_SMALL_PX
                 && size <= RASTER_SW_SMALL_TRIANGLE_PX
-                && c.vertex_count() <= MAX_CLUSTER_VERTICES / 2;
+                && c.vertex_count() <= RASTER_SW_SMALL_VERTICES;
             assert_eq!(
                 on_small_path,
                 expected,
@@ -594,18 +607,22 @@ fn small_sw_clusters_follow_the_rule() {
             if expected {
                 n[0] += 1;
                 n[3] += (across > 7.0) as u32;
+                n[5] += (c.vertex_count() > 127) as u32;
             } else {
                 n[1] += 1;
                 // Kept off the small path by its triangles alone.
                 n[4] += (across <= RASTER_SW_SMALL_PX
-                    && c.vertex_count() <= MAX_CLUSTER_VERTICES / 2) as u32;
+                    && c.vertex_count() <= RASTER_SW_SMALL_VERTICES) as u32;
+                n[6] +=
+                    (across <= RASTER_SW_SMALL_PX && size <= RASTER_SW_SMALL_TRIANGLE_PX) as u32;
             }
         }
     }
-    let [small, other, borderline, over_7, coarse] = n;
+    let [small, other, borderline, over_7, coarse, many, too_many] = n;
     eprintln!(
-        "{small} small ({over_7} over 7 px across), {other} other SW clusters ({coarse} within \
-         the size, of larger triangles), {borderline} borderline"
+        "{small} small ({over_7} over 7 px across, {many} of over 127 vertices), {other} other SW \
+         clusters ({coarse} within the size, of larger triangles; {too_many} of too many \
+         vertices), {borderline} borderline"
     );
     // Both kinds, small clusters beyond session 23's 7 px bound, and clusters kept off the small
     // path by their triangles alone.
@@ -614,6 +631,11 @@ fn small_sw_clusters_follow_the_rule() {
     assert!(
         coarse > 0,
         "no cluster kept off the small path by its triangles"
+    );
+    assert!(many > 0, "no small cluster of over 127 vertices");
+    assert!(
+        too_many > 0,
+        "no cluster kept off the small path by its vertices"
     );
     assert_no_validation_errors(&ctx);
 }

@@ -25,7 +25,7 @@ use vgeo::reference::{RasterTarget, rasterize};
 use vgeo::render::Placement;
 use vgeo::scene_gpu::GpuScene;
 use vgeo::shared::{
-    CullCounters, MAX_CLUSTER_TRIANGLES, MAX_CLUSTER_VERTICES, VISBUFFER_TRIANGLE_BITS,
+    CullCounters, MAX_CLUSTER_TRIANGLES, RASTER_SW_SMALL_VERTICES, VISBUFFER_TRIANGLE_BITS,
     hw_mesh_args,
 };
 
@@ -45,6 +45,16 @@ fn spot() -> &'static BuiltMesh {
     })
 }
 
+/// `common::shapes::grass_field(2)` built once: clusters of 128 to 170 vertices, which the small
+/// path keeps three words a vertex in its half of `raster_sw`'s shared array, and of more.
+fn grass() -> &'static BuiltMesh {
+    static GRASS: OnceLock<BuiltMesh> = OnceLock::new();
+    GRASS.get_or_init(|| {
+        let mesh = common::shapes::grass_field(2);
+        vgeo::builder::build(&mesh, &BuildOptions::default()).expect("the grass field builds")
+    })
+}
+
 /// Which rasterizer draws a visible entry.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Split {
@@ -52,17 +62,17 @@ enum Split {
     AllHw,
     /// Alternating by visible index (even: SW, odd: HW).
     Mixed,
-    /// All SW: most clusters of at most `MAX_CLUSTER_VERTICES / 2` vertices at the SW list's
+    /// All SW: most clusters of at most `RASTER_SW_SMALL_VERTICES` vertices at the SW list's
     /// small end (`CullCounters::sw_small_count`, drawn two to a workgroup), the others at its
     /// front.
     SmallSw,
 }
 
-/// Two spot instances (the second turned, scaled and shifted so that they overlap on screen),
+/// Two instances of `mesh` (the second turned, scaled and shifted so that they overlap on screen),
 /// offset by `origin`, and a camera framing them from `origin` + the same offset.
 /// `zoom` scales the camera's distance to the scene's centre (and the near plane's by its square,
 /// keeping the meshes in front of it).
-fn scene(origin: DVec3, zoom: f64) -> (Vec<Placement>, Camera) {
+fn scene(mesh: &BuiltMesh, origin: DVec3, zoom: f64) -> (Vec<Placement>, Camera) {
     let p0 = DMat4::from_translation(origin);
     let p1 = DMat4::from_translation(origin + DVec3::new(0.7, 0.05, -0.5))
         * DMat4::from_rotation_y(0.7)
@@ -79,7 +89,7 @@ fn scene(origin: DVec3, zoom: f64) -> (Vec<Placement>, Camera) {
             color: [0.4, 0.7, 0.9],
         },
     ];
-    let b = spot().clusters.iter().fold(
+    let b = mesh.clusters.iter().fold(
         (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
         |(lo, hi), c| {
             (
@@ -98,8 +108,7 @@ fn scene(origin: DVec3, zoom: f64) -> (Vec<Placement>, Camera) {
 }
 
 /// The visible list: (instance, global cluster) for each instance's clusters of DAG level `levels[i]`.
-fn visible_list(levels: &[u32]) -> Vec<[u32; 2]> {
-    let m = spot();
+fn visible_list(m: &BuiltMesh, levels: &[u32]) -> Vec<[u32; 2]> {
     let mut v = Vec::new();
     for (i, &k) in levels.iter().enumerate() {
         for c in m.level_clusters(k) {
@@ -126,6 +135,7 @@ fn hw_paths(ctx: &Context) -> Vec<HwPath> {
 /// The rasterizers and buffers of one test.
 struct Rig {
     ctx: Context,
+    mesh: &'static BuiltMesh,
     path: VisPath,
     gpu_scene: GpuScene,
     fb: FrameBuffers,
@@ -145,17 +155,23 @@ impl Rig {
     }
 
     fn with_zoom(origin: DVec3, levels: &[u32], zoom: f64) -> Self {
+        Self::of_mesh(spot(), origin, levels, zoom)
+    }
+
+    /// Two instances of `mesh` ([`scene`]), their clusters of DAG levels `levels`.
+    fn of_mesh(mesh: &'static BuiltMesh, origin: DVec3, levels: &[u32], zoom: f64) -> Self {
         let ctx = gpu();
         let path = VisPath::choose(&ctx).expect("visibility-buffer path");
-        let (placements, camera) = scene(origin, zoom);
+        let (placements, camera) = scene(mesh, origin, zoom);
         let gpu_scene =
-            GpuScene::new(&ctx, std::slice::from_ref(spot()), &placements).expect("scene upload");
-        let visible = visible_list(levels);
+            GpuScene::new(&ctx, std::slice::from_ref(mesh), &placements).expect("scene upload");
+        let visible = visible_list(mesh, levels);
         let fb = FrameBuffers::new(&ctx, W, H, path, 64, visible.len() as u32, 2).expect("buffers");
         let sw = RasterSw::new(&ctx, path).expect("raster_sw pipeline");
         let hw = RasterHw::new(&ctx, path, HwPath::Auto).expect("raster_hw pipeline");
         Self {
             ctx,
+            mesh,
             path,
             gpu_scene,
             fb,
@@ -197,10 +213,10 @@ impl Rig {
                 Split::AllHw => false,
                 Split::Mixed => i % 2 == 0,
             };
-            let cluster = &spot().clusters[self.visible[i as usize][1] as usize];
+            let cluster = &self.mesh.clusters[self.visible[i as usize][1] as usize];
             // An odd number of them (a workgroup half with no cluster), and some at the front.
             if split == Split::SmallSw
-                && cluster.vertex_count() <= MAX_CLUSTER_VERTICES / 2
+                && cluster.vertex_count() <= RASTER_SW_SMALL_VERTICES
                 && i != 0
                 && i % 7 != 3
             {
@@ -313,7 +329,7 @@ impl Rig {
 
     /// The CPU reference of the same visible list: ids are `visible index << 7 | triangle`.
     fn reference(&self) -> RasterTarget {
-        let m = spot();
+        let m = self.mesh;
         let positions = m.positions();
         let vp = self.camera.view_proj(W, H);
         let mut target = RasterTarget::new(W, H);
@@ -714,6 +730,43 @@ fn the_small_clusters_path_draws_what_the_other_sw_path_draws() {
         assert!(rig.last_small > 0 && rig.last_small < n, "both paths run");
         assert!(rig.last_small % 2 == 1, "a workgroup half has no cluster");
         assert!(sw.iter().filter(|&&p| p != 0).count() as u32 > W * H / 8);
+        assert!(small == sw, "the small clusters' path draws differently");
+    }
+    assert_no_validation_errors(&gpu());
+}
+
+/// The small path draws clusters of up to `RASTER_SW_SMALL_VERTICES` vertices (two to a workgroup,
+/// each half of the shared array holding one cluster's) as the other SW path draws them, bit for
+/// bit: the grass field's levels, whose clusters of 128 to 170 vertices the small path took only
+/// from session 26 on (they overran a half of 127 before).
+#[test]
+fn clusters_of_many_vertices_on_the_small_path_draw_what_the_other_sw_path_draws() {
+    let wide = |c: u32| (128..=RASTER_SW_SMALL_VERTICES).contains(&c);
+    for levels in [[0u32, 1], [2, 0], [1, 3]] {
+        let mut rig = Rig::of_mesh(grass(), DVec3::ZERO, &levels, 0.6);
+        let sw = rig.render(Split::AllSw, None);
+        let small = rig.render(Split::SmallSw, None);
+        let wide_small = rig
+            .visible
+            .iter()
+            .enumerate()
+            .filter(|&(i, &[_, c])| {
+                i != 0 && i % 7 != 3 && wide(grass().clusters[c as usize].vertex_count())
+            })
+            .count();
+        eprintln!(
+            "levels {levels:?}: {} of {} clusters on the small path, {wide_small} of 128 to {} \
+             vertices",
+            rig.last_small,
+            rig.visible.len(),
+            RASTER_SW_SMALL_VERTICES
+        );
+        assert!(
+            wide_small > 0,
+            "a cluster of over 127 vertices on the small path"
+        );
+        let covered = sw.iter().filter(|&&p| p != 0).count() as u32;
+        assert!(covered > W * H / 50, "the blades cover {covered} pixels");
         assert!(small == sw, "the small clusters' path draws differently");
     }
     assert_no_validation_errors(&gpu());

@@ -93,11 +93,11 @@ void emit_cluster(uint instance, uint cluster_index, uint at, uint info, vec3 ce
         hw = size_px > view.hw_threshold_px;
     }
     // SW clusters that project to at most RASTER_SW_SMALL_PX across with triangles of at most
-    // RASTER_SW_SMALL_TRIANGLE_PX (of at most half the most vertices) fill the SW list from its
+    // RASTER_SW_SMALL_TRIANGLE_PX (of at most RASTER_SW_SMALL_VERTICES) fill the SW list from its
     // end (raster_sw draws them two to a workgroup); the others from its start. Each emitted
     // cluster holds its own visible slot below visible_capacity, so the two ends never meet.
     bool small = !hw && across_px <= RASTER_SW_SMALL_PX && size_px <= RASTER_SW_SMALL_TRIANGLE_PX
-        && (info & 0xffu) <= MAX_CLUSTER_VERTICES / 2u;
+        && (info & 0xffu) <= RASTER_SW_SMALL_VERTICES;
     // The lists hold visible_capacity entries each; a cluster emitted twice (never, by the cut's
     // rule, but a direct slot is not a count) must not write past them.
     uint slot = hw ? atomicAdd(counters.hw_count, 1u)

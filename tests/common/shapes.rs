@@ -126,3 +126,22 @@ pub fn slivers(n: u32, length: f32, width: f32, spacing: f32) -> (Vec<[f32; 3]>,
     }
     (p, idx)
 }
+
+/// `n` x `n` copies of the built-in grass clump (`generated:grass`: 24 disconnected blades of 7
+/// triangles and 9 vertices), 0.8 apart in x and z. Its clusters hold many vertices for their
+/// triangles: at `n` = 2, level 0 to 3 have clusters of 128 to 170 vertices and of more.
+pub fn grass_field(n: u32) -> Mesh {
+    let clump = vgeo::scene::generated::generated_mesh("grass").expect("the generated grass");
+    let mut parts = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let mut m = clump.clone();
+            for p in &mut m.positions {
+                p[0] += 0.8 * i as f32;
+                p[2] += 0.8 * j as f32;
+            }
+            parts.push(m);
+        }
+    }
+    vgeo::mesh::merge(parts)
+}
