@@ -1,0 +1,34 @@
+#!/bin/bash
+# Session 26, device: raster_sw's small path for clusters of any vertex count (C, `--shader-dir
+# .gpu/sd/C`: over RASTER_SW_SMALL_VERTICES vertices two words a vertex, x and y relative to the
+# cluster's snapped centre) against F (the binary of 17bbf70: at most 170 vertices). Bench scenes
+# (8 frames), stress N = 20 / 100 / 200 (4 frames), the close blade, and `meadow.toml` (foliage
+# with 250 K clumps of 2 x 2 grass clumps, `.gpu/meadow.obj`: clusters of 171-255 vertices; render
+# --time 64 at the scene's camera). Two interleaved rounds; images against F.
+. bench/results/2026-11-26-session17/common.sh
+o=$OUT/packed.txt
+setup $o F
+T0=$SECONDS
+warm F
+for r in 1 2; do
+  for v in F C; do
+    sd=""; [ -d .gpu/sd/$v ] && sd="--shader-dir .gpu/sd/$v"
+    d=/tmp/su-$v-r$r
+    timeout 150 /tmp/vgeo-F bench $sd --suite full --scenes outdoor,indoor,foliage,drawcalls --frames 8 --modes vgeo --sweep 1 --quiet --out $d-s > $d-s.log 2>&1
+    timeout 150 /tmp/vgeo-F bench $sd --suite full --scenes stress --stress-n 20,100,200 --frames 4 --modes vgeo --sweep 1 --quiet --out $d-t > $d-t.log 2>&1
+    echo "== r$r $v t=$((SECONDS - T0))" >> $o
+    for x in s t; do python3 bench/results/2026-11-26-session23/passes.py $d-$x/bench.json >> $o 2>&1 || tail -3 $d-$x.log >> $o; done
+    timeout 60 /tmp/vgeo-F render $sd .gpu/close.toml --width 1920 --height 1080 --frames 8 --time 64 --out /tmp/close-$v.png 2>&1 | grep -E "timed" | sed "s/^/  close /" >> $o
+    timeout 100 /tmp/vgeo-F render $sd .gpu/meadow.toml --width 1920 --height 1080 --frames 8 --time 64 --stats --out /tmp/meadow-$v.png > /tmp/meadow-$v.log 2>&1
+    grep -E "timed|raster_sw|main:" /tmp/meadow-$v.log | sed "s/^/  meadow /" >> $o
+  done
+done
+echo "== images F/C" >> $o
+for x in s t; do
+  for f in /tmp/su-F-r1-$x/images/*.png; do
+    n=$(basename $f); cmp -s $f /tmp/su-C-r1-$x/images/$n && echo "  same $n" >> $o || echo "  differ $n" >> $o
+  done
+done
+for s in close meadow; do cmp -s /tmp/$s-F.png /tmp/$s-C.png && echo "  same $s" >> $o || echo "  differ $s" >> $o; done
+echo "== total $((SECONDS - T0)) s" >> $o
+cd $OUT && tar czf /tmp/c.tgz packed.txt && rm -rf $OUT/* && mv /tmp/c.tgz $OUT/
