@@ -53,8 +53,9 @@ layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 //   ndc depth's bits (< 0: the vertex cannot be snapped); the other path's cluster has vertex k at
 //   entry 3k, the small path's half h at SMALL_HALF_WORDS * h + 3k (clusters of at most
 //   RASTER_SW_SMALL_VERTICES vertices);
-// - the other path's triangles left to its shared pass (their index in the cluster) at
-//   SW_BIG + b, and their pieces (rows x RASTER_SW_CHUNK columns) at SW_PIECES + b.
+// - the other path's triangles left to its shared pass at SW_BIG + b (big_entry: the triangle's
+//   index in the cluster and its corners, so that the shared pass needs no cluster data), and
+//   their pieces (rows x RASTER_SW_CHUNK columns) at SW_PIECES + b.
 #define SW_BIG (3u * MAX_CLUSTER_VERTICES)
 #define SW_PIECES (SW_BIG + MAX_CLUSTER_TRIANGLES)
 #define SW_WORDS (SW_PIECES + MAX_CLUSTER_TRIANGLES)
@@ -188,10 +189,16 @@ void raster_row(Tri t, int y, int xa, int xb, uint visible_index, uint tri, uint
     }
 }
 
+// A triangle left to the shared pass: its index in the cluster (7 bits) and its three corners
+// (8 bits each).
+uint big_entry(uint tri, uvec3 t) {
+    return tri | (t.x << 7) | (t.y << 15) | (t.z << 23);
+}
+
 // One invocation's triangle: small boxes walked pixel by pixel here, larger ones by rows here,
-// the largest left to the workgroup (SW_BIG) when `shared_big`.
-void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint width, uint height,
-                     bool shared_big) {
+// the largest left to the workgroup (SW_BIG, `entry`) when `shared_big`.
+void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint entry, uint width,
+                     uint height, bool shared_big) {
     Tri t;
     if (!tri_setup(v, z, width, height, t)) {
         return;
@@ -200,7 +207,7 @@ void raster_triangle(ivec2 v[3], vec3 z, uint visible_index, uint tri, uint widt
     int box = (t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1);
     if (shared_big && box > RASTER_SW_BIG_BOX_PIXELS) {
         uint b = atomicAdd(s_big_count, 1u);
-        s_mem[SW_BIG + b] = tri;
+        s_mem[SW_BIG + b] = entry;
         s_mem[SW_PIECES + b] = (uint(t.x1 - t.x0) / RASTER_SW_CHUNK + 1u) * uint(t.y1 - t.y0 + 1);
         return;
     }
@@ -268,7 +275,7 @@ void raster_snapped(uvec3 t, uint base, uint visible_index, uint tri, uint width
     // Behind the near plane or beyond the guard band: the cull sends such clusters to HW.
     if (min(z.x, min(z.y, z.z)) >= 0.0) {
         ivec2 v[3] = ivec2[3](sw_vertex_xy(at.x), sw_vertex_xy(at.y), sw_vertex_xy(at.z));
-        raster_triangle(v, z, visible_index, tri, width, height, shared_big);
+        raster_triangle(v, z, visible_index, tri, big_entry(tri, t), width, height, shared_big);
     }
 }
 
@@ -353,9 +360,10 @@ void main() {
             s_big_count = 0u;
         }
         snap_vertices(inst, mesh, d, vcount, tid, RASTER_SW_WORKGROUP_SIZE, 0u);
+        uvec3 corners = tid < tcount ? cluster_triangle(d, c, tid) : uvec3(0u);
         barrier();
         if (tid < tcount) {
-            raster_snapped(cluster_triangle(d, c, tid), 0u, visible_index, tid, width, height, true);
+            raster_snapped(corners, 0u, visible_index, tid, width, height, true);
         }
         barrier();
         // The large triangles, by the whole workgroup: their rows cut into pieces of
@@ -372,8 +380,9 @@ void main() {
             if (p >= pieces) {
                 continue;
             }
-            uint tri = s_mem[SW_BIG + b];
-            uvec3 tv = 3u * cluster_triangle(d, c, tri);
+            uint e = s_mem[SW_BIG + b];
+            uint tri = e & 127u;
+            uvec3 tv = 3u * uvec3((e >> 7) & 255u, (e >> 15) & 255u, e >> 23);
             ivec2 v[3] = ivec2[3](sw_vertex_xy(tv.x), sw_vertex_xy(tv.y), sw_vertex_xy(tv.z));
             Tri t;
             vec3 z = vec3(sw_vertex_z(tv.x), sw_vertex_z(tv.y), sw_vertex_z(tv.z));

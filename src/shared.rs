@@ -103,6 +103,8 @@ pub const CULL_RANGE_CLUSTERS: u32 = 8;
 /// Bits of a range item's first cluster (global cluster index); a scene has fewer clusters.
 pub const CULL_RANGE_INDEX_BITS: u32 = 28;
 const _: () = assert!(CULL_RANGE_CLUSTERS <= 1 << (31 - CULL_RANGE_INDEX_BITS));
+// raster_sw's large-triangle entries: a triangle's index in 7 bits, its corners in 8 bits each.
+const _: () = assert!(MAX_CLUSTER_TRIANGLES <= 1 << 7 && MAX_CLUSTER_VERTICES <= 1 << 8);
 // raster_sw's shared array: the small path's two clusters (three words a vertex) within the other
 // path's one cluster and its large triangles (two words each).
 const _: () = assert!(
