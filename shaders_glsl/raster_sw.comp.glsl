@@ -48,9 +48,10 @@ layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 
 // Both paths keep their shared data in one array, so that the small path's two clusters fit in
 // what the other path needs for one (its size bounds how many workgroups an SM holds: arrays of
-// its own for the small path cost every scene 3-40 %, bench/results/2026-11-26-session23, call 9):
-// - a snapped vertex in three words from its entry on (sw_vertex_store): fixed-point x, y and the
-//   ndc depth's bits (< 0: the vertex cannot be snapped); the other path's cluster has vertex k at
+// its own for the small path cost stress 20-28 % and foliage 39 %, bench/results/
+// 2026-11-26-session23, call 9; twice the arrays, stress 15 % and foliage 11 %, session 26, call 1):
+// - a snapped vertex in three words from its entry on (snap_vertices; read by sw_vertex_xy and
+//   sw_vertex_z): fixed-point x, y and the ndc depth's bits (< 0: the vertex cannot be snapped); the other path's cluster has vertex k at
 //   entry 3k, the small path's half h at SMALL_HALF_WORDS * h + 3k (clusters of at most
 //   RASTER_SW_SMALL_VERTICES vertices);
 // - the other path's triangles left to its shared pass at SW_BIG + b (big_entry: the triangle's

@@ -110,7 +110,6 @@ const _: () = assert!(MAX_CLUSTER_TRIANGLES <= 1 << 7 && MAX_CLUSTER_VERTICES <=
 const _: () = assert!(
     2 * 3 * RASTER_SW_SMALL_VERTICES <= 3 * MAX_CLUSTER_VERTICES + 2 * MAX_CLUSTER_TRIANGLES
         && RASTER_SW_SMALL_VERTICES <= MAX_CLUSTER_VERTICES
-        && 2 * RASTER_SW_SMALL_VERTICES > MAX_CLUSTER_VERTICES
 );
 /// Marks a queue item's low word as a range of clusters, not a BVH node.
 pub const CULL_RANGE_FLAG: u32 = 0x8000_0000;
@@ -448,7 +447,7 @@ pub struct CullCounters {
     /// (`emit_tiny_cut`, no BVH walk).
     pub tiny_cuts: u32,
     /// SW clusters whose bounds project to at most [`RASTER_SW_SMALL_PX`] across, with triangles
-    /// of at most [`RASTER_SW_SMALL_TRIANGLE_PX`] and at most half the most vertices: the last
+    /// of at most [`RASTER_SW_SMALL_TRIANGLE_PX`] and at most [`RASTER_SW_SMALL_VERTICES`]: the last
     /// `sw_small_count` entries of the SW list, from its end backwards (`raster_sw` draws two at
     /// a time in a workgroup; `sw_dispatch[3]` holds how many workgroups take them).
     pub sw_small_count: u32,

@@ -55,6 +55,12 @@ fn grass() -> &'static BuiltMesh {
     })
 }
 
+/// Whether `Split::SmallSw` may put visible entry `i` on the small path: all but the first and
+/// every seventh from the fourth, so that both paths run and a workgroup half may have no cluster.
+fn small_list_may_take(i: usize) -> bool {
+    i != 0 && i % 7 != 3
+}
+
 /// Which rasterizer draws a visible entry.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Split {
@@ -217,8 +223,7 @@ impl Rig {
             // An odd number of them (a workgroup half with no cluster), and some at the front.
             if split == Split::SmallSw
                 && cluster.vertex_count() <= RASTER_SW_SMALL_VERTICES
-                && i != 0
-                && i % 7 != 3
+                && small_list_may_take(i as usize)
             {
                 small.push(i)
             } else if to_sw {
@@ -751,7 +756,7 @@ fn clusters_of_many_vertices_on_the_small_path_draw_what_the_other_sw_path_draws
             .iter()
             .enumerate()
             .filter(|&(i, &[_, c])| {
-                i != 0 && i % 7 != 3 && wide(grass().clusters[c as usize].vertex_count())
+                small_list_may_take(i) && wide(grass().clusters[c as usize].vertex_count())
             })
             .count();
         eprintln!(
@@ -763,12 +768,75 @@ fn clusters_of_many_vertices_on_the_small_path_draw_what_the_other_sw_path_draws
         );
         assert!(
             wide_small > 0,
-            "a cluster of over 127 vertices on the small path"
+            "no cluster of over 127 vertices went to the small path"
         );
         let covered = sw.iter().filter(|&&p| p != 0).count() as u32;
         assert!(covered > W * H / 50, "the blades cover {covered} pixels");
         assert!(small == sw, "the small clusters' path draws differently");
     }
+    assert_no_validation_errors(&gpu());
+}
+
+/// The other SW path's shared pass takes a large triangle's corners from its list entry (8 bits
+/// each): on the grass field close up, where triangles with corners past 127 have boxes of many
+/// pixels, all-SW draws what all-HW draws (its corners from the cluster's own code).
+#[test]
+fn large_triangles_of_clusters_of_many_vertices_match_hw() {
+    let mut rig = Rig::of_mesh(grass(), DVec3::ZERO, &[0, 0], 0.15);
+    // Triangles with a corner past 127 whose projected box spans over 100 pixels (the shared
+    // pass takes boxes of over RASTER_SW_BIG_BOX_PIXELS = 64 pixel centres).
+    let vp = rig.camera.view_proj(W, H);
+    let positions = grass().positions();
+    let mut large_high = 0;
+    for &[inst, ci] in &rig.visible {
+        let model: Mat4 = rig
+            .camera
+            .relative_model(&rig.placements[inst as usize].transform);
+        let c = &grass().clusters[ci as usize];
+        let local = grass().cluster_local_triangles(c);
+        for (t, g) in local.iter().zip(grass().cluster_triangles(ci as usize)) {
+            let px: Vec<glam::Vec2> = g
+                .iter()
+                .filter_map(|&v| {
+                    let clip = vp
+                        * model
+                            .transform_point3(Vec3::from(positions[v as usize]))
+                            .extend(1.0);
+                    (clip.w > 0.0).then(|| {
+                        (glam::Vec2::new(clip.x, clip.y) / clip.w * 0.5 + 0.5)
+                            * glam::Vec2::new(W as f32, H as f32)
+                    })
+                })
+                .collect();
+            if px.len() == 3 && t.iter().any(|&k| k > 127) {
+                let lo = px[0].min(px[1]).min(px[2]).max(glam::Vec2::ZERO);
+                let hi = px[0]
+                    .max(px[1])
+                    .max(px[2])
+                    .min(glam::Vec2::new(W as f32, H as f32));
+                let d = (hi - lo).max(glam::Vec2::ZERO);
+                large_high += (d.x * d.y > 100.0) as u32;
+            }
+        }
+    }
+    eprintln!("{large_high} large triangles with a corner past 127");
+    assert!(large_high > 0, "no large triangle with a corner past 127");
+    let sw = rig.render(Split::AllSw, None);
+    let hw = rig.render(Split::AllHw, None);
+    let differ = sw.iter().zip(&hw).filter(|(a, b)| a != b).count();
+    let covered = sw.iter().filter(|&&p| p != 0).count();
+    eprintln!(
+        "SW vs HW: {differ} of {} pixels differ, {covered} covered",
+        sw.len()
+    );
+    assert!(
+        covered as u32 > W * H / 10,
+        "the blades cover {covered} pixels"
+    );
+    assert!(
+        differ as f64 <= 1e-4 * sw.len() as f64,
+        "SW and HW differ on {differ} pixels"
+    );
     assert_no_validation_errors(&gpu());
 }
 
