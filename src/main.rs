@@ -18,7 +18,9 @@ use vgeo::{
 ///
 /// Environment: VGEO_VALIDATION=1 enables the Khronos validation layer; VGEO_DEVICE=<substring>
 /// picks a device by name; VGEO_SHADER_DIR=DIR is `--shader-dir DIR`; SHADER_DEBUG=1 (at build
-/// time, or at run time for `--shader-dir`) embeds shader debug info for RenderDoc.
+/// time, or at run time for `--shader-dir`) embeds shader debug info for RenderDoc;
+/// VGEO_PIPELINE_STATS=1 prints each pipeline's compiled statistics (registers, shared memory, ...)
+/// where the driver has VK_KHR_pipeline_executable_properties (`vgeo info` says whether).
 #[derive(Parser)]
 #[command(name = "vgeo", version, about, long_about)]
 struct Cli {

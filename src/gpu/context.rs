@@ -59,6 +59,10 @@ pub struct Caps {
     /// `VK_EXT_mesh_shader` with `meshShader` enabled on the device: `raster_hw` can take its mesh
     /// path (`--hw-path auto|mesh`); without it, vertex pulling.
     pub mesh_shader: bool,
+    /// `VK_KHR_pipeline_executable_properties` with `pipelineExecutableInfo` enabled: with
+    /// `VGEO_PIPELINE_STATS=1` each pipeline's compiled statistics (registers, shared memory, ...,
+    /// as the driver names them) are printed as it is created.
+    pub pipeline_statistics: bool,
     /// `multiDrawIndirect` (required).
     pub multi_draw_indirect: bool,
     /// `drawIndirectCount` (required).
@@ -113,6 +117,12 @@ impl std::fmt::Display for Caps {
             yn(self.image_int64_atomics)
         )?;
         writeln!(f, "mesh shaders:          {}", yn(self.mesh_shader))?;
+        writeln!(
+            f,
+            "pipeline statistics:   {} (VK_KHR_pipeline_executable_properties; VGEO_PIPELINE_STATS=1 \
+             prints them)",
+            yn(self.pipeline_statistics)
+        )?;
         writeln!(f, "multiDrawIndirect:     {}", yn(self.multi_draw_indirect))?;
         writeln!(f, "drawIndirectCount:     {}", yn(self.draw_indirect_count))?;
         if !self.tools.is_empty() {
@@ -149,6 +159,9 @@ pub(crate) struct Inner {
     pub sync2: ash::khr::synchronization2::Device,
     /// `VK_EXT_mesh_shader`'s commands, when enabled ([`Caps::mesh_shader`]).
     pub mesh_shader: Option<ash::ext::mesh_shader::Device>,
+    /// `VK_KHR_pipeline_executable_properties`' commands, when enabled and asked for
+    /// (`VGEO_PIPELINE_STATS=1`; [`Caps::pipeline_statistics`]).
+    pub pipeline_executable: Option<ash::khr::pipeline_executable_properties::Device>,
     pub queue: vk::Queue,
     pub allocator: Mutex<Option<Allocator>>,
     pub caps: Caps,
@@ -684,6 +697,10 @@ impl Context {
             .iter()
             .any(|e| e.as_c_str() == ash::ext::mesh_shader::NAME)
             && features.mesh_shader.mesh_shader == vk::TRUE;
+        let pipeline_statistics = device_extensions
+            .iter()
+            .any(|e| e.as_c_str() == ash::khr::pipeline_executable_properties::NAME)
+            && features.pipeline_executable.pipeline_executable_info == vk::TRUE;
         // SAFETY: queries on a valid physical device.
         let (props, dev_exts, families) = unsafe {
             (
@@ -774,6 +791,7 @@ impl Context {
             buffer_int64_atomics: true,
             image_int64_atomics: image_int64,
             mesh_shader,
+            pipeline_statistics,
             multi_draw_indirect: true,
             draw_indirect_count: true,
             timestamp_period_ns: (ts_bits > 0
@@ -829,6 +847,9 @@ impl Context {
             sync2: ash::khr::synchronization2::Device::new(&instance, &device),
             mesh_shader: mesh_shader
                 .then(|| ash::ext::mesh_shader::Device::new(&instance, &device)),
+            pipeline_executable: (pipeline_statistics
+                && std::env::var_os("VGEO_PIPELINE_STATS").is_some_and(|v| v == "1"))
+            .then(|| ash::khr::pipeline_executable_properties::Device::new(&instance, &device)),
             entry,
             instance,
             debug_device,

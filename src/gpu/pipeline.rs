@@ -135,6 +135,7 @@ impl ComputePipeline {
             .module(m)
             .name(c"main");
         let info = vk::ComputePipelineCreateInfo::default()
+            .flags(statistics_flags(ctx))
             .stage(stage)
             .layout(l.pipeline);
         // SAFETY: valid create info; the module may be destroyed after pipeline creation.
@@ -148,6 +149,7 @@ impl ComputePipeline {
             .map_err(|(_, e)| e)
             .call("vkCreateComputePipelines")?[0];
         ctx.set_name(raw, shader.name);
+        print_statistics(ctx, raw, shader.name);
         Ok(Self {
             ctx: ctx.clone(),
             raw,
@@ -331,6 +333,7 @@ impl GraphicsPipeline {
             .color_attachment_formats(d.color_formats)
             .depth_attachment_format(d.depth_format.unwrap_or(vk::Format::UNDEFINED));
         let mut info = vk::GraphicsPipelineCreateInfo::default()
+            .flags(statistics_flags(ctx))
             .stages(&sinfo)
             .viewport_state(&vp)
             .rasterization_state(&rs)
@@ -360,6 +363,7 @@ impl GraphicsPipeline {
             .map_err(|(_, e)| e)
             .call("vkCreateGraphicsPipelines")?[0];
         ctx.set_name(raw, d.name);
+        print_statistics(ctx, raw, d.name);
         Ok(Self {
             ctx: ctx.clone(),
             raw,
@@ -381,5 +385,99 @@ impl Drop for GraphicsPipeline {
             d.destroy_pipeline_layout(self.layout, None);
             d.destroy_descriptor_set_layout(self.set_layout, None);
         }
+    }
+}
+
+/// `CAPTURE_STATISTICS_KHR` when pipeline statistics were asked for (`VGEO_PIPELINE_STATS=1`) and
+/// the device has them ([`super::Caps::pipeline_statistics`]).
+fn statistics_flags(ctx: &Context) -> vk::PipelineCreateFlags {
+    if ctx.inner.pipeline_executable.is_some() {
+        vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR
+    } else {
+        vk::PipelineCreateFlags::empty()
+    }
+}
+
+/// Prints each executable (shader stage) of `pipeline` with the statistics its driver reports
+/// (`VK_KHR_pipeline_executable_properties`: registers, shared memory, instructions, ... as the
+/// driver names them), one line each on stderr, when they were asked for. A query that fails says
+/// so on that line: it never fails the pipeline.
+fn print_statistics(ctx: &Context, pipeline: vk::Pipeline, name: &str) {
+    let Some(pe) = ctx.inner.pipeline_executable.as_ref() else {
+        return;
+    };
+    let info = vk::PipelineInfoKHR::default().pipeline(pipeline);
+    // SAFETY: a query on a valid pipeline created with CAPTURE_STATISTICS_KHR.
+    let executables = match unsafe { pe.get_pipeline_executable_properties(&info) } {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("[pipeline statistics] {name}: vkGetPipelineExecutablePropertiesKHR: {e}");
+            return;
+        }
+    };
+    for (i, exe) in executables.iter().enumerate() {
+        let exe_name = exe
+            .name_as_c_str()
+            .map(|c| c.to_string_lossy().into_owned());
+        let exe_name = exe_name.unwrap_or_else(|_| format!("executable {i}"));
+        let einfo = vk::PipelineExecutableInfoKHR::default()
+            .pipeline(pipeline)
+            .executable_index(i as u32);
+        // SAFETY: a query on a valid pipeline's executable `i`.
+        let stats = match unsafe { pe.get_pipeline_executable_statistics(&einfo) } {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("[pipeline statistics] {name} / {exe_name}: {e}");
+                continue;
+            }
+        };
+        let values: Vec<String> = stats.iter().map(statistic_text).collect();
+        eprintln!(
+            "[pipeline statistics] {name} / {exe_name} (subgroup {}): {}",
+            exe.subgroup_size,
+            values.join(", ")
+        );
+    }
+}
+
+/// `name = value` of one statistic.
+fn statistic_text(s: &vk::PipelineExecutableStatisticKHR<'_>) -> String {
+    let name = s
+        .name_as_c_str()
+        .map(|c| c.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    // SAFETY: the union member read is the one `format` names.
+    let value = unsafe {
+        match s.format {
+            vk::PipelineExecutableStatisticFormatKHR::BOOL32 => (s.value.b32 != 0).to_string(),
+            vk::PipelineExecutableStatisticFormatKHR::INT64 => s.value.i64.to_string(),
+            vk::PipelineExecutableStatisticFormatKHR::UINT64 => s.value.u64.to_string(),
+            vk::PipelineExecutableStatisticFormatKHR::FLOAT64 => format!("{:.3}", s.value.f64),
+            _ => "?".into(),
+        }
+    };
+    format!("{name} = {value}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn statistics_read_as_name_and_value() {
+        let mut s = vk::PipelineExecutableStatisticKHR::default();
+        s.name[..9].copy_from_slice(&b"Registers".map(|b| b as std::ffi::c_char));
+        s.format = vk::PipelineExecutableStatisticFormatKHR::UINT64;
+        s.value.u64 = 72;
+        assert_eq!(statistic_text(&s), "Registers = 72");
+        s.format = vk::PipelineExecutableStatisticFormatKHR::BOOL32;
+        s.value.b32 = vk::TRUE;
+        assert_eq!(statistic_text(&s), "Registers = true");
+        s.format = vk::PipelineExecutableStatisticFormatKHR::FLOAT64;
+        s.value.f64 = 0.5;
+        assert_eq!(statistic_text(&s), "Registers = 0.500");
+        s.format = vk::PipelineExecutableStatisticFormatKHR::INT64;
+        s.value.i64 = -3;
+        assert_eq!(statistic_text(&s), "Registers = -3");
     }
 }

@@ -118,7 +118,7 @@ static FEATURES: [Feature; 12] = [
     ),
 ];
 
-static OPTIONAL_FEATURES: [Feature; 7] = [
+static OPTIONAL_FEATURES: [Feature; 8] = [
     feature!(
         "vertexPipelineStoresAndAtomics",
         CORE,
@@ -146,6 +146,11 @@ static OPTIONAL_FEATURES: [Feature; 7] = [
         "VkPhysicalDeviceMeshShaderFeaturesEXT",
         mesh_shader.mesh_shader
     ),
+    feature!(
+        "pipelineExecutableInfo",
+        "VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR",
+        pipeline_executable.pipeline_executable_info
+    ),
 ];
 
 static DEVICE_EXTENSIONS: [&CStr; 4] = [
@@ -155,9 +160,10 @@ static DEVICE_EXTENSIONS: [&CStr; 4] = [
     ash::khr::maintenance4::NAME,
 ];
 
-static OPTIONAL_DEVICE_EXTENSIONS: [&CStr; 2] = [
+static OPTIONAL_DEVICE_EXTENSIONS: [&CStr; 3] = [
     ash::ext::shader_image_atomic_int64::NAME,
     ash::ext::mesh_shader::NAME,
+    ash::khr::pipeline_executable_properties::NAME,
 ];
 
 static OPTIONAL_INSTANCE_EXTENSIONS: [&CStr; 1] = [ash::ext::debug_utils::NAME];
@@ -177,7 +183,9 @@ static OPTIONAL_INSTANCE_EXTENSIONS: [&CStr; 1] = [ash::ext::debug_utils::NAME];
 ///   `VK_EXT_shader_image_atomic_int64` with `shaderImageInt64Atomics` (the R64 image visibility
 ///   buffer), `VK_EXT_mesh_shader` with `meshShader` (`raster_hw`'s mesh path: a mesh-shader
 ///   workgroup per hardware-rasterized cluster; without it, or with `--hw-path vertex`, vertex
-///   pulling), `vertexPipelineStoresAndAtomics`, `pipelineStatisticsQuery`, `descriptorIndexing`,
+///   pulling), `VK_KHR_pipeline_executable_properties` with `pipelineExecutableInfo` (with
+///   `VGEO_PIPELINE_STATS=1`, each pipeline's compiled statistics, such as registers, printed as
+///   it is created), `vertexPipelineStoresAndAtomics`, `pipelineStatisticsQuery`, `descriptorIndexing`,
 ///   `descriptorBindingPartiallyBound`, `hostQueryReset`. Timestamps are used when the queue family
 ///   has `timestampValidBits` and the device `timestampComputeAndGraphics` (pass times; none
 ///   otherwise).
@@ -244,6 +252,8 @@ pub struct DeviceFeatures {
     /// `VK_EXT_mesh_shader` (chained only when `meshShader` is on; vgeo enables no other of its
     /// features: no task shaders).
     pub mesh_shader: vk::PhysicalDeviceMeshShaderFeaturesEXT<'static>,
+    /// `VK_KHR_pipeline_executable_properties` (chained only when `pipelineExecutableInfo` is on).
+    pub pipeline_executable: vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR<'static>,
 }
 
 // SAFETY: the structs' `p_next` pointers are null outside the calls of [`DeviceFeatures::chain`]
@@ -276,6 +286,7 @@ impl DeviceFeatures {
         };
         let has_img64 = has(ash::ext::shader_image_atomic_int64::NAME);
         let has_mesh = has(ash::ext::mesh_shader::NAME);
+        let has_pipeline_executable = has(ash::khr::pipeline_executable_properties::NAME);
         let mut f = DeviceFeatures::default();
         let mut s2 = vk::PhysicalDeviceFeatures2::default()
             .push_next(&mut f.v12)
@@ -287,6 +298,9 @@ impl DeviceFeatures {
         }
         if has_mesh {
             s2 = s2.push_next(&mut f.mesh_shader);
+        }
+        if has_pipeline_executable {
+            s2 = s2.push_next(&mut f.pipeline_executable);
         }
         // SAFETY: the chain holds valid, writable structs alive for the call.
         unsafe { instance.get_physical_device_features2(physical, &mut s2) };
@@ -323,6 +337,7 @@ impl DeviceFeatures {
         *self = self.unchained();
         let img64 = self.image_int64.shader_image_int64_atomics == vk::TRUE;
         let mesh = self.mesh_shader.mesh_shader == vk::TRUE;
+        let pipeline_executable = self.pipeline_executable.pipeline_executable_info == vk::TRUE;
         let mut info = info
             .enabled_features(&self.core)
             .push_next(&mut self.v12)
@@ -335,6 +350,9 @@ impl DeviceFeatures {
         if mesh {
             info = info.push_next(&mut self.mesh_shader);
         }
+        if pipeline_executable {
+            info = info.push_next(&mut self.pipeline_executable);
+        }
         info
     }
 
@@ -346,6 +364,7 @@ impl DeviceFeatures {
         self.maintenance4.p_next = std::ptr::null_mut();
         self.image_int64.p_next = std::ptr::null_mut();
         self.mesh_shader.p_next = std::ptr::null_mut();
+        self.pipeline_executable.p_next = std::ptr::null_mut();
         self
     }
 }
