@@ -51,9 +51,9 @@ layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 // its own for the small path cost stress 20-28 % and foliage 39 %, bench/results/
 // 2026-11-26-session23, call 9; twice the arrays, stress 15 % and foliage 11 %, session 26, call 1):
 // - a snapped vertex in three words from its entry on (snap_vertices; read by sw_vertex_xy and
-//   sw_vertex_z): fixed-point x, y and the ndc depth's bits (< 0: the vertex cannot be snapped); the other path's cluster has vertex k at
-//   entry 3k, the small path's half h at SMALL_HALF_WORDS * h + 3k (clusters of at most
-//   RASTER_SW_SMALL_VERTICES vertices);
+//   sw_vertex_z): fixed-point x, y and the ndc depth's bits (< 0: the vertex cannot be
+//   snapped); the other path's cluster has vertex k at entry 3k, the small path's half h at
+//   SMALL_HALF_WORDS * h + 3k (clusters of at most RASTER_SW_SMALL_VERTICES vertices);
 // - the other path's triangles left to its shared pass at SW_BIG + b (big_entry: the triangle's
 //   index in the cluster and its corners, so that the shared pass needs no cluster data), and
 //   their pieces (rows x RASTER_SW_CHUNK columns) at SW_PIECES + b.

@@ -94,10 +94,15 @@ fn compare(
 }
 
 fn r_triangles(meshes: &[BuiltMesh], global: u32) -> u32 {
+    global_cluster(meshes, global).triangle_count()
+}
+
+/// The cluster of global index `global` (the meshes' clusters one after the other, as uploaded).
+fn global_cluster(meshes: &[BuiltMesh], global: u32) -> &vgeo::builder::Cluster {
     let mut g = global as usize;
     for m in meshes {
         if g < m.clusters.len() {
-            return m.clusters[g].triangle_count();
+            return &m.clusters[g];
         }
         g -= m.clusters.len();
     }
@@ -573,13 +578,7 @@ fn small_sw_clusters_follow_the_rule() {
         for (k, &[inst, ci]) in res.visible[..sw_n].iter().enumerate() {
             let on_small_path = k >= sw_n - small_n;
             let p = &placements[inst as usize];
-            // Global cluster indices: the meshes' clusters one after the other.
-            let first = if p.mesh == 0 {
-                0
-            } else {
-                meshes[0].clusters.len()
-            };
-            let c = &meshes[p.mesh as usize].clusters[ci as usize - first];
+            let c = global_cluster(&meshes, ci);
             let (lo, hi) = (Vec3::from(c.bounds_min), Vec3::from(c.bounds_max));
             let centre = p.transform.transform_point3(((lo + hi) * 0.5).as_dvec3());
             let radius = (hi - lo).length() * 0.5 * vgeo::render::max_axis_scale(&p.transform);

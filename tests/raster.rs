@@ -783,42 +783,32 @@ fn clusters_of_many_vertices_on_the_small_path_draw_what_the_other_sw_path_draws
 #[test]
 fn large_triangles_of_clusters_of_many_vertices_match_hw() {
     let mut rig = Rig::of_mesh(grass(), DVec3::ZERO, &[0, 0], 0.15);
-    // Triangles with a corner past 127 whose projected box spans over 100 pixels (the shared
-    // pass takes boxes of over RASTER_SW_BIG_BOX_PIXELS = 64 pixel centres).
-    let vp = rig.camera.view_proj(W, H);
+    // Triangles with a corner past 127 that cover over RASTER_SW_BIG_BOX_PIXELS (64) pixels, so
+    // that their box does too and the shared pass takes them (the CPU reference's coverage).
     let positions = grass().positions();
-    let mut large_high = 0;
+    let mut tris = Vec::new();
     for &[inst, ci] in &rig.visible {
         let model: Mat4 = rig
             .camera
             .relative_model(&rig.placements[inst as usize].transform);
-        let c = &grass().clusters[ci as usize];
-        let local = grass().cluster_local_triangles(c);
+        let local = grass().cluster_local_triangles(&grass().clusters[ci as usize]);
         for (t, g) in local.iter().zip(grass().cluster_triangles(ci as usize)) {
-            let px: Vec<glam::Vec2> = g
-                .iter()
-                .filter_map(|&v| {
-                    let clip = vp
-                        * model
-                            .transform_point3(Vec3::from(positions[v as usize]))
-                            .extend(1.0);
-                    (clip.w > 0.0).then(|| {
-                        (glam::Vec2::new(clip.x, clip.y) / clip.w * 0.5 + 0.5)
-                            * glam::Vec2::new(W as f32, H as f32)
-                    })
-                })
-                .collect();
-            if px.len() == 3 && t.iter().any(|&k| k > 127) {
-                let lo = px[0].min(px[1]).min(px[2]).max(glam::Vec2::ZERO);
-                let hi = px[0]
-                    .max(px[1])
-                    .max(px[2])
-                    .min(glam::Vec2::new(W as f32, H as f32));
-                let d = (hi - lo).max(glam::Vec2::ZERO);
-                large_high += (d.x * d.y > 100.0) as u32;
+            if t.iter().any(|&k| k > 127) {
+                let p = g.map(|v| model.transform_point3(Vec3::from(positions[v as usize])));
+                tris.push((p, tris.len() as u32));
             }
         }
     }
+    let mut pixels = vec![0u32; tris.len()];
+    vgeo::reference::raster::for_each_fragment(
+        W,
+        H,
+        &rig.camera.view_proj(W, H),
+        Default::default(),
+        tris,
+        |f| pixels[f.id as usize] += 1,
+    );
+    let large_high = pixels.iter().filter(|&&n| n > 64).count();
     eprintln!("{large_high} large triangles with a corner past 127");
     assert!(large_high > 0, "no large triangle with a corner past 127");
     let sw = rig.render(Split::AllSw, None);
