@@ -518,8 +518,9 @@ void walk_or_push_item(uint64_t item, InstanceVgeo inst, MeshGpu mesh) {
     }
     CULL_STAT(local_walks, 1u)
     uint64_t instance = item & 0xffffffff00000000ul;
-    walk_sp = 0u;
-    process_node(item, true);
+    // The item's node starts the stack (one call site of process_node: the driver inlines it).
+    walk_stack[0] = uint(item & 0xffffffffu);
+    walk_sp = 1u;
     while (walk_sp > 0u) {
         walk_sp--;
         process_node(instance | uint64_t(walk_stack[walk_sp]), true);
