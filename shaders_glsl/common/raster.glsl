@@ -211,7 +211,10 @@ vec4 cluster_vertex_clip(InstanceVgeo inst, MeshGpu mesh, ClusterData d, uint i)
 bool project_fixed(vec4 c, out ivec2 fixed_xy, out float z) {
     fixed_xy = ivec2(0);
     z = 0.0;
-    if (!(c.z <= c.w) || !(c.w > 0.0) || any(isnan(c)) || any(isinf(c))) {
+    const float INF = uintBitsToFloat(0x7f800000u);
+    // NaN anywhere fails one of these comparisons or the guard band's below; an infinite x or y
+    // fails the guard band; an infinite z or w fails these.
+    if (!(c.z <= c.w) || !(c.w > 0.0) || !(c.w < INF) || !(c.z > -INF)) {
         return false;
     }
     precise vec3 ndc = c.xyz / c.w;
