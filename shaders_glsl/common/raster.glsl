@@ -165,9 +165,9 @@ uvec3 cluster_triangle(ClusterData d, Cluster c, uint t) {
     return uvec3(m, m - 1u - (o & low_mask(w)), m - 1u - (o >> w));
 }
 
-// Object-space position of a vertex: origin + code * step.
+// Object-space position of a vertex: origin + code * step (fused: one rounding).
 vec3 decode_position(MeshGpu mesh, PackedVertex v) {
-    precise vec3 p = mesh.quant_origin + vec3(v.position) * mesh.quant_step;
+    precise vec3 p = fma(vec3(v.position), vec3(mesh.quant_step), mesh.quant_origin);
     return p;
 }
 
@@ -185,16 +185,20 @@ vec3 decode_normal(uint code, float scale) {
     return l > 0.0 ? n / l : vec3(0.0, 0.0, 1.0);
 }
 
-// Camera-relative position: (translation_hi - camera_hi) + (translation_lo - camera_lo) + linear * p.
+// Camera-relative position: (translation_hi - camera_hi) + (translation_lo - camera_lo) + linear * p,
+// the linear part's columns accumulated onto the translation by fused multiply-adds (`precise`
+// with explicit fma: the same rounding in every stage, so raster_sw and raster_hw snap alike).
 vec3 relative_position(InstanceVgeo inst, vec3 p) {
     precise vec3 t = (inst.translation_hi - view.camera_hi.xyz) + (inst.translation_lo - view.camera_lo.xyz);
-    precise vec3 l = inst.linear[0].xyz * p.x + inst.linear[1].xyz * p.y + inst.linear[2].xyz * p.z;
-    precise vec3 r = t + l;
+    precise vec3 r = fma(inst.linear[0].xyz, vec3(p.x),
+                         fma(inst.linear[1].xyz, vec3(p.y), fma(inst.linear[2].xyz, vec3(p.z), t)));
     return r;
 }
 
+// Clip-space position: view_proj * (rel, 1), its columns accumulated by fused multiply-adds.
 vec4 clip_position(vec3 rel) {
-    precise vec4 c = view.view_proj * vec4(rel, 1.0);
+    precise vec4 c = fma(view.view_proj[0], vec4(rel.x),
+                         fma(view.view_proj[1], vec4(rel.y), fma(view.view_proj[2], vec4(rel.z), view.view_proj[3])));
     return c;
 }
 
