@@ -747,6 +747,76 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
     assert_no_validation_errors(&ctx);
 }
 
+/// The post phase takes what the main phase deferred as one index range: instances, then BVH-node
+/// items, then clusters (`instance_cull`). A camera cut behind the wall of `occlusion_scene`, with
+/// a big cow standing through the wall (visible from the front, so its hidden parts are deferred
+/// as clusters, and a node, rather than as an instance), defers instances and clusters at once in
+/// the main phase; the post phase must draw every one of them: the frame equals the one without
+/// occlusion. Reading the clusters at the wrong offset in that range fails here (tests/cull.rs,
+/// tests/views.rs and this file's other tests pass it). (The node it defers holds no cluster of
+/// the cut, so a node item read at the wrong offset goes unseen: no scene here defers a node
+/// that draws.)
+#[test]
+fn the_post_phase_draws_deferred_instances_and_clusters_together() {
+    let ctx = gpu();
+    let (meshes, mut placements, front) = occlusion_scene();
+    // A big cow standing through the wall, its long axis across it.
+    placements.push(Placement {
+        mesh: 0,
+        transform: DMat4::from_translation(DVec3::new(0.0, -0.3, -0.4))
+            * DMat4::from_scale(DVec3::splat(3.0)),
+        color: [0.8, 0.6, 0.4],
+    });
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
+    let on = FrameSettings {
+        error_px: 0.25,
+        ..Default::default()
+    };
+    render(&mut r, &front, &on);
+    let behind = Camera::look_at(
+        DVec3::new(-1.0, 1.0, -7.0),
+        DVec3::new(0.0, 0.0, 0.0),
+        Vec3::Y,
+        50f32.to_radians(),
+        0.1,
+    );
+    let cut = render(&mut r, &behind, &on);
+    let m = &cut.main.counters;
+    eprintln!(
+        "camera cut: main visited {} nodes ({} local walks, {} instances visible); deferred {} instances / {} nodes / {} clusters; post drew {} clusters",
+        m.nodes_visited,
+        m.local_walks,
+        m.instances_visible,
+        m.post_instance_count,
+        m.post_node_count,
+        m.post_cluster_count,
+        cut.post.counters.visible_count
+    );
+    assert!(
+        m.post_instance_count > 0 && m.post_cluster_count > 0,
+        "the main phase should defer instances and clusters at once"
+    );
+    assert!(cut.post.counters.visible_count > 0, "the post phase draws");
+    let off = render(
+        &mut r,
+        &behind,
+        &FrameSettings {
+            occlusion: false,
+            ..on
+        },
+    );
+    assert_eq!(
+        cut.frame.color, off.frame.color,
+        "wrong image after the cut"
+    );
+    assert_eq!(
+        cut.frame.depth, off.frame.depth,
+        "wrong depth after the cut"
+    );
+    assert!(cut.frame.covered() > 1000);
+    assert_no_validation_errors(&ctx);
+}
+
 /// The R64 image path and the u64 buffer path must give bit-identical visibility buffers. Runs where
 /// the device has 64-bit image atomics (the H100; lavapipe has none, so there it checks only that
 /// asking for the image path is a clear error).
