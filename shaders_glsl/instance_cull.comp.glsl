@@ -3,7 +3,7 @@
 // Main phase: a thread per instance; frustum test of the mesh's bounding sphere, then the previous
 // frame's HZB: visible instances whose cut is in their mesh's table of small-instance cuts emit
 // it directly (emit_tiny_cut, cull.glsl), as do those whose whole cut is the DAG's root cluster
-// (instance-level LOD), small ones walk their BVH here (walk_or_push), the others push their BVH
+// (instance-level LOD), small ones walk their BVH here (walk_or_push_item), the others push their BVH
 // root into cluster_cull's queue;
 // occluded ones wait in `post_instances` for the post phase.
 // Post phase: grid-stride over what the main phase deferred: instances (tested against this frame's

@@ -750,8 +750,8 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
 /// The post phase takes what the main phase deferred as one index range: instances, then BVH-node
 /// items, then clusters (`instance_cull`). A camera cut behind the wall of `occlusion_scene`, with
 /// a big cow standing through the wall (visible from the front, so its hidden parts are deferred
-/// as clusters, and a node, rather than as an instance), defers instances and clusters at once in
-/// the main phase; the post phase must draw every one of them: the frame equals the one without
+/// as clusters and a node rather than as an instance), defers all three kinds at once in the main
+/// phase; the post phase must draw every one of them: the frame equals the one without
 /// occlusion. Reading the clusters at the wrong offset in that range fails here (tests/cull.rs,
 /// tests/views.rs and this file's other tests pass it). (The node it defers holds no cluster of
 /// the cut, so a node item read at the wrong offset goes unseen: no scene here defers a node
@@ -792,9 +792,10 @@ fn the_post_phase_draws_deferred_instances_and_clusters_together() {
         m.post_cluster_count,
         cut.post.counters.visible_count
     );
+    // Deferred nodes too: with none, the clusters' offset in the range would be right by chance.
     assert!(
-        m.post_instance_count > 0 && m.post_cluster_count > 0,
-        "the main phase should defer instances and clusters at once"
+        m.post_instance_count > 0 && m.post_node_count > 0 && m.post_cluster_count > 0,
+        "the main phase should defer instances, nodes and clusters at once"
     );
     assert!(cut.post.counters.visible_count > 0, "the post phase draws");
     let off = render(

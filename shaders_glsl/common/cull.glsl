@@ -527,9 +527,4 @@ void walk_or_push_item(uint64_t item, InstanceVgeo inst, MeshGpu mesh) {
     }
 }
 
-// A visible instance's cut, from its BVH root.
-void walk_or_push(uint instance, InstanceVgeo inst, MeshGpu mesh) {
-    walk_or_push_item((uint64_t(instance) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root), inst, mesh);
-}
-
 #endif

@@ -165,7 +165,8 @@ uvec3 cluster_triangle(ClusterData d, Cluster c, uint t) {
     return uvec3(m, m - 1u - (o & low_mask(w)), m - 1u - (o >> w));
 }
 
-// Object-space position of a vertex: origin + code * step (fused: one rounding).
+// Object-space position of a vertex: origin + code * step (an fma, `precise`: rounded alike in every
+// stage).
 vec3 decode_position(MeshGpu mesh, PackedVertex v) {
     precise vec3 p = fma(vec3(v.position), vec3(mesh.quant_step), mesh.quant_origin);
     return p;
@@ -186,8 +187,9 @@ vec3 decode_normal(uint code, float scale) {
 }
 
 // Camera-relative position: (translation_hi - camera_hi) + (translation_lo - camera_lo) + linear * p,
-// the linear part's columns accumulated onto the translation by fused multiply-adds (`precise`
-// with explicit fma: the same rounding in every stage, so raster_sw and raster_hw snap alike).
+// the linear part's columns accumulated onto the translation by fma (`precise`: Vulkan does not
+// promise one rounding for fma, but every fma feeding a precise value rounds the same way in
+// every stage, so raster_sw and raster_hw snap alike).
 vec3 relative_position(InstanceVgeo inst, vec3 p) {
     precise vec3 t = (inst.translation_hi - view.camera_hi.xyz) + (inst.translation_lo - view.camera_lo.xyz);
     precise vec3 r = fma(inst.linear[0].xyz, vec3(p.x),
