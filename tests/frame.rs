@@ -38,6 +38,23 @@ fn render(r: &mut VgeoRenderer, camera: &Camera, settings: &FrameSettings) -> Vg
     f
 }
 
+/// [`render`] with the same settings but occlusion culling off: the frame an occlusion-culled one
+/// must equal.
+fn render_without_occlusion(
+    r: &mut VgeoRenderer,
+    camera: &Camera,
+    settings: &FrameSettings,
+) -> VgeoFrame {
+    render(
+        r,
+        camera,
+        &FrameSettings {
+            occlusion: false,
+            ..*settings
+        },
+    )
+}
+
 /// Brute coverage eroded by `margin` pixels: pixels whose whole (2 margin + 1)^2 neighbourhood is covered.
 fn interior(depth: &[f32], margin: i32) -> Vec<bool> {
     let (w, h) = (W as i32, H as i32);
@@ -533,6 +550,11 @@ fn key(f: &VgeoFrame, v: u64) -> (u32, [u32; 2], u32) {
     }
 }
 
+/// A view of [`occlusion_scene`] from `eye` towards `target` (50 degrees, near 0.1).
+fn occlusion_view(eye: DVec3, target: DVec3) -> Camera {
+    Camera::look_at(eye, target, Vec3::Y, 50f32.to_radians(), 0.1)
+}
+
 /// A wall in front of 20 spots (the occlusion tests' scene): meshes, placements, camera.
 fn occlusion_scene() -> (Vec<BuiltMesh>, Vec<Placement>, Camera) {
     let (_, spot) = load_built(&assets().join("spot.obj"));
@@ -556,13 +578,7 @@ fn occlusion_scene() -> (Vec<BuiltMesh>, Vec<Placement>, Camera) {
         }
     }
     let meshes = vec![spot, wall];
-    let camera = Camera::look_at(
-        DVec3::new(0.0, 0.0, 5.0),
-        DVec3::ZERO,
-        Vec3::Y,
-        50f32.to_radians(),
-        0.1,
-    );
+    let camera = occlusion_view(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO);
     (meshes, placements, camera)
 }
 
@@ -685,14 +701,7 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
     };
     let first = render(&mut r, &camera, &on);
     let second = render(&mut r, &camera, &on);
-    let off = render(
-        &mut r,
-        &camera,
-        &FrameSettings {
-            occlusion: false,
-            ..on
-        },
-    );
+    let off = render_without_occlusion(&mut r, &camera, &on);
     let (m, p) = (&second.main.counters, &second.post.counters);
     eprintln!(
         "occlusion frame 2: main deferred {} instances / {} nodes / {} clusters; post occluded {} / {} / {}; drawn {} vs {} without occlusion",
@@ -723,22 +732,9 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
         "occlusion culling changed the depth"
     );
     // A camera cut: looking from behind, the old HZB is wrong; the image must still be right.
-    let behind = Camera::look_at(
-        DVec3::new(0.0, 0.0, -12.0),
-        DVec3::new(0.0, 0.0, -4.0),
-        Vec3::Y,
-        50f32.to_radians(),
-        0.1,
-    );
+    let behind = occlusion_view(DVec3::new(0.0, 0.0, -12.0), DVec3::new(0.0, 0.0, -4.0));
     let cut = render(&mut r, &behind, &on);
-    let cut_off = render(
-        &mut r,
-        &behind,
-        &FrameSettings {
-            occlusion: false,
-            ..on
-        },
-    );
+    let cut_off = render_without_occlusion(&mut r, &behind, &on);
     assert_eq!(
         cut.frame.color, cut_off.frame.color,
         "wrong image after a camera cut"
@@ -773,13 +769,7 @@ fn the_post_phase_draws_deferred_instances_and_clusters_together() {
         ..Default::default()
     };
     render(&mut r, &front, &on);
-    let behind = Camera::look_at(
-        DVec3::new(-1.0, 1.0, -7.0),
-        DVec3::new(0.0, 0.0, 0.0),
-        Vec3::Y,
-        50f32.to_radians(),
-        0.1,
-    );
+    let behind = occlusion_view(DVec3::new(-1.0, 1.0, -7.0), DVec3::new(0.0, 0.0, 0.0));
     let cut = render(&mut r, &behind, &on);
     let m = &cut.main.counters;
     eprintln!(
@@ -798,14 +788,7 @@ fn the_post_phase_draws_deferred_instances_and_clusters_together() {
         "the main phase should defer instances, nodes and clusters at once"
     );
     assert!(cut.post.counters.visible_count > 0, "the post phase draws");
-    let off = render(
-        &mut r,
-        &behind,
-        &FrameSettings {
-            occlusion: false,
-            ..on
-        },
-    );
+    let off = render_without_occlusion(&mut r, &behind, &on);
     assert_eq!(
         cut.frame.color, off.frame.color,
         "wrong image after the cut"
