@@ -24,7 +24,7 @@ layout(push_constant, scalar) uniform Push { uint visible_capacity; };
 void main() {
     uint n = counters.hw_count;
     for (uint i = gl_GlobalInvocationID.x; i < n; i += gl_NumWorkGroups.x * 64u) {
-        uint v = hw_list[i];
+        uint v = hw_list[i] & ~(HW_ENTRY_CULL | HW_ENTRY_MIRRORED);
         if (v < visible_capacity) {
             hw_flags[v] = 1u;
         }

@@ -18,6 +18,12 @@ layout(triangles, max_vertices = MAX_CLUSTER_VERTICES, max_primitives = MAX_CLUS
 layout(set = 0, binding = 10, scalar) readonly buffer Counters { CullCounters counters; };
 #include "raster_hw_bindings.glsl"
 
+// Only the built-in per-primitive output used (the whole block would declare the shading-rate
+// output too, which needs an extension's capability).
+perprimitiveEXT out gl_MeshPerPrimitiveEXT {
+    bool gl_CullPrimitiveEXT;
+} gl_MeshPrimitivesEXT[];
+
 // The fragment stage's inputs (raster_hw.frag.glsl), one per triangle.
 layout(location = 0) perprimitiveEXT flat out uint out_id[];      // visible index << 7 | triangle
 layout(location = 1) perprimitiveEXT flat out uint out_snapped[]; // 1: the snapped vertices are valid
@@ -38,7 +44,8 @@ void main() {
         return;
     }
     uint tid = gl_LocalInvocationIndex;
-    uint visible_index = hw_list[entry_index];
+    uint hw_entry = hw_list[entry_index];
+    uint visible_index = hw_entry & ~(HW_ENTRY_CULL | HW_ENTRY_MIRRORED);
     uvec2 entry = visible[visible_index];
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
@@ -67,6 +74,9 @@ void main() {
         gl_PrimitiveTriangleIndicesEXT[t] = v;
         out_id[t] = (visible_index << VISBUFFER_TRIANGLE_BITS) | t;
         uint ok = s_ok[v.x] & s_ok[v.y] & s_ok[v.z];
+        // A face turned away from outside a closed solid is not rasterized.
+        gl_MeshPrimitivesEXT[t].gl_CullPrimitiveEXT = hw_faces_away(
+            hw_entry, ok != 0u, s_xy[v.x], s_xy[v.y], s_xy[v.z], s_clip[v.x], s_clip[v.y], s_clip[v.z]);
         out_snapped[t] = ok;
         if (ok != 0u) {
             out_xy01[t] = ivec4(s_xy[v.x], s_xy[v.y]);

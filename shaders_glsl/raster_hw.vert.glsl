@@ -3,7 +3,8 @@
 // (gl_InstanceIndex = HW list index, gl_VertexIndex / 3 = triangle, % 3 = corner). Each corner also
 // snaps all three vertices of its triangle (flat outputs) so that the fragment stage computes depth
 // exactly as raster_sw does (or, for a triangle that cannot be snapped, passes its depth plane,
-// in the same outputs).
+// in the same outputs). An entry with HW_ENTRY_CULL (a closed solid seen from outside) drops its
+// faces turned away (common/raster.glsl hw_faces_away).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
 
@@ -16,7 +17,8 @@ layout(location = 3) flat out ivec2 out_xy2;
 layout(location = 4) flat out vec3 out_z;
 
 void main() {
-    uint visible_index = hw_list[gl_InstanceIndex];
+    uint hw_entry = hw_list[gl_InstanceIndex];
+    uint visible_index = hw_entry & ~(HW_ENTRY_CULL | HW_ENTRY_MIRRORED);
     uvec2 entry = visible[visible_index];
     InstanceVgeo inst = instances[entry.x];
     MeshGpu mesh = meshes[inst.mesh];
@@ -44,6 +46,12 @@ void main() {
         float zk;
         ok = project_fixed(clip[k], xy[k], zk) && ok;
         z[k] = zk;
+    }
+    if (hw_faces_away(hw_entry, ok, xy[0], xy[1], xy[2], clip[0].xyw, clip[1].xyw, clip[2].xyw)) {
+        // A face turned away from outside a closed solid: its three corners (each invocation
+        // decides alike) at one point outside the view volume.
+        gl_Position = vec4(2.0, 2.0, 0.5, 1.0);
+        return;
     }
     // Snapped: the hardware gets raster_sw's fixed-point vertex (hw_position), so both cover the
     // same pixels; otherwise the clip position (the hardware clips at the near plane).

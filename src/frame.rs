@@ -36,8 +36,9 @@ use crate::passes::{FrameBuffers, VisPath, visbuffer};
 use crate::render::{Frame, Light, Placement};
 use crate::scene_gpu::{GpuScene, PoolWords};
 use crate::shared::{
-    CullCounters, MESH_MAX_CLUSTERS, OcclusionGpu, VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_CULL_STATS,
-    VIEW_FLAG_DIRECT_VISIBLE, VIEW_FLAG_HW_MESH, ViewGpu,
+    CullCounters, HW_ENTRY_CULL, HW_ENTRY_MIRRORED, MESH_MAX_CLUSTERS, OcclusionGpu,
+    VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_CULL_STATS, VIEW_FLAG_DIRECT_VISIBLE, VIEW_FLAG_HW_MESH,
+    ViewGpu,
 };
 
 /// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits, and its
@@ -59,6 +60,9 @@ pub struct CullResult {
     pub sw: Vec<u32>,
     /// Visible-list indices the hardware rasterizer drew.
     pub hw: Vec<u32>,
+    /// Of those, how many it drew without the faces turned away (a closed solid seen from
+    /// outside: `HW_ENTRY_CULL`).
+    pub hw_cull_back: usize,
     /// GPU milliseconds per pass of the culling run.
     pub gpu_ms: Vec<(String, f64)>,
 }
@@ -1112,7 +1116,12 @@ fn read_cull(
         let tail = words(&sw_buf.download_range(4 * first, 4 * small as u64)?);
         sw.extend(tail.iter().rev());
     }
-    let hw = list(hw_buf, counters.hw_count)?;
+    // A HW entry's high bits are its flags (`HW_ENTRY_*`), the low bits its visible index.
+    let mut hw = list(hw_buf, counters.hw_count)?;
+    let hw_cull_back = hw.iter().filter(|&&v| v & HW_ENTRY_CULL != 0).count();
+    for v in &mut hw {
+        *v &= !(HW_ENTRY_CULL | HW_ENTRY_MIRRORED);
+    }
     let table = read_visible_table(fb, pool, sw.iter().chain(&hw).copied().max())?;
     let visible = sw
         .iter()
@@ -1122,6 +1131,7 @@ fn read_cull(
     Ok(CullResult {
         sw,
         hw,
+        hw_cull_back,
         counters,
         visible,
         gpu_ms,

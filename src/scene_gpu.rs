@@ -18,8 +18,8 @@ use crate::gpu::{Buffer, Cmd, Context, Desc, GpuError, GpuResult, MemoryKind, vk
 use crate::material::{MeshMaterialSource, SceneMaterials};
 use crate::render::Placement;
 use crate::shared::{
-    ClusterLocGpu, InstanceVgeo, MESH_STREAM_MATERIALS, MESH_STREAM_PARTIAL, MESH_STREAM_UVS,
-    MeshGpu, PAGE_NOT_RESIDENT, PageGpu,
+    ClusterLocGpu, InstanceVgeo, MESH_CLOSED_SOLID, MESH_STREAM_MATERIALS, MESH_STREAM_PARTIAL,
+    MESH_STREAM_UVS, MeshGpu, PAGE_NOT_RESIDENT, PageGpu,
 };
 
 pub use arena::RangeAllocator;
@@ -674,6 +674,11 @@ impl GpuScene {
                 streams: if m.has_uvs { MESH_STREAM_UVS } else { 0 }
                     | if m.has_material_stream() {
                         MESH_STREAM_MATERIALS
+                    } else {
+                        0
+                    }
+                    | if m.stats.closed_solid {
+                        MESH_CLOSED_SOLID
                     } else {
                         0
                     },

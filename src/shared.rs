@@ -155,6 +155,17 @@ pub const MESH_STREAM_MATERIALS: u32 = 2;
 /// `MeshGpu::streams`: some of the mesh's pages may be absent (`PageGpu::word` is
 /// [`PAGE_NOT_RESIDENT`]): the cull checks residency (see `src/builder/cut.rs`).
 pub const MESH_STREAM_PARTIAL: u32 = 4;
+/// `MeshGpu::streams`: the mesh is a closed solid (`BuildStats::closed_solid`): the hardware
+/// rasterizer may drop its faces turned away from a camera outside its box (`HW_ENTRY_CULL`).
+pub const MESH_CLOSED_SOLID: u32 = 8;
+/// A HW-list entry (visible index in the low bits): drop the cluster's triangles that face away
+/// (seen from outside a closed solid's box, far enough that the near plane cuts none of it).
+pub const HW_ENTRY_CULL: u32 = 0x8000_0000;
+/// A HW-list entry with `HW_ENTRY_CULL`: the instance mirrors (its linear part's determinant is
+/// negative), so the faces that face away wind the other way on screen.
+pub const HW_ENTRY_MIRRORED: u32 = 0x4000_0000;
+// A visible index (below 2^VISBUFFER_CLUSTER_BITS) leaves a HW-list entry's two flags free.
+const _: () = assert!(1 << VISBUFFER_CLUSTER_BITS <= HW_ENTRY_MIRRORED);
 /// `PageGpu::word` of a page that is not in the pool.
 pub const PAGE_NOT_RESIDENT: u32 = 0xffffffff;
 /// `Cluster::creator` of a level-0 cluster (the builder's `NO_GROUP`).

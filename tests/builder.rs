@@ -1096,3 +1096,51 @@ fn small_instance_cuts_are_whole_cuts_of_the_dag() {
         );
     }
 }
+
+/// `BuildStats::closed_solid`, what lets the hardware path drop the faces a mesh turns away:
+/// closed and turned outwards, in one piece or several, and kept by the `.vgeo` file; not with a
+/// hole, turned inwards, with a piece turned inwards inside another (a hollow, left out to be
+/// safe), or as two faces back to back (closed but of no volume).
+#[test]
+fn closed_solids_are_told_from_other_meshes() {
+    type M = (Vec<[f32; 3]>, Vec<u32>);
+    let built = |name: &str, m: M| {
+        builder::build(&mesh_from(name, m.0, m.1), &BuildOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"))
+    };
+    let closed = |name: &str, m: M| built(name, m).stats.closed_solid;
+    let inverted = |m: M| -> M {
+        let idx = m.1.chunks(3).flat_map(|t| [t[0], t[2], t[1]]).collect();
+        (m.0, idx)
+    };
+    let ball = |c: [f32; 3], r: f32| sphere(16, 10, c, r);
+    // The generator's winding, found by the rule itself; the other one must then be refused.
+    let outward = |c: [f32; 3], r: f32| {
+        if closed("probe", ball(c, r)) {
+            ball(c, r)
+        } else {
+            inverted(ball(c, r))
+        }
+    };
+    let one = outward([0.0; 3], 1.0);
+    let b = built("ball", one.clone());
+    assert!(b.stats.closed_solid, "an outward ball is a closed solid");
+    let loaded = vgeo::format::load(&vgeo::format::save(&b)).expect("load");
+    assert!(loaded.stats.closed_solid, "the .vgeo file keeps it");
+    assert!(!closed("inward", inverted(one.clone())), "an inward ball");
+    let mut holed = one.clone();
+    holed.1.drain(0..3);
+    assert!(!closed("holed", holed), "a ball with a hole");
+    let mut two = one.clone();
+    append(&mut two, outward([3.0, 0.0, 0.0], 0.5));
+    assert!(closed("two", two), "two outward balls");
+    let mut hollow = one.clone();
+    append(&mut hollow, inverted(outward([0.0; 3], 0.5)));
+    assert!(
+        !closed("hollow", hollow),
+        "a ball with an inward ball inside"
+    );
+    let mut sheet = flat_grid(6, 0.5);
+    append(&mut sheet, inverted(flat_grid(6, 0.5)));
+    assert!(!closed("sheet", sheet), "a sheet of faces back to back");
+}

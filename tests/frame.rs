@@ -1001,3 +1001,121 @@ fn the_hzb_equals_the_cpu_pyramid_of_the_visibility_buffer_at_any_size() {
     }
     assert_no_validation_errors(&ctx);
 }
+
+/// The hardware path drops the faces a closed solid turns away only where none can show: from
+/// outside its box, with the near plane clear of it (`common/cull.glsl` `hw_entry_flags`). Each
+/// frame (every cluster in hardware, on both HW paths where there are mesh shaders) equals the
+/// frame of the same mesh with `closed_solid` cleared, pixel for pixel. Outside (mirrored too) the
+/// rasterizer writes fewer fragments; inside the box, or with the near plane cutting into the
+/// mesh (its inside showing through the cut), exactly as many.
+#[test]
+fn hw_drops_a_closed_solids_faces_turned_away_only_where_none_shows() {
+    use vgeo::HwPath;
+    let ctx = gpu();
+    let (mesh, built) = load_built(&assets().join("spot.obj"));
+    assert!(built.stats.closed_solid, "spot is a closed solid");
+    let mut open = built.clone();
+    open.stats.closed_solid = false;
+    let (lo, hi) = mesh.bounds().expect("bounds");
+    let (lo, hi) = (
+        DVec3::from(lo.map(f64::from)),
+        DVec3::from(hi.map(f64::from)),
+    );
+    let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+    let outside = filling_camera(&mesh, 1.5);
+    let inside = Camera::look_at(
+        c,
+        c + DVec3::X,
+        Vec3::Y,
+        60f32.to_radians(),
+        (r * 0.01) as f32,
+    );
+    // A tenth of the radius in front of the box, the near plane half the radius away.
+    let sliced = Camera::look_at(
+        DVec3::new(c.x, c.y, hi.z + 0.1 * r),
+        c,
+        Vec3::Y,
+        45f32.to_radians(),
+        (r * 0.5) as f32,
+    );
+    let mirror = DMat4::from_translation(c)
+        * DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0))
+        * DMat4::from_translation(-c);
+    let cases = [
+        ("outside", outside, DMat4::IDENTITY, true),
+        ("mirrored", outside, mirror, true),
+        ("inside", inside, DMat4::IDENTITY, false),
+        ("near plane cutting in", sliced, DMat4::IDENTITY, false),
+    ];
+    let settings = FrameSettings {
+        error_px: 1.0,
+        occlusion: false,
+        flags: VIEW_FLAG_FORCE_HW | FrameSettings::COUNT_OVERDRAW,
+        ..Default::default()
+    };
+    let mut paths = vec![HwPath::Vertex];
+    if ctx.caps().mesh_shader {
+        paths.push(HwPath::Mesh);
+    }
+    for (what, camera, transform, culls) in cases {
+        let placements = vec![Placement {
+            mesh: 0,
+            transform,
+            color: [0.9, 0.8, 0.7],
+        }];
+        let mut closed =
+            VgeoRenderer::new(&ctx, std::slice::from_ref(&built), &placements).unwrap();
+        let mut plain = VgeoRenderer::new(&ctx, std::slice::from_ref(&open), &placements).unwrap();
+        for &p in &paths {
+            closed.set_hw_path(p).unwrap();
+            plain.set_hw_path(p).unwrap();
+            let a = render(&mut closed, &camera, &settings);
+            let b = render(&mut plain, &camera, &settings);
+            let hw = a.main.hw.len() + a.post.hw.len();
+            let dropping = a.main.hw_cull_back + a.post.hw_cull_back;
+            let covered = b.visbuffer.iter().filter(|&&v| v != 0).count();
+            let writes = |f: &VgeoFrame| -> u64 {
+                let o = f.overdraw.as_ref().expect("overdraw counted");
+                o.iter().map(|&n| n as u64).sum()
+            };
+            let (wa, wb) = (writes(&a), writes(&b));
+            eprintln!(
+                "{what} ({p:?}): {hw} HW clusters, {dropping} without faces turned away, \
+                 {covered} pixels covered, {wa} fragments against {wb}"
+            );
+            assert!(hw > 0, "{what}: clusters go to HW");
+            assert!(
+                covered > b.visbuffer.len() / 20,
+                "{what}: the mesh is in view"
+            );
+            assert_eq!(b.main.hw_cull_back + b.post.hw_cull_back, 0);
+            assert_eq!(
+                dropping,
+                if culls { hw } else { 0 },
+                "{what}: which clusters drop faces"
+            );
+            assert!(
+                a.visbuffer == b.visbuffer,
+                "{what} ({p:?}): visibility buffers differ"
+            );
+            assert_eq!(
+                a.frame.color, b.frame.color,
+                "{what} ({p:?}): images differ"
+            );
+            let (oa, ob) = (a.overdraw.as_ref().unwrap(), b.overdraw.as_ref().unwrap());
+            assert!(
+                oa.iter().zip(ob).all(|(x, y)| x <= y),
+                "{what}: a pixel got more writes"
+            );
+            if culls {
+                assert!(
+                    wa * 10 < wb * 8,
+                    "{what}: {wa} fragments, not fewer than {wb}"
+                );
+            } else {
+                assert_eq!(wa, wb, "{what}: the same fragments");
+            }
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}

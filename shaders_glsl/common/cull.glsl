@@ -53,6 +53,38 @@ void push_item(uint64_t item) {
     atomicExchange(queue[slot], item);
 }
 
+// The flags of an instance's HW-list entries (src/shared.rs HW_ENTRY_*). A closed solid
+// (MESH_CLOSED_SOLID) seen from outside its box, with the whole near plane outside it too, never
+// shows a face turned away: every ray enters it through a face turned towards the camera first.
+// Then the hardware path drops those faces (common/raster.glsl hw_faces_away). The box is the
+// BVH root's (every cluster of every level), through the instance's linear part (conservative).
+uint hw_entry_flags(uint instance) {
+    InstanceVgeo inst = instances[instance];
+    MeshGpu mesh = meshes[inst.mesh];
+    if ((mesh.streams & MESH_CLOSED_SOLID) == 0u) {
+        return 0u;
+    }
+    BvhNode root = bvh[mesh.bvh_offset + mesh.bvh_root];
+    vec3 h = (root.bounds_max - root.bounds_min) * 0.5;
+    vec3 c = relative_position(inst, view, root.bounds_min + h);
+    vec3 e = abs(inst.linear[0].xyz) * h.x + abs(inst.linear[1].xyz) * h.y
+        + abs(inst.linear[2].xyz) * h.z;
+    // How far the near plane's corners are from the camera (the view is centred: viewport and
+    // proj_scale give the half-extents of the near plane over its distance).
+    vec2 t = view.viewport.xy / (2.0 * view.proj_scale);
+    float reach = view.near * sqrt(1.0 + dot(t, t));
+    // Every point within `reach` of the camera lies outside the box (distance by the largest axis
+    // gap, at most the Euclidean one), with margin for the rounding of c and e.
+    vec3 gap = abs(c) - e;
+    vec3 mag = abs(c) + e;
+    float slack = 1.01 * reach + 1e-5 * max(mag.x, max(mag.y, mag.z));
+    if (max(gap.x, max(gap.y, gap.z)) <= slack) {
+        return 0u;
+    }
+    float det = dot(inst.linear[0].xyz, cross(inst.linear[1].xyz, inst.linear[2].xyz));
+    return HW_ENTRY_CULL | (det < 0.0 ? HW_ENTRY_MIRRORED : 0u);
+}
+
 // Appends a drawn cluster to the visible list and to the SW or HW list. `at`: the pool word of
 // its data (what the visible list holds), `info`: its cull words' info word
 // (common/cluster.glsl); `center`/`radius`: its camera-relative bounding sphere (the
@@ -108,7 +140,7 @@ void emit_cluster(uint instance, uint cluster_index, uint at, uint info, vec3 ce
         return;
     }
     if (hw) {
-        hw_list[slot] = v;
+        hw_list[slot] = v | hw_entry_flags(instance);
     } else if (small) {
         sw_list[view.visible_capacity - 1u - slot] = v;
     } else {

@@ -260,6 +260,29 @@ int64_t edge_fn(ivec2 a, ivec2 b, ivec2 p) {
     return int64_t(b.x - a.x) * int64_t(p.y - a.y) - int64_t(b.y - a.y) * int64_t(p.x - a.x);
 }
 
+// Whether the hardware path drops a triangle of a HW-list entry with flags `entry` (HW_ENTRY_*):
+// with HW_ENTRY_CULL, a face turned away from the camera (common/cull.glsl hw_entry_flags).
+// Snapped (all three corners): by the sign of its snapped area, what every rasterizer covers by.
+// Otherwise by the sign of the determinant of its clip-space (x, y, w) rows (`p0`..`p2`), the
+// side of its plane the eye is on, right also across the near plane, where that sign is clear of
+// rounding. With all w > 0 the two signs agree: the area is the determinant over w0 w1 w2 times
+// a positive scale.
+bool hw_faces_away(uint entry, bool snapped, ivec2 a, ivec2 b, ivec2 c, vec3 p0, vec3 p1, vec3 p2) {
+    if ((entry & HW_ENTRY_CULL) == 0u) {
+        return false;
+    }
+    bool mirrored = (entry & HW_ENTRY_MIRRORED) != 0u;
+    if (snapped) {
+        int64_t area = edge_fn(a, b, c);
+        return mirrored ? area < 0 : area > 0;
+    }
+    float det = dot(p0, cross(p1, p2));
+    if (!(abs(det) > 1e-5 * length(p0) * length(p1) * length(p2))) {
+        return false;
+    }
+    return mirrored ? det < 0.0 : det > 0.0;
+}
+
 // The depth plane of a triangle that cannot be snapped (a vertex behind the near plane, which
 // the hardware clips, or beyond the guard band), from its vertices' clip-space x, y and w (one
 // vertex per component): 2D homogeneous interpolation (Olano and Greer), so the value depends on

@@ -932,6 +932,43 @@ impl Level0 {
     }
 }
 
+/// Whether every edge-connected piece of `tris` (by position id) encloses a positive volume,
+/// beyond rounding: its faces turn outwards. With no irregular edge ([`Level0`]) this makes the
+/// triangles a closed solid. A piece turned inwards (a room modelled from inside) or of no
+/// volume (two faces back to back) is not one; no triangles are none either.
+fn positive_pieces(tris: &[[u32; 3]], pid: &[u32], pid_pos: &[[f32; 3]]) -> bool {
+    if tris.is_empty() {
+        return false;
+    }
+    let mut comp: Vec<u32> = (0..pid_pos.len() as u32).collect();
+    for t in tris {
+        let p = t.map(|v| pid[v as usize]);
+        uf_union(&mut comp, p[0], p[1]);
+        uf_union(&mut comp, p[1], p[2]);
+    }
+    // Per piece (at its root): the signed volume (six times, in f64, about the first point of the
+    // mesh to keep the terms small), the sum of the terms' magnitudes (the scale of its rounding)
+    // and whether it has a triangle.
+    let o = pid_pos[pid[tris[0][0] as usize] as usize].map(f64::from);
+    let mut volume = vec![(0.0f64, 0.0f64, false); pid_pos.len()];
+    for t in tris {
+        let p = t.map(|v| pid[v as usize]);
+        let [a, b, c] = p.map(|q| {
+            let x = pid_pos[q as usize];
+            [x[0] as f64 - o[0], x[1] as f64 - o[1], x[2] as f64 - o[2]]
+        });
+        let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+            + a[2] * (b[0] * c[1] - b[1] * c[0]);
+        let e = &mut volume[uf_find(&mut comp, p[0]) as usize];
+        e.0 += det;
+        e.1 += det.abs();
+        e.2 = true;
+    }
+    volume
+        .iter()
+        .all(|&(v, scale, used)| !used || v > scale * 1e-6)
+}
+
 /// A group's triangles in local ids, made once per group so that every later pass (shape, edges,
 /// simplification, degenerate triangles) reads small arrays that stay in cache, instead of
 /// looking up each corner's global vertex and position id in mesh-sized maps (those misses
@@ -1143,6 +1180,7 @@ fn build_inner(
     let level0_triangles = tris.len();
     let npid = pid.iter().copied().max().map_or(0, |m| m as usize + 1);
     let level0 = Level0::new(&tris, &pid, npid);
+    let closed_solid = level0.irregular.is_empty() && positive_pieces(&tris, &pid, &pid_pos);
     progress(&format!(
         "{}: {} triangles, clustering level 0",
         mesh.name,
@@ -1433,6 +1471,7 @@ fn build_inner(
         duplicates_dropped: duplicates,
         level0_triangles,
         level0_error: trimmed_error,
+        closed_solid,
         vertices: vertices.len(),
         levels,
         widened_iterations: widened,

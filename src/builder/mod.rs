@@ -464,6 +464,12 @@ pub struct BuildStats {
     /// Pages the clusters' data is stored in ([`page`]).
     #[serde(default)]
     pub pages: usize,
+    /// Level 0 is a closed solid: every edge is used once in each direction and every
+    /// edge-connected piece encloses a positive volume (its faces turned outwards). From a camera
+    /// outside it, no face turned away is ever the nearest, so the hardware rasterizer drops
+    /// those faces (`common/cull.glsl` `hw_entry`). False in files written before this existed.
+    #[serde(default)]
+    pub closed_solid: bool,
 }
 
 /// A built mesh: the cluster DAG, its BVH and vertex data. What `.vgeo` stores.
