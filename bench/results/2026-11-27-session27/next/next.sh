@@ -15,7 +15,7 @@ warm N
 for r in 1 2; do
   for s in assets/scenes/foliage.toml $N/foliage_quad.toml assets/scenes/outdoor.toml $N/outdoor_quad.toml; do
     echo "== r$r $s" >> $o
-    timeout 120 /tmp/vgeo-N render $s --width 1920 --height 1080 --frames 8 --stats --out /tmp/s.png 2>&1 | grep -E "GPU time|raster_hw|raster_sw " >> $o
+    timeout 120 /tmp/vgeo-N render $s --width 1920 --height 1080 --frames 8 --stats --out /tmp/s.png 2>&1 | grep -E "GPU time|raster_|instance_cull|cluster_cull|emit_|depth_|shade|classify|ms" >> $o
     timeout 120 /tmp/vgeo-N render $s --width 1920 --height 1080 --frames 8 --time 64 --out /tmp/t.png 2>&1 | grep -E "timed" >> $o
   done
 done
