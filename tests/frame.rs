@@ -1119,3 +1119,53 @@ fn hw_drops_a_closed_solids_faces_turned_away_only_where_none_shows() {
     }
     assert_no_validation_errors(&ctx);
 }
+
+/// The post phase's BVH-node items, read from the middle of its index range: a camera cut behind
+/// the wall of [`occlusion_scene`] with a large bunny mostly behind it, whose hidden part the main
+/// phase defers node by node (against the previous view's HZB: 10 nodes here), and whose nodes
+/// then hold clusters of the cut. The frame equals the one without occlusion culling.
+#[test]
+fn deferred_bvh_nodes_draw_their_clusters_in_the_post_phase() {
+    let ctx = gpu();
+    let (mut meshes, mut placements, front) = occlusion_scene();
+    let (_, bunny) = load_built(&assets().join("bunny.ply"));
+    meshes.push(bunny);
+    placements.push(Placement {
+        mesh: 2,
+        transform: DMat4::from_translation(DVec3::new(0.3, -1.6, -2.0))
+            * DMat4::from_scale(DVec3::splat(40.0)),
+        color: [0.8, 0.6, 0.4],
+    });
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
+    let on = FrameSettings {
+        error_px: 0.25,
+        ..Default::default()
+    };
+    render(&mut r, &front, &on);
+    let behind = occlusion_view(DVec3::new(-1.0, 1.0, -7.0), DVec3::new(0.0, 0.0, 0.0));
+    let cut = render(&mut r, &behind, &on);
+    let (m, p) = (&cut.main.counters, &cut.post.counters);
+    eprintln!(
+        "camera cut: deferred {} instances / {} nodes / {} clusters; post visited {} nodes, drew {} clusters",
+        m.post_instance_count,
+        m.post_node_count,
+        m.post_cluster_count,
+        p.nodes_visited,
+        p.visible_count
+    );
+    assert!(m.post_node_count > 1, "the main phase defers nodes");
+    assert!(
+        p.nodes_visited > 0 && p.visible_count > 0,
+        "the post phase draws"
+    );
+    let off = render_without_occlusion(&mut r, &behind, &on);
+    assert_eq!(
+        cut.frame.color, off.frame.color,
+        "wrong image after the cut"
+    );
+    assert_eq!(
+        cut.frame.depth, off.frame.depth,
+        "wrong depth after the cut"
+    );
+    assert_no_validation_errors(&ctx);
+}
