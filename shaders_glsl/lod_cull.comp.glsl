@@ -8,10 +8,13 @@
 // - LOD_PHASE_POST, a thread per deferred instance: this frame's HZB (built from what the main
 //   phase drew); visible ones go to their bucket, the others are rejected for good.
 // - LOD_PHASE_COMMANDS, a thread per mesh: one VkDrawIndexedIndirectCommand per non-empty bucket
-//   of the mesh, in level order, and the mesh's draw count (vkCmdDrawIndexedIndirectCount).
+//   of the mesh, in level order, and the mesh's draw count (vkCmdDrawIndexedIndirectCount); then
+//   the same for the instances drawn with the faces turned away culled (commands and draw counts
+//   after every mesh's plain ones).
 // Bucket (m, k) of mesh m with n instances starting at `first` (mesh_slots[m]) owns instance-list
 // slots 8 first + k n .. + n: the draw's firstInstance, so gl_InstanceIndex indexes the list
-// (brute.vert's LOD_INSTANCE_LIST variant).
+// (brute.vert's LOD_INSTANCE_LIST variant). Its plain instances fill it from the start, those of a
+// closed solid seen from outside (culls_back_faces) from the end.
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared.glsl"
@@ -26,7 +29,7 @@ struct LodStatsGpu {
     uint post_count;
     uint drawn_post;
     uint occluded;
-    uint _pad;
+    uint cull_back;
     uint64_t triangles;
 };
 
@@ -97,11 +100,34 @@ bool occluded(InstanceGpu inst, LodMeshGpu mesh, mat4 vp, vec3 delta) {
     return hzb_rect_occluded(lo, hi, nearest, view.viewport.xy, view.hzb_levels);
 }
 
-// Appends instance i to bucket (m, level).
-void draw_instance(uint i, uint m, uint level) {
+// Whether instance `inst` of `mesh` is drawn with the faces turned away culled: a closed solid
+// (LodMeshGpu::closed_solid) seen from outside its box, the near plane clear of it, not mirrored
+// (the culling pipeline's front faces wind one way). The box through the camera-relative model
+// (conservative), as vgeo's hardware path decides (common/cull.glsl hw_entry_flags).
+bool culls_back_faces(InstanceGpu inst, LodMeshGpu mesh) {
+    if (mesh.closed_solid == 0u) {
+        return false;
+    }
+    vec3 h = (mesh.bounds_max - mesh.bounds_min) * 0.5;
+    vec3 c = (inst.model * vec4(mesh.bounds_min + h, 1.0)).xyz;
+    vec3 e = abs(inst.model[0].xyz) * h.x + abs(inst.model[1].xyz) * h.y + abs(inst.model[2].xyz) * h.z;
+    float det = dot(inst.model[0].xyz, cross(inst.model[1].xyz, inst.model[2].xyz));
+    return det > 0.0 && near_plane_clear_of_box(c, e, view.viewport.xy, view.proj_scale, view.near);
+}
+
+// Appends instance i to bucket (m, level): the bucket's start for the plain draw, its end for the
+// draw with the faces turned away culled (each instance is in one bucket once, so they never meet).
+void draw_instance(uint i, InstanceGpu inst, uint m, LodMeshGpu mesh, uint level) {
     uvec2 s = mesh_slots[m];
-    uint slot = atomicAdd(bucket_counts[m * LOD_LEVELS + level], 1u);
-    instance_list[LOD_LEVELS * s.x + level * s.y + slot] = i;
+    uint base = LOD_LEVELS * s.x + level * s.y;
+    if (culls_back_faces(inst, mesh)) {
+        atomicAdd(stats[pc.frame].cull_back, 1u);
+        uint slot = atomicAdd(bucket_counts[(view.mesh_count + m) * LOD_LEVELS + level], 1u);
+        instance_list[base + s.y - 1u - slot] = i;
+    } else {
+        uint slot = atomicAdd(bucket_counts[m * LOD_LEVELS + level], 1u);
+        instance_list[base + slot] = i;
+    }
 }
 
 void main_phase(uint i) {
@@ -125,7 +151,7 @@ void main_phase(uint i) {
         return;
     }
     atomicAdd(stats[pc.frame].drawn_main, 1u);
-    draw_instance(i, m, level);
+    draw_instance(i, inst, m, mesh, level);
 }
 
 void post_phase(uint j) {
@@ -140,30 +166,36 @@ void post_phase(uint j) {
         return;
     }
     atomicAdd(stats[pc.frame].drawn_post, 1u);
-    draw_instance(i, m, level);
+    draw_instance(i, inst, m, mesh, level);
 }
 
+// The draws of mesh m: per non-empty bucket, one for its plain start (commands and draw count
+// `m`) and one for its end drawn with the faces turned away culled (`mesh_count + m`).
 void commands_phase(uint m) {
     uvec2 s = mesh_slots[m];
     LodMeshGpu mesh = meshes[m];
-    uint n = 0u;
     uint64_t tris = 0ul;
-    for (uint k = 0u; k < LOD_LEVELS; k++) {
-        uint count = bucket_counts[m * LOD_LEVELS + k];
-        if (count == 0u) {
-            continue;
+    for (uint culled = 0u; culled < 2u; culled++) {
+        uint list = culled * view.mesh_count + m;
+        uint n = 0u;
+        for (uint k = 0u; k < LOD_LEVELS; k++) {
+            uint count = bucket_counts[list * LOD_LEVELS + k];
+            if (count == 0u) {
+                continue;
+            }
+            uint base = LOD_LEVELS * s.x + k * s.y;
+            LodDrawGpu d;
+            d.index_count = mesh.ranges[k].y;
+            d.instance_count = count;
+            d.first_index = mesh.ranges[k].x;
+            d.vertex_offset = 0;
+            d.first_instance = culled == 0u ? base : base + s.y - count;
+            commands[list * LOD_LEVELS + n] = d;
+            tris += uint64_t(mesh.ranges[k].y / 3u) * uint64_t(count);
+            n++;
         }
-        LodDrawGpu d;
-        d.index_count = mesh.ranges[k].y;
-        d.instance_count = count;
-        d.first_index = mesh.ranges[k].x;
-        d.vertex_offset = 0;
-        d.first_instance = LOD_LEVELS * s.x + k * s.y;
-        commands[m * LOD_LEVELS + n] = d;
-        tris += uint64_t(mesh.ranges[k].y / 3u) * uint64_t(count);
-        n++;
+        draw_counts[list] = n;
     }
-    draw_counts[m] = n;
     if (tris > 0ul) {
         atomicAdd(stats[pc.frame].triangles, tris);
     }

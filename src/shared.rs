@@ -509,8 +509,15 @@ pub struct LodMeshGpu {
     pub errors: [f32; LOD_LEVELS as usize],
     /// Per level, (first index, index count) in the mesh's index buffer.
     pub ranges: [[u32; 2]; LOD_LEVELS as usize],
+    /// Object-space bounding box.
+    pub bounds_min: [f32; 3],
+    /// 1: the mesh is a closed solid (`LodChain::closed_solid`): an instance seen from outside
+    /// its box is drawn with the faces turned away culled.
+    pub closed_solid: u32,
+    pub bounds_max: [f32; 3],
+    pub _pad: u32,
 }
-const _: () = assert!(size_of::<LodMeshGpu>() == 112);
+const _: () = assert!(size_of::<LodMeshGpu>() == 144);
 
 /// Per-frame view of `lod_cull`. Positions are camera-relative (the instances' model matrices are).
 #[repr(C)]
@@ -567,7 +574,8 @@ pub struct LodStatsGpu {
     /// Of those, drawn by the post phase, and occluded for good.
     pub drawn_post: u32,
     pub occluded: u32,
-    pub _pad: u32,
+    /// Instances drawn with the faces turned away culled (both phases).
+    pub cull_back: u32,
     /// Triangles drawn (both phases).
     pub triangles: u64,
 }

@@ -1100,7 +1100,8 @@ fn small_instance_cuts_are_whole_cuts_of_the_dag() {
 /// `BuildStats::closed_solid`, what lets the hardware path drop the faces a mesh turns away:
 /// closed and turned outwards, in one piece or several, and kept by the `.vgeo` file; not with a
 /// hole, turned inwards, with a piece turned inwards inside another (a hollow, left out to be
-/// safe), or as two faces back to back (closed but of no volume).
+/// safe; also when the two touch at a point, which does not join them into one piece), or flat
+/// (every edge used once each way, but of no volume).
 #[test]
 fn closed_solids_are_told_from_other_meshes() {
     type M = (Vec<[f32; 3]>, Vec<u32>);
@@ -1140,7 +1141,34 @@ fn closed_solids_are_told_from_other_meshes() {
         !closed("hollow", hollow),
         "a ball with an inward ball inside"
     );
-    let mut sheet = flat_grid(6, 0.5);
-    append(&mut sheet, inverted(flat_grid(6, 0.5)));
-    assert!(!closed("sheet", sheet), "a sheet of faces back to back");
+    // The inward ball's pole on the outer ball's: one shared point, two pieces.
+    let mut pinched = one.clone();
+    append(&mut pinched, inverted(outward([0.0, 0.0, 0.5], 0.5)));
+    assert!(
+        !closed("pinched", pinched),
+        "an inward ball touching the outer one at a point"
+    );
+    // A tetrahedron pressed flat: closed, no volume.
+    let flat = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.3, 0.3, 0.0],
+    ];
+    let tet = vec![0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3];
+    let mut raised = flat.clone();
+    raised[3][2] = 1.0;
+    assert!(
+        closed("tetrahedron", (raised.clone(), tet.clone()))
+            || closed("tetrahedron", inverted((raised, tet.clone()))),
+        "a tetrahedron is a closed solid one way round"
+    );
+    assert!(
+        !closed("flat", (flat.clone(), tet.clone())),
+        "a flat tetrahedron"
+    );
+    assert!(
+        !closed("flat", inverted((flat, tet))),
+        "a flat tetrahedron, turned"
+    );
 }

@@ -907,3 +907,113 @@ fn the_depth_variant_hzb_equals_the_cpu_pyramid() {
     }
     assert_no_validation_errors(&ctx);
 }
+
+/// The GPU selection draws a closed solid seen from outside its box with the faces turned away
+/// culled, as vgeo's hardware path drops them: the image equals the CPU selection's (which culls
+/// nothing), while outside (mirrored instances excepted: the culling pipeline's front faces wind
+/// one way) its instances go to the culling draw, and inside the box or with the near plane
+/// cutting into the mesh (its inside showing through the cut) none do.
+#[test]
+fn closed_solids_seen_from_outside_are_drawn_without_their_faces_turned_away() {
+    let ctx = gpu();
+    let (spot, _) = vgeo::mesh::load_mesh(&common::assets().join("spot.obj")).expect("spot");
+    let chain = LodChain::build(&spot);
+    assert!(chain.closed_solid, "spot is a closed solid");
+    let sphere = small_sphere();
+    let meshes = vec![spot.clone(), sphere];
+    let gpu_lod = gpu_lod(&ctx, &meshes, false);
+    let cpu_lod = cpu_lod(&ctx, &meshes);
+    let [lo, hi] = chain.bounds.map(|b| DVec3::from(b.map(f64::from)));
+    let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+    let view = |eye: DVec3, target: DVec3, near: f64| {
+        Camera::look_at(eye, target, Vec3::Y, 50f32.to_radians(), near as f32)
+    };
+    let outside = view(
+        c + DVec3::new(0.3, 0.2, 1.0).normalize() * 2.5 * r,
+        c,
+        0.01 * r,
+    );
+    let inside = view(c, c + DVec3::X, 0.01 * r);
+    let sliced = view(DVec3::new(c.x, c.y, hi.z + 0.1 * r), c, 0.5 * r);
+    let at = |x: f64| DMat4::from_translation(DVec3::new(x, 0.0, 0.0));
+    let mirror = DMat4::from_translation(c)
+        * DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0))
+        * DMat4::from_translation(-c);
+    let spots = |t: DMat4| -> Vec<Placement> {
+        [at(0.0) * t, at(0.6 * r) * t]
+            .into_iter()
+            .map(|transform| Placement {
+                mesh: 0,
+                transform,
+                color: [0.9, 0.8, 0.7],
+            })
+            .collect()
+    };
+    let cases = [
+        ("outside", outside, spots(DMat4::IDENTITY), 2),
+        ("mirrored", outside, spots(mirror), 0),
+        ("inside", inside, spots(DMat4::IDENTITY)[..1].to_vec(), 0),
+        (
+            "near plane cutting in",
+            sliced,
+            spots(DMat4::IDENTITY)[..1].to_vec(),
+            0,
+        ),
+    ];
+    let light = Light::default();
+    let (w, h) = (96, 72);
+    for (what, cam, placements, culled) in cases {
+        for tau in [0.0f32, 1.0] {
+            let (g, gs) = gpu_lod
+                .render_with_stats(&placements, &cam, &light, (w, h), tau, ShadeMode::Lit)
+                .expect("gpu frame");
+            let c = cpu_lod
+                .render(&placements, &cam, &light, w, h, tau)
+                .expect("cpu frame");
+            eprintln!(
+                "{what}, {tau} px: {} of {} instances without faces turned away, {} pixels covered",
+                gs.cull_back,
+                gs.drawn(),
+                g.covered()
+            );
+            assert!(
+                g.covered() > (w * h / 20) as usize,
+                "{what}: the mesh is in view"
+            );
+            assert_eq!(
+                gs.drawn(),
+                placements.len() as u32,
+                "{what}: every instance drawn"
+            );
+            assert_eq!(
+                gs.cull_back, culled,
+                "{what}: instances drawn culling faces"
+            );
+            assert_eq!(g.triangles, c.triangles, "{what}, {tau} px");
+            // Pixels where culling uncovered another surface: a face turned away was the nearest
+            // (a fold, or a sliver whose snapped corners turned it). Culling only removes faces,
+            // so there the surface is farther (reverse-Z: a smaller depth), and such pixels are
+            // rare; a wrong winding would uncover the mesh's inside everywhere.
+            let differ = (0..g.depth.len())
+                .filter(|&i| {
+                    g.depth[i] != c.depth[i]
+                        || g.color[4 * i..4 * i + 4] != c.color[4 * i..4 * i + 4]
+                })
+                .collect::<Vec<_>>();
+            eprintln!("  {} pixels differ", differ.len());
+            assert!(
+                differ.iter().all(|&i| g.depth[i] <= c.depth[i]),
+                "{what}, {tau} px: culling brought a surface nearer"
+            );
+            if culled == 0 {
+                assert!(differ.is_empty(), "{what}, {tau} px: the image changed");
+            } else {
+                assert!(
+                    differ.len() * 200 <= g.covered(),
+                    "{what}, {tau} px: too many pixels differ"
+                );
+            }
+        }
+    }
+    assert_no_validation_errors(&ctx);
+}

@@ -69,16 +69,7 @@ uint hw_entry_flags(uint instance) {
     vec3 c = relative_position(inst, view, root.bounds_min + h);
     vec3 e = abs(inst.linear[0].xyz) * h.x + abs(inst.linear[1].xyz) * h.y
         + abs(inst.linear[2].xyz) * h.z;
-    // How far the near plane's corners are from the camera (the view is centred: viewport and
-    // proj_scale give the half-extents of the near plane over its distance).
-    vec2 t = view.viewport.xy / (2.0 * view.proj_scale);
-    float reach = view.near * sqrt(1.0 + dot(t, t));
-    // Every point within `reach` of the camera lies outside the box (distance by the largest axis
-    // gap, at most the Euclidean one), with margin for the rounding of c and e.
-    vec3 gap = abs(c) - e;
-    vec3 mag = abs(c) + e;
-    float slack = 1.01 * reach + 1e-5 * max(mag.x, max(mag.y, mag.z));
-    if (max(gap.x, max(gap.y, gap.z)) <= slack) {
+    if (!near_plane_clear_of_box(c, e, view.viewport.xy, view.proj_scale, view.near)) {
         return 0u;
     }
     float det = dot(inst.linear[0].xyz, cross(inst.linear[1].xyz, inst.linear[2].xyz));

@@ -17,6 +17,23 @@ vec3 relative_position(InstanceVgeo inst, ViewGpu v, vec3 p) {
     return relative_to(inst, v.camera_hi.xyz, v.camera_lo.xyz, p);
 }
 
+// Whether every point within the near plane's reach of the camera (at the origin) lies outside
+// the box of camera-relative centre `c` and half extents `e`, so that the near plane cuts nothing
+// of what the box holds (a closed solid in it shows no face turned away: docs/architecture.md,
+// "Faces turned away"). The view is centred: the near plane's half-extents over its distance are
+// `viewport / (2 proj_scale)`. The distance is taken by the largest axis gap (at most the
+// Euclidean one), with margin for the rounding of c and e. Each comparison is false with a NaN
+// (GLSL's max leaves NaN undefined, so none is used on a value that may be one), so NaN anywhere
+// or a near plane not in front of the camera gives false.
+bool near_plane_clear_of_box(vec3 c, vec3 e, vec2 viewport, float proj_scale, float near) {
+    vec2 t = viewport / (2.0 * proj_scale);
+    float reach = near * sqrt(1.0 + dot(t, t));
+    vec3 gap = abs(c) - e;
+    vec3 mag = abs(c) + e;
+    float slack = 1.01 * reach + 1e-5 * (mag.x + mag.y + mag.z);
+    return near > 0.0 && (gap.x > slack || gap.y > slack || gap.z > slack);
+}
+
 // Projected size in pixels of `error` at the sphere's point nearest to the camera (at the origin).
 float lod_error_px(float error, vec3 center, float radius, float proj_scale) {
     if (error <= 0.0) {

@@ -171,6 +171,10 @@ struct LodMeshGpu {
     vec4 sphere;
     float errors[LOD_LEVELS];
     uvec2 ranges[LOD_LEVELS];
+    vec3 bounds_min;
+    uint closed_solid;
+    vec3 bounds_max;
+    uint _pad;
 };
 
 struct LodViewGpu {

@@ -173,12 +173,15 @@ pub(crate) struct Draw {
 /// shared material model; reverse-Z depth) shared by the `brute` and `lod` passes so their images
 /// compare; `pass` names the pipeline, `materials`' textures are set 1. With `instance_list`, the
 /// vertex shader's `list` variant: binding 3 is the instance list `gl_InstanceIndex` indexes (the
-/// GPU-driven `lod`, whose draws come from `lod_cull`).
+/// GPU-driven `lod`, whose draws come from `lod_cull`). `cull`: the faces it culls (`BACK`: the
+/// `lod` draws of closed solids seen from outside; front faces wind counter-clockwise in the
+/// framebuffer, the projection flips y).
 fn classic_pipeline(
     ctx: &Context,
     pass: &str,
     materials: &GpuMaterials,
     instance_list: bool,
+    cull: vk::CullModeFlags,
 ) -> GpuResult<GraphicsPipeline> {
     use vk::DescriptorType as D;
     let (vertex, bindings): (&[u8], &[D]) = if instance_list {
@@ -222,7 +225,7 @@ fn classic_pipeline(
             depth_format: Some(DEPTH_FORMAT),
             depth_compare: vk::CompareOp::GREATER,
             depth_write: true,
-            cull: vk::CullModeFlags::NONE,
+            cull,
         },
         &materials.textures,
     )
@@ -306,6 +309,10 @@ pub(crate) struct Classic {
     /// The classic pipeline, or its `list` variant when made with `instance_list` (then only
     /// the GPU-driven `lod` records with it; [`Classic::render_frames`] refuses).
     pub(crate) pipeline: GraphicsPipeline,
+    /// With `instance_list`: the same pipeline culling faces turned away, for the instances of
+    /// closed solids that `lod_cull` finds seen from outside (docs/architecture.md, "Faces turned
+    /// away").
+    pub(crate) pipeline_cull_back: Option<GraphicsPipeline>,
     instance_list: bool,
     pub(crate) shade: Shade,
     pub(crate) materials: GpuMaterials,
@@ -338,7 +345,24 @@ impl Classic {
         Ok(Self {
             ctx: ctx.clone(),
             pass,
-            pipeline: classic_pipeline(ctx, pass, &materials, instance_list)?,
+            pipeline: classic_pipeline(
+                ctx,
+                pass,
+                &materials,
+                instance_list,
+                vk::CullModeFlags::NONE,
+            )?,
+            pipeline_cull_back: if instance_list {
+                Some(classic_pipeline(
+                    ctx,
+                    &format!("{pass} cull back"),
+                    &materials,
+                    true,
+                    vk::CullModeFlags::BACK,
+                )?)
+            } else {
+                None
+            },
             instance_list,
             shade: Shade::new(ctx)?,
             materials,

@@ -115,6 +115,9 @@ pub struct LodStats {
     /// Of those, drawn by the post phase, and occluded for good.
     pub drawn_post: u32,
     pub occluded: u32,
+    /// Instances drawn with the faces turned away culled (closed solids seen from outside; GPU
+    /// selection only).
+    pub cull_back: u32,
     /// Per placement: its level, `None` when outside the frustum (also for occluded ones).
     pub levels: Vec<Option<u8>>,
     /// Per placement: whether the post phase found it occluded (not drawn).
@@ -140,6 +143,12 @@ pub struct LodChain {
     pub errors: [f32; LOD_COUNT],
     /// Object-space bounding sphere of the mesh: centre xyz, radius w.
     pub sphere: [f32; 4],
+    /// Object-space bounding box of the mesh (min, max; zero when it has no vertex).
+    pub bounds: [[f32; 3]; 2],
+    /// The mesh is a closed solid ([`crate::builder::solid::closed_solid`]): the GPU selection
+    /// draws an instance seen from outside its box with the faces turned away culled, as vgeo's
+    /// hardware path drops them (docs/architecture.md, "Faces turned away").
+    pub closed_solid: bool,
 }
 
 impl LodChain {
@@ -230,6 +239,8 @@ impl LodChain {
             ranges,
             errors,
             sphere: bounding_sphere(mesh),
+            bounds: mesh.bounds().map_or([[0.0; 3]; 2], |(lo, hi)| [lo, hi]),
+            closed_solid: crate::builder::solid::closed_solid(&mesh.positions, &mesh.indices),
         }
     }
 
@@ -260,6 +271,8 @@ struct LodInfo {
     ranges: [(u32, u32); LOD_COUNT],
     errors: [f32; LOD_COUNT],
     sphere: [f32; 4],
+    bounds: [[f32; 3]; 2],
+    closed_solid: bool,
 }
 
 /// `sphere` (object space) placed by `transform`, relative to `camera_pos`: (camera-relative
@@ -373,6 +386,8 @@ impl Lod {
                 ranges: c.ranges,
                 errors: c.errors,
                 sphere: c.sphere,
+                bounds: c.bounds,
+                closed_solid: c.closed_solid,
             })
             .collect();
         let gpu = if on_gpu {

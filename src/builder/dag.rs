@@ -12,6 +12,7 @@ use super::quantize::{
     make_quantization,
 };
 use super::simplify::{Attributes, Mode, Pieces, Simplified, simplify, simplify_compacted};
+use super::solid::positive_pieces;
 use super::{
     BuildError, BuildOptions, BuildStats, BuiltMesh, CLUSTER_FLAG_REFS_U32, Cluster, Group,
     LevelStats, NO_GROUP, PackedVertex, Partitioner, Sphere,
@@ -930,43 +931,6 @@ impl Level0 {
                 && self.border[b as usize]
                 && self.comp[a as usize] == self.comp[b as usize])
     }
-}
-
-/// Whether every edge-connected piece of `tris` (by position id) encloses a positive volume,
-/// beyond rounding: its faces turn outwards. With no irregular edge ([`Level0`]) this makes the
-/// triangles a closed solid. A piece turned inwards (a room modelled from inside) or of no
-/// volume (two faces back to back) is not one; no triangles are none either.
-fn positive_pieces(tris: &[[u32; 3]], pid: &[u32], pid_pos: &[[f32; 3]]) -> bool {
-    if tris.is_empty() {
-        return false;
-    }
-    let mut comp: Vec<u32> = (0..pid_pos.len() as u32).collect();
-    for t in tris {
-        let p = t.map(|v| pid[v as usize]);
-        uf_union(&mut comp, p[0], p[1]);
-        uf_union(&mut comp, p[1], p[2]);
-    }
-    // Per piece (at its root): the signed volume (six times, in f64, about the first point of the
-    // mesh to keep the terms small), the sum of the terms' magnitudes (the scale of its rounding)
-    // and whether it has a triangle.
-    let o = pid_pos[pid[tris[0][0] as usize] as usize].map(f64::from);
-    let mut volume = vec![(0.0f64, 0.0f64, false); pid_pos.len()];
-    for t in tris {
-        let p = t.map(|v| pid[v as usize]);
-        let [a, b, c] = p.map(|q| {
-            let x = pid_pos[q as usize];
-            [x[0] as f64 - o[0], x[1] as f64 - o[1], x[2] as f64 - o[2]]
-        });
-        let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-            + a[2] * (b[0] * c[1] - b[1] * c[0]);
-        let e = &mut volume[uf_find(&mut comp, p[0]) as usize];
-        e.0 += det;
-        e.1 += det.abs();
-        e.2 = true;
-    }
-    volume
-        .iter()
-        .all(|&(v, scale, used)| !used || v > scale * 1e-6)
 }
 
 /// A group's triangles in local ids, made once per group so that every later pass (shape, edges,

@@ -25,6 +25,7 @@ pub mod page;
 pub mod quantize;
 pub mod simplify;
 pub mod size;
+pub mod solid;
 pub mod tricode;
 pub mod verify;
 
@@ -467,7 +468,7 @@ pub struct BuildStats {
     /// Level 0 is a closed solid: every edge is used once in each direction and every
     /// edge-connected piece encloses a positive volume (its faces turned outwards). From a camera
     /// outside it, no face turned away is ever the nearest, so the hardware rasterizer drops
-    /// those faces (`common/cull.glsl` `hw_entry`). False in files written before this existed.
+    /// those faces (`common/cull.glsl` `hw_entry_flags`). False in files written before this existed.
     #[serde(default)]
     pub closed_solid: bool,
 }

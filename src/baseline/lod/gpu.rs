@@ -49,6 +49,10 @@ impl GpuLod {
                 sphere: i.sphere,
                 errors: i.errors,
                 ranges: i.ranges.map(|(first, count)| [first, count]),
+                bounds_min: i.bounds[0],
+                closed_solid: i.closed_solid as u32,
+                bounds_max: i.bounds[1],
+                _pad: 0,
             })
             .collect();
         if records.is_empty() {
@@ -105,7 +109,9 @@ impl GpuFrameBuffers {
     ) -> GpuResult<Self> {
         use vk::BufferUsageFlags as U;
         let n = instance_mesh.len().max(1) as u64;
-        let buckets = (mesh_slots.len().max(1) * LOD_COUNT) as u64;
+        // Per mesh and level a plain bucket and one with the faces turned away culled; a draw
+        // count per mesh for each.
+        let buckets = (2 * mesh_slots.len().max(1) * LOD_COUNT) as u64;
         let storage = |name: &str, bytes: u64, usage: U| {
             Buffer::new(ctx, name, bytes, U::STORAGE_BUFFER | usage, MemoryKind::Gpu)
         };
@@ -144,7 +150,7 @@ impl GpuFrameBuffers {
             )?,
             draw_counts: storage(
                 "lod draw counts",
-                4 * mesh_slots.len().max(1) as u64,
+                4 * 2 * mesh_slots.len().max(1) as u64,
                 U::INDIRECT_BUFFER,
             )?,
             stats: storage(
@@ -393,6 +399,7 @@ impl Lod {
             post_tested: last_stats.post_count,
             drawn_post: last_stats.drawn_post,
             occluded: last_stats.occluded,
+            cull_back: last_stats.cull_back,
             levels: raw
                 .iter()
                 .map(|&l| (l != LOD_LEVEL_CULLED).then_some((l & !LOD_LEVEL_OCCLUDED) as u8))
@@ -411,8 +418,10 @@ impl Lod {
     }
 
     /// Records one draw pass of the GPU selection: per mesh with instances, one
-    /// `vkCmdDrawIndexedIndirectCount` over its `LOD_COUNT` command slots. The main draw clears
-    /// the targets, the post draw (`post`) adds to them.
+    /// `vkCmdDrawIndexedIndirectCount` over its `LOD_COUNT` command slots, and for a closed solid
+    /// a second one with the pipeline that culls faces turned away, over the slots of its
+    /// instances seen from outside (`lod_cull.comp.glsl`). The main draw clears the targets, the
+    /// post draw (`post`) adds to them.
     #[allow(clippy::too_many_arguments)]
     fn record_indirect_draws(
         &self,
@@ -438,32 +447,40 @@ impl Lod {
                 clear,
             }),
         );
-        cmd.bind_graphics(&c.pipeline);
-        cmd.push_graphics_descriptors(
-            &c.pipeline,
-            &[
-                Desc::Uniform(&bufs.uniforms),
-                Desc::Storage(instances),
-                Desc::Storage(&c.materials.table),
-                Desc::Storage(&bufs.instance_list),
-            ],
-        );
-        cmd.bind_graphics_textures(&c.pipeline, &c.materials.textures);
         let stride = size_of::<LodDrawGpu>() as u64;
-        for (m, (mesh, slots)) in c.meshes.iter().zip(mesh_slots).enumerate() {
-            if slots[1] == 0 || mesh.index_count() == 0 {
-                continue;
-            }
-            cmd.bind_mesh_buffers(&mesh.vertices, &mesh.indices);
-            cmd.graphics_push_constants(&c.pipeline, bytemuck::bytes_of(&mesh.flags));
-            cmd.draw_indexed_indirect_count(
-                &bufs.commands,
-                (m * LOD_COUNT) as u64 * stride,
-                &bufs.draw_counts,
-                4 * m as u64,
-                LOD_COUNT as u32,
-                stride as u32,
+        let meshes = self.infos.len();
+        let cull_back = c.pipeline_cull_back.as_ref();
+        for (culled, pipeline) in [Some(&c.pipeline), cull_back].into_iter().enumerate() {
+            let Some(pipeline) = pipeline else { continue };
+            cmd.bind_graphics(pipeline);
+            cmd.push_graphics_descriptors(
+                pipeline,
+                &[
+                    Desc::Uniform(&bufs.uniforms),
+                    Desc::Storage(instances),
+                    Desc::Storage(&c.materials.table),
+                    Desc::Storage(&bufs.instance_list),
+                ],
             );
+            cmd.bind_graphics_textures(pipeline, &c.materials.textures);
+            for (m, (mesh, slots)) in c.meshes.iter().zip(mesh_slots).enumerate() {
+                let closed = self.infos.get(m).is_some_and(|i| i.closed_solid);
+                if slots[1] == 0 || mesh.index_count() == 0 || (culled == 1 && !closed) {
+                    continue;
+                }
+                // The plain lists first, then every mesh's culled ones (`lod_cull`'s layout).
+                let list = culled * meshes + m;
+                cmd.bind_mesh_buffers(&mesh.vertices, &mesh.indices);
+                cmd.graphics_push_constants(pipeline, bytemuck::bytes_of(&mesh.flags));
+                cmd.draw_indexed_indirect_count(
+                    &bufs.commands,
+                    (list * LOD_COUNT) as u64 * stride,
+                    &bufs.draw_counts,
+                    4 * list as u64,
+                    LOD_COUNT as u32,
+                    stride as u32,
+                );
+            }
         }
         cmd.end_rendering();
         timer.end(cmd);
