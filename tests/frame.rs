@@ -752,6 +752,47 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
 /// tests/views.rs and this file's other tests pass it). (The node it defers holds no cluster of
 /// the cut, so a node item read at the wrong offset goes unseen: no scene here defers a node
 /// that draws.)
+/// The camera cut of the post-phase tests: `meshes` at `placements` drawn from `front` (error
+/// 0.25 px, occlusion culling on), then from behind [`occlusion_scene`]'s wall ([`cut_view`]),
+/// whose frame culls first with the front view's HZB. The renderer and that frame.
+fn cut_behind_the_wall(
+    ctx: &Context,
+    meshes: &[BuiltMesh],
+    placements: &[Placement],
+    front: &Camera,
+) -> (VgeoRenderer, VgeoFrame) {
+    let mut r = VgeoRenderer::new(ctx, meshes, placements).unwrap();
+    render(&mut r, front, &cut_settings());
+    let cut = render(&mut r, &cut_view(), &cut_settings());
+    (r, cut)
+}
+
+/// The settings of [`cut_behind_the_wall`].
+fn cut_settings() -> FrameSettings {
+    FrameSettings {
+        error_px: 0.25,
+        ..Default::default()
+    }
+}
+
+/// The view behind the wall of [`cut_behind_the_wall`].
+fn cut_view() -> Camera {
+    occlusion_view(DVec3::new(-1.0, 1.0, -7.0), DVec3::new(0.0, 0.0, 0.0))
+}
+
+/// `cut` (from [`cut_behind_the_wall`]) equals the same view rendered without occlusion culling.
+fn assert_the_cut_is_the_frame_without_occlusion(r: &mut VgeoRenderer, cut: &VgeoFrame) {
+    let off = render_without_occlusion(r, &cut_view(), &cut_settings());
+    assert_eq!(
+        cut.frame.color, off.frame.color,
+        "wrong image after the cut"
+    );
+    assert_eq!(
+        cut.frame.depth, off.frame.depth,
+        "wrong depth after the cut"
+    );
+}
+
 #[test]
 fn the_post_phase_draws_deferred_instances_and_clusters_together() {
     let ctx = gpu();
@@ -763,14 +804,7 @@ fn the_post_phase_draws_deferred_instances_and_clusters_together() {
             * DMat4::from_scale(DVec3::splat(3.0)),
         color: [0.8, 0.6, 0.4],
     });
-    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
-    let on = FrameSettings {
-        error_px: 0.25,
-        ..Default::default()
-    };
-    render(&mut r, &front, &on);
-    let behind = occlusion_view(DVec3::new(-1.0, 1.0, -7.0), DVec3::new(0.0, 0.0, 0.0));
-    let cut = render(&mut r, &behind, &on);
+    let (mut r, cut) = cut_behind_the_wall(&ctx, &meshes, &placements, &front);
     let m = &cut.main.counters;
     eprintln!(
         "camera cut: main visited {} nodes ({} local walks, {} instances visible); deferred {} instances / {} nodes / {} clusters; post drew {} clusters",
@@ -788,15 +822,7 @@ fn the_post_phase_draws_deferred_instances_and_clusters_together() {
         "the main phase should defer instances, nodes and clusters at once"
     );
     assert!(cut.post.counters.visible_count > 0, "the post phase draws");
-    let off = render_without_occlusion(&mut r, &behind, &on);
-    assert_eq!(
-        cut.frame.color, off.frame.color,
-        "wrong image after the cut"
-    );
-    assert_eq!(
-        cut.frame.depth, off.frame.depth,
-        "wrong depth after the cut"
-    );
+    assert_the_cut_is_the_frame_without_occlusion(&mut r, &cut);
     assert!(cut.frame.covered() > 1000);
     assert_no_validation_errors(&ctx);
 }
@@ -1197,14 +1223,7 @@ fn deferred_bvh_nodes_draw_their_clusters_in_the_post_phase() {
             * DMat4::from_scale(DVec3::splat(40.0)),
         color: [0.8, 0.6, 0.4],
     });
-    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
-    let on = FrameSettings {
-        error_px: 0.25,
-        ..Default::default()
-    };
-    render(&mut r, &front, &on);
-    let behind = occlusion_view(DVec3::new(-1.0, 1.0, -7.0), DVec3::new(0.0, 0.0, 0.0));
-    let cut = render(&mut r, &behind, &on);
+    let (mut r, cut) = cut_behind_the_wall(&ctx, &meshes, &placements, &front);
     let (m, p) = (&cut.main.counters, &cut.post.counters);
     eprintln!(
         "camera cut: deferred {} instances / {} nodes / {} clusters; post visited {} nodes, drew {} clusters",
@@ -1219,14 +1238,6 @@ fn deferred_bvh_nodes_draw_their_clusters_in_the_post_phase() {
         p.nodes_visited > 0 && p.visible_count > 0,
         "the post phase draws"
     );
-    let off = render_without_occlusion(&mut r, &behind, &on);
-    assert_eq!(
-        cut.frame.color, off.frame.color,
-        "wrong image after the cut"
-    );
-    assert_eq!(
-        cut.frame.depth, off.frame.depth,
-        "wrong depth after the cut"
-    );
+    assert_the_cut_is_the_frame_without_occlusion(&mut r, &cut);
     assert_no_validation_errors(&ctx);
 }
