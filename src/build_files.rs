@@ -254,6 +254,16 @@ pub fn describe(m: &BuiltMesh, file_len: usize) -> String {
     );
     let _ = writeln!(
         o,
+        "{}",
+        if s.closed_solid {
+            "closed solid: seen from outside, its faces turned away are not rasterized"
+        } else {
+            "not a closed solid (an open edge, a non-manifold edge, or a piece turned inwards or \
+             flat): every face is rasterized"
+        }
+    );
+    let _ = writeln!(
+        o,
         "level  clusters  triangles  ratio  max error  groups  stuck"
     );
     for l in &s.levels {

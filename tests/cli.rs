@@ -206,6 +206,20 @@ fn build_verify_and_info_of_a_vgeo_file() {
         out.contains("5856"),
         "info should state the input triangles: {out}"
     );
+    assert!(
+        out.contains("closed solid: seen from outside"),
+        "info should say spot is a closed solid: {out}"
+    );
+    let (ok, out, err) = run(vgeo()
+        .arg("build")
+        .arg(assets().join("bunny.ply"))
+        .arg("-o")
+        .arg(dir.join("bunny.vgeo")));
+    assert!(ok, "build failed: {err}");
+    assert!(
+        out.contains("not a closed solid"),
+        "build should say the bunny (with holes) is not a closed solid: {out}"
+    );
     // A truncated file is an error, not a panic.
     let bytes = std::fs::read(&out_file).unwrap();
     let cut = dir.join("cut.vgeo");
