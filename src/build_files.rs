@@ -255,11 +255,17 @@ pub fn describe(m: &BuiltMesh, file_len: usize) -> String {
     let _ = writeln!(
         o,
         "{}",
-        if s.closed_solid {
-            "closed solid: seen from outside, its faces turned away are not rasterized"
-        } else {
-            "not a closed solid (an open edge, a non-manifold edge, or a piece turned inwards or \
-             flat): every face is rasterized"
+        match s.closed_solid {
+            Some(true) =>
+                "closed solid: seen from outside, its faces turned away are not rasterized",
+            Some(false) => {
+                "not a closed solid (an open edge, a non-manifold edge, or a piece turned inwards \
+                 or flat): every face is rasterized"
+            }
+            None => {
+                "closed solid or not: unknown (a file from before vgeo told them apart; rebuild it \
+                 to have a closed solid's faces turned away dropped): every face is rasterized"
+            }
         }
     );
     let _ = writeln!(

@@ -677,7 +677,7 @@ impl GpuScene {
                     } else {
                         0
                     }
-                    | if m.stats.closed_solid {
+                    | if m.stats.closed_solid == Some(true) {
                         MESH_CLOSED_SOLID
                     } else {
                         0

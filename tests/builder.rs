@@ -1109,7 +1109,7 @@ fn closed_solids_are_told_from_other_meshes() {
         builder::build(&mesh_from(name, m.0, m.1), &BuildOptions::default())
             .unwrap_or_else(|e| panic!("{name}: {e}"))
     };
-    let closed = |name: &str, m: M| built(name, m).stats.closed_solid;
+    let closed = |name: &str, m: M| built(name, m).stats.closed_solid == Some(true);
     let inverted = |m: M| -> M {
         let idx = m.1.chunks(3).flat_map(|t| [t[0], t[2], t[1]]).collect();
         (m.0, idx)
@@ -1125,9 +1125,24 @@ fn closed_solids_are_told_from_other_meshes() {
     };
     let one = outward([0.0; 3], 1.0);
     let b = built("ball", one.clone());
-    assert!(b.stats.closed_solid, "an outward ball is a closed solid");
+    assert_eq!(
+        b.stats.closed_solid,
+        Some(true),
+        "an outward ball is a closed solid"
+    );
     let loaded = vgeo::format::load(&vgeo::format::save(&b)).expect("load");
-    assert!(loaded.stats.closed_solid, "the .vgeo file keeps it");
+    assert_eq!(
+        loaded.stats.closed_solid,
+        Some(true),
+        "the .vgeo file keeps it"
+    );
+    // A file from before the mark: its statistics lack the field, and nothing is assumed.
+    let mut old = serde_json::to_value(&b.stats).expect("stats as JSON");
+    old.as_object_mut()
+        .expect("an object")
+        .remove("closed_solid");
+    let old: builder::BuildStats = serde_json::from_value(old).expect("old statistics load");
+    assert_eq!(old.closed_solid, None, "an older file's mark is unknown");
     assert!(!closed("inward", inverted(one.clone())), "an inward ball");
     let mut holed = one.clone();
     holed.1.drain(0..3);

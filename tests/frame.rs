@@ -1040,9 +1040,14 @@ fn closed_and_plain_frames_agree(
     cases: &[(&str, Camera, DMat4, bool)],
 ) {
     use vgeo::HwPath;
-    assert!(built.stats.closed_solid, "{} is a closed solid", built.name);
+    assert_eq!(
+        built.stats.closed_solid,
+        Some(true),
+        "{} is a closed solid",
+        built.name
+    );
     let mut open = built.clone();
-    open.stats.closed_solid = false;
+    open.stats.closed_solid = None;
     let settings = FrameSettings {
         error_px: 1.0,
         occlusion: false,

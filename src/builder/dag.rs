@@ -1435,7 +1435,7 @@ fn build_inner(
         duplicates_dropped: duplicates,
         level0_triangles,
         level0_error: trimmed_error,
-        closed_solid,
+        closed_solid: Some(closed_solid),
         vertices: vertices.len(),
         levels,
         widened_iterations: widened,

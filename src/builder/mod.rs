@@ -468,9 +468,10 @@ pub struct BuildStats {
     /// Level 0 is a closed solid: every edge is used once in each direction and every
     /// edge-connected piece encloses a positive volume (its faces turned outwards). From a camera
     /// outside it, no face turned away is ever the nearest, so the hardware rasterizer drops
-    /// those faces (`common/cull.glsl` `hw_entry_flags`). False in files written before this existed.
+    /// those faces (`common/cull.glsl` `hw_entry_flags`). `None` in files written before this
+    /// existed: not known, so no face is dropped (rebuild the file to have them dropped).
     #[serde(default)]
-    pub closed_solid: bool,
+    pub closed_solid: Option<bool>,
 }
 
 /// A built mesh: the cluster DAG, its BVH and vertex data. What `.vgeo` stores.
