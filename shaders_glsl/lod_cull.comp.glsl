@@ -110,9 +110,9 @@ bool culls_back_faces(InstanceGpu inst, LodMeshGpu mesh) {
     }
     vec3 h = (mesh.bounds_max - mesh.bounds_min) * 0.5;
     vec3 c = (inst.model * vec4(mesh.bounds_min + h, 1.0)).xyz;
-    vec3 e = abs(inst.model[0].xyz) * h.x + abs(inst.model[1].xyz) * h.y + abs(inst.model[2].xyz) * h.z;
-    float det = dot(inst.model[0].xyz, cross(inst.model[1].xyz, inst.model[2].xyz));
-    return det > 0.0 && near_plane_clear_of_box(c, e, view.viewport.xy, view.proj_scale, view.near);
+    mat3 linear = mat3(inst.model);
+    return determinant(linear) > 0.0
+        && near_plane_clear_of_box(c, h, linear, view.viewport.xy, view.proj_scale, view.near);
 }
 
 // Appends instance i to bucket (m, level): the bucket's start for the plain draw, its end for the

@@ -67,13 +67,11 @@ uint hw_entry_flags(uint instance) {
     BvhNode root = bvh[mesh.bvh_offset + mesh.bvh_root];
     vec3 h = (root.bounds_max - root.bounds_min) * 0.5;
     vec3 c = relative_position(inst, view, root.bounds_min + h);
-    vec3 e = abs(inst.linear[0].xyz) * h.x + abs(inst.linear[1].xyz) * h.y
-        + abs(inst.linear[2].xyz) * h.z;
-    if (!near_plane_clear_of_box(c, e, view.viewport.xy, view.proj_scale, view.near)) {
+    mat3 linear = mat3(inst.linear[0].xyz, inst.linear[1].xyz, inst.linear[2].xyz);
+    if (!near_plane_clear_of_box(c, h, linear, view.viewport.xy, view.proj_scale, view.near)) {
         return 0u;
     }
-    float det = dot(inst.linear[0].xyz, cross(inst.linear[1].xyz, inst.linear[2].xyz));
-    return HW_ENTRY_CULL | (det < 0.0 ? HW_ENTRY_MIRRORED : 0u);
+    return HW_ENTRY_CULL | (determinant(linear) < 0.0 ? HW_ENTRY_MIRRORED : 0u);
 }
 
 // Appends a drawn cluster to the visible list and to the SW or HW list. `at`: the pool word of

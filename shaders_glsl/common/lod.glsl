@@ -18,14 +18,17 @@ vec3 relative_position(InstanceVgeo inst, ViewGpu v, vec3 p) {
 }
 
 // Whether every point within the near plane's reach of the camera (at the origin) lies outside
-// the box of camera-relative centre `c` and half extents `e`, so that the near plane cuts nothing
+// an object-space box of half extents `h` placed by the linear part `linear` at camera-relative
+// centre `c` (the world box around it: conservative), so that the near plane cuts nothing
 // of what the box holds (a closed solid in it shows no face turned away: docs/architecture.md,
 // "Faces turned away"). The view is centred: the near plane's half-extents over its distance are
 // `viewport / (2 proj_scale)`. The distance is taken by the largest axis gap (at most the
 // Euclidean one), with margin for the rounding of c and e. Each comparison is false with a NaN
 // (GLSL's max leaves NaN undefined, so none is used on a value that may be one), so NaN anywhere
 // or a near plane not in front of the camera gives false.
-bool near_plane_clear_of_box(vec3 c, vec3 e, vec2 viewport, float proj_scale, float near) {
+bool near_plane_clear_of_box(vec3 c, vec3 h, mat3 linear, vec2 viewport, float proj_scale,
+                             float near) {
+    vec3 e = abs(linear[0]) * h.x + abs(linear[1]) * h.y + abs(linear[2]) * h.z;
     vec2 t = viewport / (2.0 * proj_scale);
     float reach = near * sqrt(1.0 + dot(t, t));
     vec3 gap = abs(c) - e;

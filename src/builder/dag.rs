@@ -808,6 +808,12 @@ fn undirected(a: u32, b: u32) -> u64 {
     ((a.min(b) as u64) << 32 | a.max(b) as u64) << 1 | (a < b) as u64
 }
 
+/// Whether every edge of `tris` (by position id, `npid` of them) is used once in each direction:
+/// no irregular edge of [`Level0`] (the closed-solid test of `builder::solid::closed_solid`).
+pub(crate) fn regular_edges(tris: &[[u32; 3]], pid: &[u32], npid: usize) -> bool {
+    Level0::new(tris, pid, npid).irregular.is_empty()
+}
+
 /// What the cut test compares against (verify's rules), from the level-0 triangles: the edges
 /// whose directed use counts are not (1, 1) ("irregular": open borders, non-manifold and
 /// duplicated edges), the points on them ("border" points) and their components.

@@ -2,7 +2,10 @@
 //! (`BuildStats::closed_solid`, the lod baseline's [`closed_solid`]; docs/architecture.md, "Faces
 //! turned away").
 
+use std::collections::HashMap;
+
 use super::{uf_find, uf_union};
+use crate::hash::FxBuild;
 
 /// Whether every edge-connected piece of `tris` (triangles joined across an edge between the
 /// same two position ids; pieces that only touch at a point are apart) encloses a positive
@@ -64,7 +67,7 @@ pub(crate) fn positive_pieces(tris: &[[u32; 3]], pid: &[u32], pid_pos: &[[f32; 3
 pub fn closed_solid(positions: &[[f32; 3]], indices: &[u32]) -> bool {
     // Position ids by the coordinates' bits (-0 as +0).
     let key = |p: &[f32; 3]| p.map(|x| if x == 0.0 { 0 } else { x.to_bits() });
-    let mut ids: std::collections::HashMap<[u32; 3], u32> = std::collections::HashMap::new();
+    let mut ids: HashMap<[u32; 3], u32, FxBuild> = HashMap::default();
     let mut pid_pos: Vec<[f32; 3]> = Vec::new();
     let pid: Vec<u32> = positions
         .iter()
@@ -85,23 +88,6 @@ pub fn closed_solid(positions: &[[f32; 3]], indices: &[u32]) -> bool {
             tris.push([t[0], t[1], t[2]]);
         }
     }
-    // Directed edges as (smaller, larger, forward); each undirected edge must come once each way.
-    let mut edges: Vec<(u32, u32, bool)> = tris
-        .iter()
-        .flat_map(|t| {
-            let p = t.map(|v| pid[v as usize]);
-            [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])]
-        })
-        .map(|(a, b)| (a.min(b), a.max(b), a < b))
-        .collect();
-    edges.sort_unstable();
-    let balanced = edges.chunks(2).all(|pair| {
-        pair.len() == 2
-            && pair[0].0 == pair[1].0
-            && pair[0].1 == pair[1].1
-            && !pair[0].2
-            && pair[1].2
-    });
-    // A third use of an edge would pair with the next edge's and fail above.
-    balanced && positive_pieces(&tris, &pid, &pid_pos)
+    // Every edge used once each way: the builder's own test of its level 0.
+    super::dag::regular_edges(&tris, &pid, pid_pos.len()) && positive_pieces(&tris, &pid, &pid_pos)
 }
