@@ -157,9 +157,11 @@ vec3 residency_color(uvec2 entry) {
         return unpackUnorm4x8(RESIDENCY_COLOR_RESIDENT).rgb;
     }
     float scale = inst.max_scale;
-    // The cluster's self pair is its creator group's (common/cull.glsl).
+    // The cluster's self pair is its creator group's (common/cull.glsl), its error weighted as the
+    // cull weighs it.
     vec3 sc = relative_position(inst, view, g.lod_sphere.xyz);
-    float self_px = lod_error_px(g.error * scale, sc, g.lod_sphere.w * scale, view.proj_scale);
+    float e = weighted_error(g.error, g.coverage, instance_weight(inst, mesh, view));
+    float self_px = lod_error_px(e * scale, sc, g.lod_sphere.w * scale, view.proj_scale);
     if (self_px > view.error_px) {
         return unpackUnorm4x8(RESIDENCY_COLOR_MISSING).rgb;
     }

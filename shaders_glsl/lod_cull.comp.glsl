@@ -70,13 +70,18 @@ bool outside_frustum(vec3 c, float r) {
     return false;
 }
 
-// The coarsest level whose error projects to at most `tau` pixels (0 when tau <= 0 or NaN).
+// The coarsest level whose error projects to at most `tau` pixels (0 when tau <= 0 or NaN); an
+// instance under SMALL_WEIGHT_RADIUS_PX counts a share of its errors (their coverage part whole),
+// as vgeo's small instances do (lod.glsl's small_instance_weight of the sphere's projected radius
+// and weighted_error).
 uint select_level(LodMeshGpu mesh, vec3 c, float r, float scale) {
     if (!(view.tau > 0.0)) {
         return 0u;
     }
+    float w = small_instance_weight(lod_error_px(r, c, r, view.proj_scale));
     for (int k = int(LOD_LEVELS) - 1; k >= 1; k--) {
-        if (lod_error_px(mesh.errors[k] * scale, c, r, view.proj_scale) <= view.tau) {
+        float e = weighted_error(mesh.errors[k], mesh.coverages[k], w);
+        if (lod_error_px(e * scale, c, r, view.proj_scale) <= view.tau) {
             return uint(k);
         }
     }

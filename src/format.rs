@@ -5,8 +5,10 @@
 //! length: u64}`, then the sections, each 16-byte aligned, the page data last. Sections: metadata
 //! (JSON), clusters ([`Cluster`], 96 B), groups ([`Group`], 64 B), BVH nodes ([`BvhNode`], 64 B),
 //! the page table (one [`PageEntry`] of 64 B per page: the builder's [`Page`], where its bytes lie
-//! in the file, their length and FNV-1a 64 checksum) and the page data (every page's bytes,
-//! `builder::page::encode_page`, each 16-byte aligned, in page order).
+//! in the file, their length and FNV-1a 64 checksum), optionally the groups' coverage parts (one
+//! f32 per group, `BuiltMesh::group_coverage`; a file without them counts every error whole, its
+//! BVH nodes' `max_parent_coverage` taken as their `max_parent_error`) and the page data (every
+//! page's bytes, `builder::page::encode_page`, each 16-byte aligned, in page order).
 //!
 //! `checksum` is FNV-1a 64 over the file up to the page data, with the checksum field taken as
 //! zero: opening a file ([`VgeoFile::open`]) reads and checks only that head; each page is checked
@@ -52,6 +54,8 @@ pub mod section {
     pub const BVH: u32 = 8;
     pub const PAGE_TABLE: u32 = 11;
     pub const PAGE_DATA: u32 = 12;
+    /// Optional: per group, the coverage part of its error (`BuiltMesh::group_coverage`, f32).
+    pub const GROUP_COVERAGE: u32 = 13;
 }
 
 /// One page of the page table: the builder's [`Page`] and where its bytes lie in the file.
@@ -220,9 +224,9 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
         });
         data.extend_from_slice(&bytes);
     }
-    let count = 6usize;
-    let table_len = std::mem::size_of_val(entries.as_slice());
-    let head_sections: [(u32, usize); 5] = [
+    // The head's sections (the group coverage only where it is known) and their lengths.
+    let coverage = !m.group_coverage.is_empty();
+    let mut head_sections: Vec<(u32, usize)> = vec![
         (section::META, meta_json.len()),
         (
             section::CLUSTERS,
@@ -230,8 +234,18 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
         ),
         (section::GROUPS, std::mem::size_of_val(m.groups.as_slice())),
         (section::BVH, std::mem::size_of_val(m.bvh.as_slice())),
-        (section::PAGE_TABLE, table_len),
+        (
+            section::PAGE_TABLE,
+            std::mem::size_of_val(entries.as_slice()),
+        ),
     ];
+    if coverage {
+        head_sections.push((
+            section::GROUP_COVERAGE,
+            std::mem::size_of_val(m.group_coverage.as_slice()),
+        ));
+    }
+    let count = head_sections.len() + 1;
     let mut offset = align(HEADER_LEN + ENTRY_LEN * count);
     let mut table = Vec::new();
     for (id, len) in head_sections {
@@ -256,13 +270,16 @@ pub fn save(m: &BuiltMesh) -> Vec<u8> {
         out.extend_from_slice(&off.to_le_bytes());
         out.extend_from_slice(&len.to_le_bytes());
     }
-    let contents: [&[u8]; 5] = [
+    let mut contents: Vec<&[u8]> = vec![
         &meta_json,
         bytemuck::cast_slice(&m.clusters),
         bytemuck::cast_slice(&m.groups),
         bytemuck::cast_slice(&m.bvh),
         bytemuck::cast_slice(&entries),
     ];
+    if coverage {
+        contents.push(bytemuck::cast_slice(&m.group_coverage));
+    }
     for (c, (_, off, _)) in contents.iter().zip(&table) {
         out.resize(*off as usize, 0);
         out.extend_from_slice(c);
@@ -453,6 +470,17 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
         vertex_refs: Vec::new(),
         triangles: Vec::new(),
         groups: pod_vec::<Group>(get(section::GROUPS, "groups")?, "groups")?,
+        group_coverage: match h
+            .sections
+            .iter()
+            .any(|(x, _, _)| *x == section::GROUP_COVERAGE)
+        {
+            true => pod_vec::<f32>(
+                get(section::GROUP_COVERAGE, "group coverage")?,
+                "group coverage",
+            )?,
+            false => Vec::new(),
+        },
         bvh: pod_vec::<BvhNode>(get(section::BVH, "bvh")?, "bvh")?,
         root: meta.root,
         pages: entries.iter().map(|e| e.page).collect(),
@@ -472,6 +500,13 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
                 "page {i}: {}+{} bytes, its page record says {want} inside the page data ({doff}+{dlen})",
                 e.offset, e.length
             )));
+        }
+    }
+    let mut m = m;
+    if m.group_coverage.is_empty() {
+        // A file from before the coverage part: every error counts whole, the BVH's bound too.
+        for n in &mut m.bvh {
+            n.max_parent_coverage = n.max_parent_error;
         }
     }
     let errors = crate::builder::verify::head_errors(&m);

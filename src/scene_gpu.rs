@@ -438,7 +438,7 @@ impl GpuScene {
         let buf = |name: &str| Buffer::new(ctx, name, 0, arena::usage(), MemoryKind::Gpu);
         let elem = [
             size_of::<ClusterLocGpu>(),
-            size_of::<crate::builder::Group>(),
+            size_of::<crate::shared::GroupGpu>(),
             size_of::<crate::builder::BvhNode>(),
             size_of::<PageGpu>(),
             4,
@@ -702,9 +702,25 @@ impl GpuScene {
                     data_offset: c.data_offset,
                 })
                 .collect();
+            let groups: Vec<crate::shared::GroupGpu> = m
+                .groups
+                .iter()
+                .enumerate()
+                .map(|(i, g)| crate::shared::GroupGpu {
+                    lod_sphere: g.lod_sphere,
+                    error: g.error,
+                    coverage: m.group_coverage_of(i as u32),
+                    first_cluster: g.first_cluster,
+                    cluster_count: g.cluster_count,
+                    iteration: g.iteration,
+                    page_first: g.page_first,
+                    page_count: g.page_count,
+                    _pad: 0,
+                })
+                .collect();
             let data: [&[u8]; ARENAS] = [
                 bytemuck::cast_slice(&locs),
-                bytemuck::cast_slice(&m.groups),
+                bytemuck::cast_slice(&groups),
                 bytemuck::cast_slice(&m.bvh),
                 bytemuck::cast_slice(&pages),
                 &pool,

@@ -90,11 +90,27 @@ pub const WALK_WIDE_INSTANCES: u32 = 4096;
 pub const TINY_CUT_CLUSTERS: u32 = 64;
 /// Most cluster entries of one mesh's table of small-instance cuts (all its rows together).
 pub const TINY_CUT_ENTRIES: u32 = 4096;
+/// u32 words per row of a small-instance cut table: error, first entry, count, coverage part
+/// (`builder::cut::TinyCuts::words`).
+pub const TINY_ROW_WORDS: u32 = 4;
 /// Largest projected radius (pixels, of the mesh's bounding sphere at its point nearest to the
 /// camera) of an instance that takes its cut from the table, unless its mesh has at most
 /// [`WALK_CLUSTERS`] clusters: a larger instance of a bigger mesh walks its BVH, whose per-group
 /// LOD test at each group's own sphere draws fewer clusters than the table's one distance.
 pub const TINY_CUT_RADIUS_PX: f32 = 32.0;
+/// Below this projected radius (pixels, of the mesh's bounding sphere at its point nearest to the
+/// camera) an instance counts `radius / SMALL_WEIGHT_RADIUS_PX` (at least [`SMALL_WEIGHT_MIN`])
+/// of each LOD error and its coverage part whole (`builder::cut::small_instance_weight`,
+/// `common/lod.glsl`'s `weighted_error`), in every test of vgeo's cut and in the `lod` baseline's
+/// level choice. An error bounds how far the surface (and, through the normal weight, its
+/// shading) moves over a region; inside an instance a few pixels across every such region is
+/// about a pixel, which the supersampled reference averages, while a thin part that vanishes is
+/// missed at any size (docs/architecture.md, "Small instances: a lighter error"). The cost is
+/// measured, not assumed: stress N=20 rendered at the sizes of N=100 and N=200 at 1080p stays
+/// within 1 dB of brute at one sample per pixel (bench/results/2026-11-27-session29/).
+pub const SMALL_WEIGHT_RADIUS_PX: f32 = 16.0;
+/// The smallest weight of [`SMALL_WEIGHT_RADIUS_PX`]: instances under a quarter of that radius.
+pub const SMALL_WEIGHT_MIN: f32 = 0.25;
 /// `cluster_cull` tests a BVH leaf's clusters in ranges of at most this many, each range a queue
 /// item of its own (so lanes share a leaf's clusters instead of one lane testing them all, one
 /// after another: a close mesh's leaves hold a hundred). An item's low word is then
@@ -356,6 +372,24 @@ const _: () = assert!(size_of::<ClusterLocGpu>() == 8);
 
 const _: () = assert!(size_of::<MeshGpu>() == 96);
 
+/// A DAG group as the cull reads it (`builder::Group` without the bounds, which only the CPU
+/// uses, and with its coverage part: `BuiltMesh::group_coverage_of`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GroupGpu {
+    pub lod_sphere: [f32; 4],
+    pub error: f32,
+    /// The coverage part of `error` (at most it): what a small instance counts whole.
+    pub coverage: f32,
+    pub first_cluster: u32,
+    pub cluster_count: u32,
+    pub iteration: u32,
+    pub page_first: u32,
+    pub page_count: u32,
+    pub _pad: u32,
+}
+const _: () = assert!(size_of::<GroupGpu>() == 48);
+
 /// One instance of the vgeo path. The translation is split into high and low f32 parts so that
 /// camera-relative positions are exact for scenes far from the origin.
 #[repr(C)]
@@ -507,6 +541,8 @@ pub struct LodMeshGpu {
     pub sphere: [f32; 4],
     /// Object-space error per level (non-decreasing, 0 for level 0).
     pub errors: [f32; LOD_LEVELS as usize],
+    /// The coverage part of each level's error (`LodChain::coverages`).
+    pub coverages: [f32; LOD_LEVELS as usize],
     /// Per level, (first index, index count) in the mesh's index buffer.
     pub ranges: [[u32; 2]; LOD_LEVELS as usize],
     /// Object-space bounding box.
@@ -517,7 +553,7 @@ pub struct LodMeshGpu {
     pub bounds_max: [f32; 3],
     pub _pad: u32,
 }
-const _: () = assert!(size_of::<LodMeshGpu>() == 144);
+const _: () = assert!(size_of::<LodMeshGpu>() == 176);
 
 /// Per-frame view of `lod_cull`. Positions are camera-relative (the instances' model matrices are).
 #[repr(C)]

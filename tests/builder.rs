@@ -1079,16 +1079,32 @@ fn small_instance_cuts_are_whole_cuts_of_the_dag() {
     // row_for: the first row whose error projects to at most tau (here the projection is x2).
     for (k, r) in t.rows.iter().enumerate() {
         let tau = 2.0 * r.error;
-        let got = t.row_for(tau, |e| 2.0 * e).expect("a row");
+        let got = t.row_for(tau, |r| 2.0 * r.error).expect("a row");
         assert_eq!(got, r, "row {k}");
     }
-    assert!(t.row_for(-1.0, |e| e).is_none());
+    assert!(t.row_for(-1.0, |r| r.error).is_none());
+    // Each row's coverage part: at most its error, at least every finer row's and than the
+    // coverage of each of its clusters' creator groups.
+    for (k, r) in t.rows.iter().enumerate() {
+        assert!(r.coverage <= r.error || r.coverage == 0.0, "row {k}: {r:?}");
+        if let Some(next) = t.rows.get(k + 1) {
+            assert!(r.coverage >= next.coverage, "row {k}: {r:?} then {next:?}");
+        }
+        for &ci in &t.clusters[r.first as usize..(r.first + r.count) as usize] {
+            let c = &b.clusters[ci as usize];
+            if c.creator != vgeo::builder::NO_GROUP {
+                assert!(b.group_coverage_of(c.creator) <= r.coverage, "row {k}");
+            }
+        }
+    }
     // The words instance_cull reads.
     let w = t.words();
     assert_eq!(w[0] as usize, t.rows.len());
+    let n = vgeo::shared::TINY_ROW_WORDS as usize;
     for (k, r) in t.rows.iter().enumerate() {
-        let row = &w[1 + 3 * k..4 + 3 * k];
+        let row = &w[1 + n * k..1 + n * (k + 1)];
         assert_eq!(f32::from_bits(row[0]), r.error);
+        assert_eq!(f32::from_bits(row[3]), r.coverage);
         let first = row[1] as usize;
         assert_eq!(
             &w[first..first + row[2] as usize],
@@ -1186,4 +1202,55 @@ fn closed_solids_are_told_from_other_meshes() {
         !closed("flat", inverted((flat, tet))),
         "a flat tetrahedron, turned"
     );
+}
+
+/// Each group's coverage part (`BuiltMesh::group_coverage`: what a small instance counts whole):
+/// at most the group's error, growing towards the root, positive where thin blades lose area and
+/// below the error where shading and position dominate; the BVH bounds it; the `.vgeo` file keeps
+/// it; a file without it (written before it existed) counts every error whole; and a file whose
+/// coverage exceeds its error is refused.
+#[test]
+fn group_coverage_is_built_bounded_and_kept() {
+    let grass = vgeo::generated_mesh("grass").expect("grass");
+    let b = build_and_verify(&grass);
+    assert_eq!(b.group_coverage.len(), b.groups.len());
+    let inner: Vec<usize> = (0..b.groups.len())
+        .filter(|&g| b.groups[g].error.is_finite())
+        .collect();
+    for &g in &inner {
+        let (c, e) = (b.group_coverage[g], b.groups[g].error);
+        assert!((0.0..=e).contains(&c), "group {g}: coverage {c}, error {e}");
+    }
+    assert!(
+        inner.iter().any(|&g| b.group_coverage[g] > 0.0),
+        "blades lose area somewhere"
+    );
+    let (bunny, _) = vgeo::mesh::load_mesh(&common::assets().join("bunny.ply")).expect("bunny");
+    let bunny = build_and_verify(&bunny);
+    assert!(
+        (0..bunny.groups.len()).any(|g| bunny.group_coverage[g] < bunny.groups[g].error),
+        "a closed scan's errors are not all coverage"
+    );
+    for n in &b.bvh {
+        assert!(n.max_parent_coverage <= n.max_parent_error, "{n:?}");
+    }
+    let loaded = vgeo::format::load(&vgeo::format::save(&b)).expect("load");
+    assert_eq!(loaded, b, "the file keeps it");
+    // A file from before it: no coverage section.
+    let mut old = b.clone();
+    old.group_coverage.clear();
+    let old = vgeo::format::load(&vgeo::format::save(&old)).expect("an older file loads");
+    assert!(old.group_coverage.is_empty());
+    for (g, grp) in old.groups.iter().enumerate() {
+        assert_eq!(old.group_coverage_of(g as u32), grp.error, "counts whole");
+    }
+    for n in &old.bvh {
+        assert_eq!(n.max_parent_coverage, n.max_parent_error);
+    }
+    // Coverage above the error: refused.
+    let mut bad = b.clone();
+    let g = inner[0];
+    bad.group_coverage[g] = bad.groups[g].error * 2.0 + 1.0;
+    let err = vgeo::format::load(&vgeo::format::save(&bad)).expect_err("refused");
+    assert!(err.to_string().contains("coverage"), "{err}");
 }

@@ -385,6 +385,93 @@ fn clumps_of_any_size_take_their_cut_from_the_table() {
     assert_no_validation_errors(&ctx);
 }
 
+/// A small instance counts a share of its errors (`small_instance_weight`: under
+/// `SMALL_WEIGHT_RADIUS_PX`, its radius over that, at least `SMALL_WEIGHT_MIN`) in every test of its
+/// cut. Spots 4-20 px in radius, in a view of many instances (their cuts from the table) and of one
+/// fewer (below `WALK_WIDE_INSTANCES`: the per-group rule): the GPU's cut is the CPU oracle's,
+/// which weighs them the same, and both draw fewer triangles than the per-group rule with whole
+/// errors (`cluster_in_cut`), which neither would undercut without the weight (the table's cut is
+/// never coarser than that rule).
+#[test]
+fn small_instances_count_a_share_of_their_errors() {
+    use vgeo::builder::cut::{cluster_in_cut, proj_scale, small_instance_weight};
+    use vgeo::shared::{SMALL_WEIGHT_MIN, SMALL_WEIGHT_RADIUS_PX, WALK_WIDE_INSTANCES};
+    // The weight itself: 1 from the radius up (and for infinity and NaN), proportional below, and
+    // at least the minimum.
+    let r = SMALL_WEIGHT_RADIUS_PX;
+    assert_eq!(small_instance_weight(r), 1.0);
+    assert_eq!(small_instance_weight(2.0 * r), 1.0);
+    assert_eq!(small_instance_weight(f32::INFINITY), 1.0);
+    assert_eq!(small_instance_weight(f32::NAN), 1.0);
+    assert_eq!(small_instance_weight(0.5 * r), 0.5f32.max(SMALL_WEIGHT_MIN));
+    assert_eq!(small_instance_weight(0.0), SMALL_WEIGHT_MIN);
+    let ctx = gpu();
+    let meshes = vec![built(&assets().join("spot.obj"))];
+    let camera = field_camera(DVec3::new(0.0, 0.5, 0.0), DVec3::new(0.0, 0.0, -30.0));
+    let side = 64usize;
+    let mut placements = Vec::new();
+    for i in 0..side {
+        for j in 0..side {
+            // Rows from 12 to 60 units away.
+            let z = -12.0 * 5f64.powf(j as f64 / (side - 1) as f64);
+            let x = (i as f64 / side as f64 - 0.5) * 0.8 * z.abs();
+            placements.push(Placement {
+                mesh: 0,
+                transform: DMat4::from_rotation_translation(
+                    DQuat::from_rotation_y(0.37 * (i * side + j) as f64),
+                    DVec3::new(x, 0.0, z),
+                ),
+                color: [1.0; 3],
+            });
+        }
+    }
+    assert_eq!(placements.len(), WALK_WIDE_INSTANCES as usize);
+    let (w, h) = (320, 240);
+    let settings = FrameSettings {
+        error_px: 1.0,
+        flags: VIEW_FLAG_NO_FRUSTUM,
+        ..Default::default()
+    };
+    // Triangles of `placements`' cut on the GPU (checked against the CPU oracle's), instances cut
+    // from the table, and triangles of the per-group rule with whole errors (the spots are rigid:
+    // the camera in each one's object space sees the same distances).
+    let ps = proj_scale(h as f32, camera.fov_y);
+    let cut = |placements: &[Placement]| {
+        let mut r = VgeoRenderer::new(&ctx, &meshes, placements).expect("renderer");
+        compare(&mut r, &meshes, placements, &camera, settings.error_px);
+        let res = r.cull(&camera, w, h, &settings).expect("cull runs");
+        let whole: u64 = placements
+            .iter()
+            .map(|p| {
+                let eye = p.transform.inverse().transform_point3(camera.position);
+                meshes[0]
+                    .clusters
+                    .iter()
+                    .filter(|c| cluster_in_cut(c, eye.as_vec3(), ps, settings.error_px))
+                    .map(|c| c.triangle_count() as u64)
+                    .sum::<u64>()
+            })
+            .sum();
+        (res.counters.triangles as u64, res.counters.tiny_cuts, whole)
+    };
+    for (n, table) in [(placements.len(), true), (placements.len() - 1, false)] {
+        let (weighted, tiny, whole) = cut(&placements[..n]);
+        eprintln!(
+            "{n} instances, {tiny} cut from the table: {weighted} triangles; with whole errors by the per-group rule {whole}"
+        );
+        if table {
+            assert_eq!(tiny as usize, n, "every spot takes the table");
+        } else {
+            assert_eq!(tiny, 0, "a view of fewer instances took the table");
+        }
+        assert!(
+            (weighted as f64) < 0.95 * whole as f64,
+            "small instances drew {weighted} triangles, with whole errors {whole}"
+        );
+    }
+    assert_no_validation_errors(&ctx);
+}
+
 /// Partial residency on the GPU: with random closed sets of bunny's pages marked absent
 /// (`GpuScene::set_page_residency`), the GPU cut equals the CPU cut under the same residency
 /// (`reference_cut_resident`, the rule of `builder::cut`), draws only resident pages, marks

@@ -95,6 +95,16 @@ fn check_chain(name: &str, chain: &LodChain, full: u32) {
         "{name}: the coarsest level must report an error: {:?}",
         chain.errors
     );
+    // The coverage parts: 0 at level 0, non-decreasing, at most the errors.
+    assert_eq!(chain.coverages[0], 0.0);
+    for k in 1..LOD_COUNT {
+        assert!(
+            chain.coverages[k] >= chain.coverages[k - 1] && chain.coverages[k] <= chain.errors[k],
+            "{name}: coverages {:?}, errors {:?}",
+            chain.coverages,
+            chain.errors
+        );
+    }
     // Ranges lie inside the index buffer and hold whole triangles.
     for &(first, count) in &chain.ranges {
         assert!(first as usize + count as usize <= chain.indices.len());
@@ -166,6 +176,19 @@ fn tiny_meshes_keep_equal_levels() {
     assert_eq!(c.errors, [0.0; LOD_COUNT]);
 }
 
+/// `select_lod` of an instance of `chain` placed by `t`.
+fn chain_level(chain: &LodChain, t: &DMat4, eye: DVec3, ps: f32, tau: f32) -> u8 {
+    select_lod(
+        &chain.errors,
+        &chain.coverages,
+        &chain.sphere,
+        t,
+        eye,
+        ps,
+        tau,
+    )
+}
+
 #[test]
 fn selection_follows_distance() {
     let chain = LodChain::build(&bunny());
@@ -173,7 +196,7 @@ fn selection_follows_distance() {
     let ps = vgeo::builder::cut::proj_scale(720.0, cam.fov_y);
     let pick = |d: f64, tau: f32, t: DMat4| {
         let t = DMat4::from_translation(DVec3::new(0.0, 0.0, -d)) * t;
-        select_lod(&chain.errors, &chain.sphere, &t, cam.position, ps, tau)
+        chain_level(&chain, &t, cam.position, ps, tau)
     };
     let mut levels = Vec::new();
     let mut d = 0.05;
@@ -245,10 +268,12 @@ fn selection_follows_distance() {
 
 /// "1 px" means what vgeo's culls mean: the cut's `lod_error_px` of the level's error and the
 /// mesh's sphere, both scaled by the instance's largest axis scale (the `max_scale` vgeo's
-/// instances carry), the sphere moved by the transform; for scaled, rotated, far-off instances.
+/// instances carry), the sphere moved by the transform, the error weighted for a small instance
+/// (`small_instance_weight`, its coverage part whole) as vgeo weighs it; for scaled, rotated,
+/// far-off instances.
 #[test]
 fn selection_is_the_cut_formula_with_the_instance_scale() {
-    use vgeo::builder::cut::{lod_error_px, proj_scale};
+    use vgeo::builder::cut::{lod_error_px, proj_scale, small_instance_weight};
     let chain = LodChain::build(&bunny());
     let cam = Camera::look_at(
         DVec3::new(1.0e5, 20.0, -3.0),
@@ -280,12 +305,16 @@ fn selection_is_the_cut_formula_with_the_instance_scale() {
         assert_eq!(vgeo::scene_gpu::instance_gpu(&p).max_scale, s);
         assert!((s as f64 - scale.max_element()).abs() < 1e-5 * scale.max_element());
         let rel = (t.transform_point3(centre) - cam.position).as_vec3();
+        // A small instance counts a share of its errors (its sphere's projected radius), their
+        // coverage part whole.
+        let radius = chain.sphere[3] * s;
+        let w = small_instance_weight(lod_error_px(radius, rel, radius, Vec3::ZERO, ps));
         for tau in [0.5f32, 1.0, 4.0] {
             let expect = (1..LOD_COUNT)
                 .rev()
                 .find(|&k| {
                     lod_error_px(
-                        chain.errors[k] * s,
+                        (chain.errors[k] * w).max(chain.coverages[k]) * s,
                         rel,
                         chain.sphere[3] * s,
                         Vec3::ZERO,
@@ -293,7 +322,7 @@ fn selection_is_the_cut_formula_with_the_instance_scale() {
                     ) <= tau
                 })
                 .unwrap_or(0) as u8;
-            let got = select_lod(&chain.errors, &chain.sphere, &t, cam.position, ps, tau);
+            let got = chain_level(&chain, &t, cam.position, ps, tau);
             assert_eq!(got, expect, "instance {i}, {tau} px");
             picked[got as usize] += 1;
         }

@@ -203,15 +203,15 @@ bool children_resident(MeshGpu mesh, uint creator) {
 // A cluster's LOD pairs are its groups' (the builder stores exactly those, verify checks it): its
 // parent pair is its group's (lod_sphere, error), its self pair its creator group's; a level-0
 // cluster (no creator) has self error 0. The self error in pixels, for a cluster made by
-// `creator`.
-float self_error_px(InstanceVgeo inst, MeshGpu mesh, uint creator, float scale) {
+// `creator`, weighted by `w` (lod.glsl's instance_weight and weighted_error).
+float self_error_px(InstanceVgeo inst, MeshGpu mesh, uint creator, float scale, float w) {
     if (creator == NO_GROUP_ID) {
         return 0.0;
     }
-    vec4 sphere = groups[mesh.group_offset + creator].lod_sphere;
-    float error = groups[mesh.group_offset + creator].error;
-    vec3 sc = relative_position(inst, view, sphere.xyz);
-    return lod_error_px(error * scale, sc, sphere.w * scale, view.proj_scale);
+    Group g = groups[mesh.group_offset + creator];
+    vec3 sc = relative_position(inst, view, g.lod_sphere.xyz);
+    return lod_error_px(weighted_error(g.error, g.coverage, w) * scale, sc, g.lod_sphere.w * scale,
+                        view.proj_scale);
 }
 
 // A drawn cluster that is coarser than wanted (`wish`: its projected error over the threshold)
@@ -278,7 +278,7 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
             return false;
         }
     } else {
-        float self_px = self_error_px(inst, mesh, creator, scale);
+        float self_px = self_error_px(inst, mesh, creator, scale, instance_weight(inst, mesh, view));
         if (self_px > view.error_px) {
             if (children_resident(mesh, creator)) {
                 return false;
@@ -299,7 +299,8 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
 // of the mesh's LOD bound (`walk_radius` around `bounds_center`, enclosing every group's LOD
 // sphere) nearest to the camera, never farther than the group's own sphere, so the cut is as fine
 // or finer than the per-group rule everywhere; with one distance for all, it is the first row
-// whose error projects to at most the threshold. Its clusters are tested for the frustum and
+// whose error projects to at most the threshold, the errors of an instance under
+// SMALL_WEIGHT_RADIUS_PX weighted by small_instance_weight. Its clusters are tested for the frustum and
 // the HZB and emitted, with no BVH walk and no LOD test. False when the
 // instance's bounding sphere projects to a radius over TINY_CUT_RADIUS_PX (unless its mesh has
 // at most WALK_CLUSTERS clusters) or the table holds no cut fine enough (a larger instance: walk
@@ -320,17 +321,21 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     }
     float scale = inst.max_scale;
     vec3 c = relative_position(inst, view, mesh.bounds_center);
-    float br = mesh.bounds_radius * scale;
     // A mesh of at most WALK_CLUSTERS clusters (grass clumps; its table reaches the first level)
     // takes the table at any size: a close instance's local walk (which such a mesh always takes)
     // kept its whole subgroup waiting, where the table's cut is at most as many clusters, each
     // still tested (foliage's instance_cull 0.58 -> 0.17 ms on the H100, the same cut and image).
-    if (mesh.cluster_count > WALK_CLUSTERS && lod_error_px(br, c, br, view.proj_scale) > TINY_CUT_RADIUS_PX) {
+    float size = instance_size_px(inst, mesh, view);
+    if (mesh.cluster_count > WALK_CLUSTERS && size > TINY_CUT_RADIUS_PX) {
         return false;
     }
     float r = mesh.walk_radius * scale;
+    // An instance under SMALL_WEIGHT_RADIUS_PX counts a share of its rows' errors
+    // (instance_weight, weighted_error: their coverage part whole).
+    float w = small_instance_weight(size);
     uint row0 = base + 1u;
-    float last = uintBitsToFloat(tiny_cuts[row0 + 3u * (rows - 1u)]);
+    uint lastw = row0 + TINY_ROW_WORDS * (rows - 1u);
+    float last = weighted_error(uintBitsToFloat(tiny_cuts[lastw]), uintBitsToFloat(tiny_cuts[lastw + 3u]), w);
     if (lod_error_px(last * scale, c, r, view.proj_scale) > view.error_px) {
         return false;
     }
@@ -340,14 +345,15 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     uint hi = rows - 1u;
     while (lo < hi) {
         uint mid = (lo + hi) / 2u;
-        float e = uintBitsToFloat(tiny_cuts[row0 + 3u * mid]);
+        uint at = row0 + TINY_ROW_WORDS * mid;
+        float e = weighted_error(uintBitsToFloat(tiny_cuts[at]), uintBitsToFloat(tiny_cuts[at + 3u]), w);
         if (lod_error_px(e * scale, c, r, view.proj_scale) <= view.error_px) {
             hi = mid;
         } else {
             lo = mid + 1u;
         }
     }
-    uint row = row0 + 3u * lo;
+    uint row = row0 + TINY_ROW_WORDS * lo;
     uint first = base + tiny_cuts[row + 1u];
     uint count = tiny_cuts[row + 2u];
     CULL_STAT(tiny_cuts, 1u)
@@ -381,7 +387,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
         in_cut = info_level(info) <= mesh.fallback_level;
     } else {
         uint creator = cluster_creator(at);
-        float self_px = self_error_px(inst, mesh, creator, scale);
+        float self_px = self_error_px(inst, mesh, creator, scale, instance_weight(inst, mesh, view));
         bool fine = self_px <= view.error_px;
         if (partial && !fine && !children_resident(mesh, creator)) {
             // Drawn for want of its children; only a cluster in the frustum asks for them (one
@@ -462,8 +468,11 @@ void process_node(uint64_t item, bool local) {
     // fallback cut is by level: every node is walked).
     bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
     vec3 lc = relative_position(inst, view, node.lod_sphere.xyz);
+    float w = fallback ? 1.0 : instance_weight(inst, mesh, view);
+    // Every group's weighted parent error below is at most this (weighted_error grows with both).
+    float bound = weighted_error(node.max_parent_error, node.max_parent_coverage, w);
     if (!fallback
-        && lod_error_px(node.max_parent_error * scale, lc, node.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
+        && lod_error_px(bound * scale, lc, node.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
         return;
     }
     if ((node.flags & BVH_FLAG_LEAF) == 0u) {
@@ -494,7 +503,8 @@ void process_node(uint64_t item, bool local) {
         // The members' parent pair is the group's: when it is already fine, none is drawn.
         if (!fallback) {
             vec3 pcen = relative_position(inst, view, group.lod_sphere.xyz);
-            if (lod_error_px(group.error * scale, pcen, group.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
+            float e = weighted_error(group.error, group.coverage, w);
+            if (lod_error_px(e * scale, pcen, group.lod_sphere.w * scale, view.proj_scale) <= view.error_px) {
                 CULL_STAT(clusters_tested, group.cluster_count)
                 continue;
             }
@@ -527,6 +537,8 @@ bool walk_locally(InstanceVgeo inst, MeshGpu mesh) {
     vec3 c = relative_position(inst, view, mesh.bounds_center);
     float scale = inst.max_scale;
     float e = view.instance_count >= WALK_WIDE_INSTANCES ? mesh.walk_error_wide : mesh.walk_error;
+    // Whole errors: a weighted cut holds no cluster this bound leaves out (weighted_error is at
+    // most the error).
     return lod_error_px(e * scale, c, mesh.walk_radius * scale, view.proj_scale) <= view.error_px;
 }
 

@@ -50,4 +50,33 @@ float lod_error_px(float error, vec3 center, float radius, float proj_scale) {
     return e / d;
 }
 
+// The share of its LOD errors that counts for an instance whose bounding sphere projects to a
+// radius of `radius_px` pixels (src/builder/cut.rs small_instance_weight; SMALL_WEIGHT_RADIUS_PX
+// in src/shared.rs says why): radius / SMALL_WEIGHT_RADIUS_PX, at least SMALL_WEIGHT_MIN, 1 from
+// that radius up (lod_error_px's infinity included). No clamp(): a NaN radius gives 1 as on the CPU.
+float small_instance_weight(float radius_px) {
+    return radius_px < SMALL_WEIGHT_RADIUS_PX
+        ? max(radius_px / SMALL_WEIGHT_RADIUS_PX, SMALL_WEIGHT_MIN) : 1.0;
+}
+
+// The projected radius (pixels) of instance `inst`'s bounding sphere at its point nearest to the
+// camera: the size vgeo's small-instance table and weight go by.
+float instance_size_px(InstanceVgeo inst, MeshGpu mesh, ViewGpu v) {
+    vec3 c = relative_position(inst, v, mesh.bounds_center);
+    float br = mesh.bounds_radius * inst.max_scale;
+    return lod_error_px(br, c, br, v.proj_scale);
+}
+
+// The share of its LOD errors instance `inst` counts (small_instance_weight of its size).
+float instance_weight(InstanceVgeo inst, MeshGpu mesh, ViewGpu v) {
+    return small_instance_weight(instance_size_px(inst, mesh, v));
+}
+
+// A LOD error as an instance of weight `w` counts it: its coverage part (at most the error: a
+// thin part's lost area, which a small instance shows as much as a large one) whole, the rest
+// (position and shading) weighted. At w = 1 it is `error`. Mirror: src/reference/cut.rs.
+float weighted_error(float error, float coverage, float w) {
+    return max(error * w, coverage);
+}
+
 #endif

@@ -133,19 +133,21 @@ struct ClusterLoc {
     uint data_offset;
 };
 
-// Builder structs (src/builder/mod.rs), as stored in the .vgeo file.
+// A DAG group as the cull reads it (GroupGpu in src/shared.rs: builder::Group without its bounds,
+// with its coverage part).
 struct Group {
     vec4 lod_sphere;
-    vec3 bounds_min;
     float error;
-    vec3 bounds_max;
+    float coverage;
     uint first_cluster;
     uint cluster_count;
     uint iteration;
     uint page_first;
     uint page_count;
+    uint _pad;
 };
 
+// Builder structs (src/builder/mod.rs), as stored in the .vgeo file.
 struct BvhNode {
     vec3 bounds_min;
     float max_parent_error;
@@ -154,8 +156,8 @@ struct BvhNode {
     vec4 lod_sphere;
     uint first;
     uint count;
-    uint _pad0;
-    uint _pad1;
+    float max_parent_coverage;
+    uint _pad;
 };
 
 // A decoded vertex of a page (positions and normals are separate streams in the pool).
@@ -170,6 +172,7 @@ struct PackedVertex {
 struct LodMeshGpu {
     vec4 sphere;
     float errors[LOD_LEVELS];
+    float coverages[LOD_LEVELS];
     uvec2 ranges[LOD_LEVELS];
     vec3 bounds_min;
     uint closed_solid;

@@ -23,7 +23,7 @@ use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::brute::{Classic, ClassicFrame, ClassicMesh, Draw, check_placements, instance_gpu};
-use crate::builder::cut::{lod_error_px, proj_scale};
+use crate::builder::cut::{lod_error_px, proj_scale, small_instance_weight};
 use crate::camera::Camera;
 use crate::gpu::{Context, GpuError, GpuResult};
 use crate::material::ShadeMode;
@@ -141,6 +141,9 @@ pub struct LodChain {
     pub ranges: [(u32, u32); LOD_COUNT],
     /// Per level, the object-space error (0 for level 0), non-decreasing.
     pub errors: [f32; LOD_COUNT],
+    /// Per level, the coverage part of its error (at most it, non-decreasing): what a small
+    /// instance counts whole ([`select_lod`]), as vgeo's groups' (`BuiltMesh::group_coverage`).
+    pub coverages: [f32; LOD_COUNT],
     /// Object-space bounding sphere of the mesh: centre xyz, radius w.
     pub sphere: [f32; 4],
     /// Object-space bounding box of the mesh (min, max; zero when it has no vertex).
@@ -166,6 +169,7 @@ impl LodChain {
         let mut indices: Vec<u32> = full.clone();
         let mut ranges = [(0u32, full.len() as u32); LOD_COUNT];
         let mut errors = [0.0f32; LOD_COUNT];
+        let mut coverages = [0.0f32; LOD_COUNT];
         // The builder's simplifier and error (position and attributes, same weights), so that a
         // level's error means what a DAG cluster's does and `--error-px 1` compares.
         let defaults = crate::builder::BuildOptions::default();
@@ -189,6 +193,7 @@ impl LodChain {
             if (prev.1 as usize / 3) <= LOD_MIN_TRIANGLES {
                 ranges[k] = prev;
                 errors[k] = errors[k - 1];
+                coverages[k] = coverages[k - 1];
                 continue;
             }
             let tri_target = (full.len() / 3) as f32 * LOD_FRACTIONS[k];
@@ -217,20 +222,22 @@ impl LodChain {
                     }
                 }
                 // Each level is simplified from the full mesh: both errors are against it.
-                let err = out.combined();
+                let err = (out.combined(), out.coverage);
                 (out.tris.into_iter().flatten().collect::<Vec<u32>>(), err)
             });
             match lod {
                 // Smaller but not empty: meshoptimizer may collapse a tiny closed mesh to nothing,
                 // and an instance must never vanish because it is far.
-                Some((out, err)) if !out.is_empty() && (out.len() as u32) < prev.1 => {
+                Some((out, (err, cov))) if !out.is_empty() && (out.len() as u32) < prev.1 => {
                     ranges[k] = (indices.len() as u32, out.len() as u32);
                     errors[k] = err.max(errors[k - 1]);
+                    coverages[k] = cov.max(coverages[k - 1]).min(errors[k]);
                     indices.extend_from_slice(&out);
                 }
                 _ => {
                     ranges[k] = prev;
                     errors[k] = errors[k - 1];
+                    coverages[k] = coverages[k - 1];
                 }
             }
         }
@@ -238,6 +245,7 @@ impl LodChain {
             indices,
             ranges,
             errors,
+            coverages,
             sphere: bounding_sphere(mesh),
             bounds: mesh.bounds().map_or([[0.0; 3]; 2], |(lo, hi)| [lo, hi]),
             closed_solid: crate::builder::solid::closed_solid(&mesh.positions, &mesh.indices),
@@ -270,6 +278,7 @@ fn bounding_sphere(mesh: &Mesh) -> [f32; 4] {
 struct LodInfo {
     ranges: [(u32, u32); LOD_COUNT],
     errors: [f32; LOD_COUNT],
+    coverages: [f32; LOD_COUNT],
     sphere: [f32; 4],
     bounds: [[f32; 3]; 2],
     closed_solid: bool,
@@ -287,14 +296,18 @@ fn world_sphere(sphere: &[f32; 4], transform: &DMat4, camera_pos: DVec3) -> (Vec
     ((center - camera_pos).as_vec3(), sphere[3] * scale, scale)
 }
 
-/// The level of an instance of a mesh with per-level `errors` and object-space bounding `sphere`,
-/// placed by `transform`, seen from `camera_pos` (world), for threshold `tau` pixels: the coarsest
-/// level whose error, scaled by the transform's largest axis scale, projects to at most `tau` at
-/// the nearest point of the transformed sphere ([`lod_error_px`]). Level 0 when `tau <= 0` (or
-/// NaN), so a zero threshold always draws full detail. Monotonic: a farther instance never gets a
-/// finer level (errors are non-decreasing).
+/// The level of an instance of a mesh with per-level `errors` (and their coverage parts,
+/// `coverages`) and object-space bounding `sphere`, placed by `transform`, seen from `camera_pos`
+/// (world), for threshold `tau` pixels: the coarsest level whose error, scaled by the transform's
+/// largest axis scale, projects to at most `tau` at the nearest point of the transformed sphere
+/// ([`lod_error_px`]). An instance whose sphere projects under `SMALL_WEIGHT_RADIUS_PX` counts a
+/// share of each error ([`small_instance_weight`]) and its coverage part whole, as vgeo weighs a
+/// small instance's (`common/lod.glsl`'s `weighted_error`). Level 0 when `tau <= 0` (or NaN), so a
+/// zero threshold always draws full detail. Monotonic: a farther instance never gets a finer
+/// level (errors and coverages are non-decreasing, and the weight only falls with distance).
 pub fn select_lod(
     errors: &[f32; LOD_COUNT],
+    coverages: &[f32; LOD_COUNT],
     sphere: &[f32; 4],
     transform: &DMat4,
     camera_pos: DVec3,
@@ -302,11 +315,12 @@ pub fn select_lod(
     tau: f32,
 ) -> u8 {
     let (rel, radius, scale) = world_sphere(sphere, transform, camera_pos);
-    level_for(errors, rel, radius, scale, proj_scale, tau)
+    level_for(errors, coverages, rel, radius, scale, proj_scale, tau)
 }
 
 fn level_for(
     errors: &[f32; LOD_COUNT],
+    coverages: &[f32; LOD_COUNT],
     rel: Vec3,
     radius: f32,
     scale: f32,
@@ -316,8 +330,10 @@ fn level_for(
     if tau.is_nan() || tau <= 0.0 {
         return 0;
     }
+    let w = small_instance_weight(lod_error_px(radius, rel, radius, Vec3::ZERO, proj_scale));
     for k in (1..LOD_COUNT).rev() {
-        if lod_error_px(errors[k] * scale, rel, radius, Vec3::ZERO, proj_scale) <= tau {
+        let e = (errors[k] * w).max(coverages[k]);
+        if lod_error_px(e * scale, rel, radius, Vec3::ZERO, proj_scale) <= tau {
             return k as u8;
         }
     }
@@ -385,6 +401,7 @@ impl Lod {
             .map(|c| LodInfo {
                 ranges: c.ranges,
                 errors: c.errors,
+                coverages: c.coverages,
                 sphere: c.sphere,
                 bounds: c.bounds,
                 closed_solid: c.closed_solid,
@@ -480,6 +497,7 @@ impl Lod {
         let info = &self.infos[p.mesh as usize];
         select_lod(
             &info.errors,
+            &info.coverages,
             &info.sphere,
             &p.transform,
             camera.position,
@@ -621,7 +639,7 @@ impl Lod {
                 selected.push(CULLED);
                 continue;
             }
-            let level = level_for(&info.errors, rel, radius, scale, ps, tau);
+            let level = level_for(&info.errors, &info.coverages, rel, radius, scale, ps, tau);
             let b = p.mesh as usize * LOD_COUNT + level as usize;
             counts[b] += 1;
             selected.push(b as u32);

@@ -42,7 +42,8 @@ fn merge(items: &[BvhNode]) -> BvhNode {
         lod_sphere,
         first: 0,
         count: 0,
-        _pad: [0; 2],
+        max_parent_coverage: 0.0,
+        _pad: 0,
     }
 }
 
@@ -182,7 +183,8 @@ fn leaf_node(g: &Group) -> BvhNode {
         lod_sphere: g.lod_sphere,
         first: 0,
         count: 0,
-        _pad: [0; 2],
+        max_parent_coverage: 0.0,
+        _pad: 0,
     }
 }
 
@@ -232,4 +234,25 @@ pub fn build_bvh(groups: &[Group]) -> (Vec<BvhNode>, Vec<u32>) {
         }
     }
     (nodes, order)
+}
+
+/// Sets every node's `max_parent_coverage`: the largest of `group_coverage` (per stored group) over
+/// its subtree. Children come after their parent (breadth-first), so one backward pass does.
+pub fn set_max_parent_coverage(bvh: &mut [BvhNode], group_coverage: &[f32]) {
+    for i in (0..bvh.len()).rev() {
+        let n = bvh[i];
+        let (first, count) = (n.first as usize, n.count as usize);
+        bvh[i].max_parent_coverage = if n.flags & BVH_FLAG_LEAF != 0 {
+            group_coverage
+                .get(first..first + count)
+                .unwrap_or(&[])
+                .iter()
+                .fold(0.0, |a, &b| a.max(b))
+        } else {
+            bvh.get(first..first + count)
+                .unwrap_or(&[])
+                .iter()
+                .fold(0.0, |a, c| a.max(c.max_parent_coverage))
+        };
+    }
 }

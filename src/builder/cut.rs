@@ -15,7 +15,9 @@
 use glam::Vec3;
 
 use super::{BVH_FLAG_LEAF, BuiltMesh, Cluster, NO_GROUP};
-use crate::shared::{TINY_CUT_CLUSTERS, TINY_CUT_ENTRIES};
+use crate::shared::{
+    SMALL_WEIGHT_MIN, SMALL_WEIGHT_RADIUS_PX, TINY_CUT_CLUSTERS, TINY_CUT_ENTRIES, TINY_ROW_WORDS,
+};
 
 /// Projected size in pixels of object-space `error` at the point of the sphere nearest to the
 /// camera: `error * proj_scale / (distance(center, camera) - radius)`.
@@ -40,6 +42,19 @@ pub fn lod_error_px(
         return f32::INFINITY;
     }
     error * proj_scale / d
+}
+
+/// The share of its LOD errors that counts for an instance whose bounding sphere projects to a
+/// radius of `radius_px` pixels: `radius_px / SMALL_WEIGHT_RADIUS_PX`, at least
+/// `SMALL_WEIGHT_MIN`, and 1 from that radius up (and for an infinite or NaN radius). GPU mirror:
+/// `common/lod.glsl::small_instance_weight`.
+#[inline]
+pub fn small_instance_weight(radius_px: f32) -> f32 {
+    if radius_px < SMALL_WEIGHT_RADIUS_PX {
+        (radius_px / SMALL_WEIGHT_RADIUS_PX).max(SMALL_WEIGHT_MIN)
+    } else {
+        1.0
+    }
 }
 
 /// `proj_scale` of [`lod_error_px`] for a viewport `height` pixels high and vertical field of view
@@ -179,9 +194,13 @@ pub fn cut_bvh(
 /// projects to at most the threshold on the mesh's LOD bound and the previous row's does not.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TinyRow {
+    /// The row's threshold: every cluster's self error is at most it.
     pub error: f32,
     pub first: u32,
     pub count: u32,
+    /// The largest coverage part of its clusters' self errors (`BuiltMesh::group_coverage_of`),
+    /// at least every finer row's: with `error`, what a small instance weighs the row by.
+    pub coverage: f32,
 }
 
 /// The cuts of a small instance, from the root down to [`TINY_CUT_CLUSTERS`] clusters: what
@@ -253,38 +272,59 @@ impl TinyCuts {
                 break;
             }
             out.clusters[first..].sort_unstable();
+            let coverage = out.clusters[first..]
+                .iter()
+                .map(|&ci| match m.clusters[ci as usize].creator {
+                    NO_GROUP => 0.0,
+                    g => m.group_coverage_of(g),
+                })
+                .fold(0.0, f32::max);
             out.rows.push(TinyRow {
                 error: e,
                 first: first as u32,
                 count: count as u32,
+                coverage,
             });
+        }
+        // Coarser rows hold at least the coverage of finer ones, so a weighted row error falls
+        // row by row as the unweighted one does (the GPU's binary search needs it).
+        let mut below = 0.0f32;
+        for r in out.rows.iter_mut().rev() {
+            r.coverage = r.coverage.max(below);
+            below = r.coverage;
         }
         out
     }
 
-    /// The table as `instance_cull` reads it (u32 words): the row count; per row its error's
-    /// bits, the word where its clusters start (relative to the table's first word) and its
-    /// cluster count; then the clusters.
+    /// The table as `instance_cull` reads it (u32 words): the row count; per row
+    /// ([`TINY_ROW_WORDS`]) its error's bits, the word where its clusters start (relative to the
+    /// table's first word), its cluster count and its coverage's bits; then the clusters.
     pub fn words(&self) -> Vec<u32> {
-        let head = 1 + 3 * self.rows.len() as u32;
+        let head = 1 + TINY_ROW_WORDS * self.rows.len() as u32;
         let mut w = Vec::with_capacity(head as usize + self.clusters.len());
         w.push(self.rows.len() as u32);
         for r in &self.rows {
-            w.extend([r.error.to_bits(), head + r.first, r.count]);
+            w.extend([
+                r.error.to_bits(),
+                head + r.first,
+                r.count,
+                r.coverage.to_bits(),
+            ]);
         }
         w.extend_from_slice(&self.clusters);
         w
     }
 
-    /// The row a cut for threshold `tau` takes, where `px(error)` projects an error onto the
-    /// mesh's LOD bound: the first whose error projects to at most `tau`, if any (`None`: the
-    /// instance needs a finer cut than the table holds). `px` must be non-decreasing.
-    pub fn row_for(&self, tau: f32, px: impl Fn(f32) -> f32) -> Option<&TinyRow> {
+    /// The row a cut for threshold `tau` takes, where `px(row)` projects a row's (weighted)
+    /// error onto the mesh's LOD bound: the first whose error projects to at most `tau`, if any
+    /// (`None`: the instance needs a finer cut than the table holds). `px` must not grow from
+    /// a row to the next.
+    pub fn row_for(&self, tau: f32, px: impl Fn(&TinyRow) -> f32) -> Option<&TinyRow> {
         let last = self.rows.last()?;
-        if px(last.error) > tau {
+        if px(last) > tau {
             return None;
         }
-        let k = self.rows.partition_point(|r| px(r.error) > tau);
+        let k = self.rows.partition_point(|r| px(r) > tau);
         self.rows.get(k)
     }
 }

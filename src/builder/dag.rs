@@ -117,6 +117,9 @@ struct WCluster {
     self_error: f32,
     /// The position-and-attribute part of `self_error` (the bound that adds up along a chain).
     pos_error: f32,
+    /// The coverage part of `self_error`: the largest coverage error along its chain (at most
+    /// `self_error`; what a small instance's weight leaves whole, `BuiltMesh::group_coverage`).
+    coverage: f32,
     self_sphere: Sphere,
     creator: u32,
     level: u32,
@@ -126,6 +129,7 @@ struct WCluster {
 struct WGroup {
     members: Vec<u32>,
     error: f32,
+    coverage: f32,
     sphere: Sphere,
     iteration: u32,
 }
@@ -135,6 +139,7 @@ struct Outcome {
     parts: Vec<Vec<[u32; 3]>>,
     error: f32,
     pos_error: f32,
+    coverage: f32,
     sphere: Sphere,
     fallback: bool,
 }
@@ -159,6 +164,7 @@ fn commit_group(
             tris: part,
             self_error: out.error,
             pos_error: out.pos_error,
+            coverage: out.coverage,
             self_sphere: out.sphere,
             creator: gid,
             level: iteration + 1,
@@ -168,6 +174,7 @@ fn commit_group(
     groups.push(WGroup {
         members,
         error: out.error,
+        coverage: out.coverage,
         sphere: out.sphere,
         iteration,
     });
@@ -1212,6 +1219,7 @@ fn build_inner(
                         tris: t,
                         self_error: 0.0,
                         pos_error: 0.0,
+                        coverage: 0.0,
                         self_sphere: sphere,
                         creator: NO_GROUP,
                         level: 0,
@@ -1431,6 +1439,7 @@ fn build_inner(
     groups.push(WGroup {
         members: vec![root],
         error: f32::INFINITY,
+        coverage: f32::INFINITY,
         sphere: root_sphere,
         iteration: u32::MAX,
     });
@@ -1834,6 +1843,12 @@ impl GroupCtx<'_> {
             .map(|&m| self.clusters[m as usize].pos_error)
             .fold(0.0, f32::max);
         let (error, pos_error) = group_error(e.0, e.1, members_pos, members_max, self.min_error);
+        // The coverage part: not summed (see group_error), the members' at least.
+        let coverage = members
+            .iter()
+            .map(|&m| self.clusters[m as usize].coverage)
+            .fold(e.1, f32::max)
+            .min(error);
         let parts = self
             .parter
             .group_clusters(&local, &t, max_tris, max_verts)
@@ -1848,6 +1863,7 @@ impl GroupCtx<'_> {
             parts,
             error,
             pos_error,
+            coverage,
             sphere,
             fallback,
         })
@@ -1902,6 +1918,7 @@ fn assemble(
     let mut new_index = vec![0u32; wclusters.len()];
     let mut order = Vec::with_capacity(wclusters.len());
     let mut groups = Vec::with_capacity(wgroups.len());
+    let mut group_coverage = Vec::with_capacity(wgroups.len());
     for &og in &gorder {
         let first = order.len() as u32;
         for &m in &wgroups[og as usize].members {
@@ -1911,7 +1928,10 @@ fn assemble(
         let mut g = pre[og as usize];
         g.first_cluster = first;
         groups.push(g);
+        group_coverage.push(wgroups[og as usize].coverage);
     }
+    let mut bvh = bvh;
+    super::bvh::set_max_parent_coverage(&mut bvh, &group_coverage);
     // Per cluster (in parallel): local vertices in first-use order, packed local indices,
     // vertex references, bounds; then concatenated in order.
     let nverts = vertices.len();
@@ -2026,6 +2046,7 @@ fn assemble(
         vertex_refs: refs,
         triangles,
         groups,
+        group_coverage,
         bvh,
         root,
         pages: Vec::new(),

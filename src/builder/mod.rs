@@ -379,7 +379,10 @@ pub struct BvhNode {
     pub first: u32,
     /// Inner node: child count; leaf: group count.
     pub count: u32,
-    pub _pad: [u32; 2],
+    /// Largest coverage part of a parent error in the subtree (`BuiltMesh::group_coverage`): with
+    /// `max_parent_error`, what bounds a small instance's weighted parent errors below.
+    pub max_parent_coverage: f32,
+    pub _pad: u32,
 }
 const _: () = assert!(size_of::<BvhNode>() == 64);
 
@@ -500,6 +503,11 @@ pub struct BuiltMesh {
     pub triangles: Vec<u8>,
     /// DAG groups.
     pub groups: Vec<Group>,
+    /// Per group, the coverage part of its error (at most `error`): the largest coverage error
+    /// along its chain, which a small instance counts whole while it weighs the rest
+    /// (`cut::small_instance_weight`). Empty for a file written before it existed: every error
+    /// then counts whole ([`BuiltMesh::group_coverage_of`]).
+    pub group_coverage: Vec<f32>,
     /// BVH over the clusters, for the GPU's culling walk.
     pub bvh: Vec<BvhNode>,
     /// Index of the root cluster.
@@ -514,6 +522,15 @@ pub struct BuiltMesh {
 }
 
 impl BuiltMesh {
+    /// The coverage part of group `g`'s error ([`BuiltMesh::group_coverage`]); the whole error
+    /// where it is not known.
+    pub fn group_coverage_of(&self, g: u32) -> f32 {
+        match self.group_coverage.get(g as usize) {
+            Some(&c) => c,
+            None => self.groups.get(g as usize).map_or(0.0, |g| g.error),
+        }
+    }
+
     /// Decoded position of vertex `v`.
     pub fn position(&self, v: u32) -> [f32; 3] {
         quantize::decode_position(&self.quantization, self.vertices[v as usize].position)

@@ -316,7 +316,21 @@ fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
             ));
         }
     }
+    if !m.group_coverage.is_empty() && m.group_coverage.len() != m.groups.len() {
+        s.add(format!(
+            "{} coverage values for {} groups",
+            m.group_coverage.len(),
+            m.groups.len()
+        ));
+    }
     for (gi, g) in m.groups.iter().enumerate() {
+        let cov = m.group_coverage_of(gi as u32);
+        if !(0.0 <= cov && cov <= g.error) {
+            s.add(format!(
+                "group {gi}: coverage {cov} not within 0..={} (its error)",
+                g.error
+            ));
+        }
         let end = g.first_cluster as u64 + g.cluster_count as u64;
         if g.cluster_count == 0 || end > m.clusters.len() as u64 {
             s.add(format!(
@@ -487,6 +501,18 @@ fn check_dag(m: &BuiltMesh, s: &mut Sink) {
                     c.level, cg.iteration
                 ));
             }
+            // The coverage part grows towards the root as the error does, so a small instance's
+            // weighted errors stay monotonic (its cut crack-free).
+            let (own, up) = (m.group_coverage_of(c.creator), m.group_coverage_of(c.group));
+            if own
+                .partial_cmp(&up)
+                .is_none_or(|o| o == std::cmp::Ordering::Greater)
+            {
+                s.add(format!(
+                    "cluster {ci}: coverage {own} of its creator group {} above {up} of its group {}",
+                    c.creator, c.group
+                ));
+            }
         }
         if c.self_error.partial_cmp(&c.parent_error) != Some(std::cmp::Ordering::Less)
             && c.self_error != c.parent_error
@@ -574,23 +600,35 @@ fn check_dag(m: &BuiltMesh, s: &mut Sink) {
         }
         // Children (nodes or groups) must lie inside the node: box, LOD sphere, error.
         for i in n.first..n.first + n.count {
-            let (lo, hi, sphere, err) = if leaf {
+            let (lo, hi, sphere, err, cov) = if leaf {
                 let g = &m.groups[i as usize];
-                (g.bounds_min, g.bounds_max, g.lod_sphere, g.error)
+                let cov = m.group_coverage_of(i);
+                (g.bounds_min, g.bounds_max, g.lod_sphere, g.error, cov)
             } else {
                 let c = &m.bvh[i as usize];
-                (c.bounds_min, c.bounds_max, c.lod_sphere, c.max_parent_error)
+                let cov = c.max_parent_coverage;
+                (
+                    c.bounds_min,
+                    c.bounds_max,
+                    c.lod_sphere,
+                    c.max_parent_error,
+                    cov,
+                )
             };
             let inside = (0..3).all(|k| n.bounds_min[k] <= lo[k] && hi[k] <= n.bounds_max[k]);
+            let above = |a: f32, b: f32| a.partial_cmp(&b) == Some(std::cmp::Ordering::Greater);
             if !inside
                 || !contains(&n.lod_sphere, &sphere)
-                || err.partial_cmp(&n.max_parent_error) == Some(std::cmp::Ordering::Greater)
+                || above(err, n.max_parent_error)
                 || err.is_nan()
+                || above(cov, n.max_parent_coverage)
+                || cov.is_nan()
             {
                 s.add(format!(
-                    "BVH node {ni}: child {i} not enclosed (box {inside}, sphere {}, error {err} vs {})",
+                    "BVH node {ni}: child {i} not enclosed (box {inside}, sphere {}, error {err} vs {}, coverage {cov} vs {})",
                     contains(&n.lod_sphere, &sphere),
-                    n.max_parent_error
+                    n.max_parent_error,
+                    n.max_parent_coverage
                 ));
             }
         }

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::builder::cut::TinyCuts;
+use crate::builder::cut::{TinyCuts, TinyRow, small_instance_weight};
 use crate::builder::{BuiltMesh, lod_error_px};
 use crate::camera::Camera;
 use crate::render::Placement;
@@ -38,9 +38,22 @@ pub fn relative_position(inst: &InstanceVgeo, view: &ViewGpu, p: Vec3) -> Vec3 {
 /// Pixels of projected error of (error, sphere) of an instance, and whether it is within
 /// `rel_margin` of `tau` (a borderline value whose side may differ by float rounding on a GPU).
 fn projected(inst: &InstanceVgeo, view: &ViewGpu, sphere: [f32; 4], error: f32) -> f32 {
+    projected_weighted(inst, view, sphere, (error, error), 1.0)
+}
+
+/// [`projected`] of an error with coverage part `(error, coverage)` as an instance of weight
+/// `weight` counts it (`common/lod.glsl`'s `weighted_error`, in the same order:
+/// `max(error * weight, coverage) * scale`).
+fn projected_weighted(
+    inst: &InstanceVgeo,
+    view: &ViewGpu,
+    sphere: [f32; 4],
+    (error, coverage): (f32, f32),
+    weight: f32,
+) -> f32 {
     let c = relative_position(inst, view, Vec3::new(sphere[0], sphere[1], sphere[2]));
     lod_error_px(
-        error * inst.max_scale,
+        (error * weight).max(coverage) * inst.max_scale,
         c,
         sphere[3] * inst.max_scale,
         Vec3::ZERO,
@@ -69,7 +82,8 @@ pub fn reference_cut(
 /// (`None`: all), the cut rule of `builder::cut` (a group not wholly resident counts error 0).
 /// Small instances of meshes with every page resident, in a view of many instances, take
 /// `instance_cull`'s cut from the mesh's table ([`TinyCuts`]): every error projected on the
-/// mesh's LOD bound.
+/// mesh's LOD bound. Every instance's errors count [`small_instance_weight`] of themselves, of its
+/// bounding sphere's projected radius (`common/lod.glsl`'s `instance_error_scale`).
 pub fn reference_cut_resident(
     built: &[BuiltMesh],
     residency: &[Option<&[bool]>],
@@ -110,12 +124,14 @@ pub fn reference_cut_resident(
         // marks the borderline clusters by it).
         let (table, center, radius) = &tiny[p.mesh as usize];
         let bound = [center.x, center.y, center.z, *radius];
-        let uniform = |e: f32| projected(&inst, view, bound, e);
-        let last = table.rows.last().map(|r| uniform(r.error));
         // The instance's bounding sphere's projected radius (the same projection, its radius as
-        // the "error").
+        // the "error"), and the share of its errors that counts at that size.
         let (bc, br) = crate::scene_gpu::mesh_sphere(m);
         let size = projected(&inst, view, [bc[0], bc[1], bc[2], br], br);
+        let weight = small_instance_weight(size);
+        let uniform = |e: (f32, f32)| projected_weighted(&inst, view, bound, e, weight);
+        let row_px = |r: &TinyRow| uniform((r.error, r.coverage));
+        let last = table.rows.last().map(row_px);
         // Only in a view of many instances (`emit_tiny_cut`; the view's instance count is the
         // scene's).
         let wide = placements.len() >= WALK_WIDE_INSTANCES as usize;
@@ -126,7 +142,7 @@ pub fn reference_cut_resident(
             && (any_size || size <= TINY_CUT_RADIUS_PX)
             && last.is_some_and(|px| px <= tau);
         // A small instance's cut is the table's row (`emit_tiny_cut`'s binary search).
-        let row: &[u32] = match table.row_for(tau, uniform).filter(|_| small) {
+        let row: &[u32] = match table.row_for(tau, row_px).filter(|_| small) {
             Some(r) => &table.clusters[r.first as usize..(r.first + r.count) as usize],
             None => &[],
         };
@@ -137,8 +153,20 @@ pub fn reference_cut_resident(
         let either = !partial && wide && (size_edge || last.is_some_and(near));
         for (ci, c) in m.clusters.iter().enumerate() {
             let (se, pe) = crate::builder::cut::resident_errors(m, c, res);
-            let s = projected(&inst, view, c.self_sphere, se);
-            let q = projected(&inst, view, c.parent_sphere, pe);
+            // With their coverage parts (0 with the error, where a group is not resident).
+            let part = |g: u32, e: f32| {
+                (
+                    e,
+                    if e == 0.0 {
+                        0.0
+                    } else {
+                        m.group_coverage_of(g)
+                    },
+                )
+            };
+            let (se, pe) = (part(c.creator, se), part(c.group, pe));
+            let s = projected_weighted(&inst, view, c.self_sphere, se, weight);
+            let q = projected_weighted(&inst, view, c.parent_sphere, pe, weight);
             let (us, uq) = (uniform(se), uniform(pe));
             let e = CutEntry {
                 instance: i as u32,

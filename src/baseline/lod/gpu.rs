@@ -48,6 +48,7 @@ impl GpuLod {
             .map(|i| LodMeshGpu {
                 sphere: i.sphere,
                 errors: i.errors,
+                coverages: i.coverages,
                 ranges: i.ranges.map(|(first, count)| [first, count]),
                 bounds_min: i.bounds[0],
                 closed_solid: i.closed_solid as u32,
