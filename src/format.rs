@@ -503,11 +503,26 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
         }
     }
     let mut m = m;
+    let has_coverage = h
+        .sections
+        .iter()
+        .any(|(x, _, _)| *x == section::GROUP_COVERAGE);
+    if has_coverage && m.group_coverage.len() != m.groups.len() {
+        return Err(FormatError::Invalid(format!(
+            "section group coverage: {} values for {} groups",
+            m.group_coverage.len(),
+            m.groups.len()
+        )));
+    }
     if m.group_coverage.is_empty() {
         // A file from before the coverage part: every error counts whole, the BVH's bound too.
         for n in &mut m.bvh {
             n.max_parent_coverage = n.max_parent_error;
         }
+    } else {
+        // The BVH's bound is the groups' (checked below), not trusted from the file: the GPU
+        // prunes small instances' subtrees by it.
+        crate::builder::bvh::set_max_parent_coverage(&mut m.bvh, &m.group_coverage);
     }
     let errors = crate::builder::verify::head_errors(&m);
     if let Some(first) = errors.first() {

@@ -1207,8 +1207,9 @@ fn closed_solids_are_told_from_other_meshes() {
 /// Each group's coverage part (`BuiltMesh::group_coverage`: what a small instance counts whole):
 /// at most the group's error, growing towards the root, positive where thin blades lose area and
 /// below the error where shading and position dominate; the BVH bounds it; the `.vgeo` file keeps
-/// it; a file without it (written before it existed) counts every error whole; and a file whose
-/// coverage exceeds its error is refused.
+/// it (its BVH bound recomputed at load); a file without it (written before it existed) counts
+/// every error whole; and a file whose coverage exceeds its error or has the wrong length is
+/// refused.
 #[test]
 fn group_coverage_is_built_bounded_and_kept() {
     let grass = vgeo::generated_mesh("grass").expect("grass");
@@ -1247,6 +1248,18 @@ fn group_coverage_is_built_bounded_and_kept() {
     for n in &old.bvh {
         assert_eq!(n.max_parent_coverage, n.max_parent_error);
     }
+    // The BVH's coverage bound is recomputed from the groups', not trusted from the file.
+    let mut low = b.clone();
+    for n in &mut low.bvh {
+        n.max_parent_coverage = 0.0;
+    }
+    let low = vgeo::format::load(&vgeo::format::save(&low)).expect("loads");
+    assert_eq!(low.bvh, b.bvh, "the bound is the groups'");
+    // A coverage section of the wrong length: refused.
+    let mut short = b.clone();
+    short.group_coverage.pop();
+    let err = vgeo::format::load(&vgeo::format::save(&short)).expect_err("refused");
+    assert!(err.to_string().contains("coverage"), "{err}");
     // Coverage above the error: refused.
     let mut bad = b.clone();
     let g = inner[0];

@@ -479,7 +479,7 @@ fn small_instances_count_a_share_of_their_errors() {
 /// that drawn clusters would refine into.
 #[test]
 fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_pages() {
-    use vgeo::builder::cut::{group_resident, lod_error_px};
+    use vgeo::builder::cut::group_resident;
     use vgeo::builder::page::{close_residency, group_needs, paginate};
     use vgeo::reference::cut::reference_cut_resident;
     let ctx = gpu();
@@ -556,14 +556,10 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
                 {
                     continue;
                 }
-                let sc = Vec3::from_slice(&cl.self_sphere[..3]) - camera.position.as_vec3();
-                let px = lod_error_px(
-                    cl.self_error,
-                    sc,
-                    cl.self_sphere[3],
-                    Vec3::ZERO,
-                    view.proj_scale,
-                );
+                // Its self pair (its creator group's), weighted as the cull weighs it.
+                let inst = vgeo::scene_gpu::instance_gpu(&placements[0]);
+                let w = vgeo::reference::cut::instance_weight(m, &inst, &view);
+                let px = vgeo::reference::cut::group_error_px(m, &inst, &view, cl.creator, w);
                 let g = &m.groups[cl.creator as usize];
                 for p in g.page_first..g.page_first + g.page_count {
                     if res[p as usize] {

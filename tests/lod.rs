@@ -695,13 +695,13 @@ fn gpu_selection_matches_the_cpu() {
                 let centre = DVec3::from(Vec3::from_slice(&chain.sphere[..3]));
                 let rel = (t.transform_point3(centre) - cam.position).as_vec3();
                 let k = gl.max(cl) as usize;
-                let px = vgeo::builder::cut::lod_error_px(
-                    chain.errors[k] * s,
-                    rel,
-                    chain.sphere[3] * s,
-                    Vec3::ZERO,
-                    ps,
+                // Weighted for a small instance, its coverage part whole (select_lod's rule).
+                let r = chain.sphere[3] * s;
+                let w = vgeo::builder::cut::small_instance_weight(
+                    vgeo::builder::cut::lod_error_px(r, rel, r, Vec3::ZERO, ps),
                 );
+                let e = (chain.errors[k] * w).max(chain.coverages[k]);
+                let px = vgeo::builder::cut::lod_error_px(e * s, rel, r, Vec3::ZERO, ps);
                 assert!(
                     (px - tau).abs() <= 1e-4 * tau,
                     "{msg}: level {k} at {px} px"

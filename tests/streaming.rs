@@ -746,17 +746,10 @@ fn expected_residency(
                 return Some(residency_rgba(RESIDENCY_COLOR_RESIDENT));
             }
             let requested = pages.clone().any(|p| !resident[p] && wish[p] > 0.0);
+            // The cluster's self pair is its creator group's, weighted as the cull weighs it.
             let inst = vgeo::scene_gpu::instance_gpu(&placements[instance as usize]);
-            let s = c.self_sphere;
-            let centre =
-                vgeo::reference::cut::relative_position(&inst, &view, Vec3::new(s[0], s[1], s[2]));
-            let px = vgeo::builder::lod_error_px(
-                c.self_error * inst.max_scale,
-                centre,
-                s[3] * inst.max_scale,
-                Vec3::ZERO,
-                view.proj_scale,
-            );
+            let w = vgeo::reference::cut::instance_weight(m, &inst, &view);
+            let px = vgeo::reference::cut::group_error_px(m, &inst, &view, c.creator, w);
             if (px - tau).abs() <= 1e-4 * tau {
                 return None;
             }

@@ -1,7 +1,7 @@
 // The LOD error projection and the camera-relative transform it is computed in (mirrors
 // src/builder/cut.rs::lod_error_px operation for operation): one definition for every shader that
 // decides or explains the cut (instance_cull and cluster_cull through cull.glsl; debug_view's
-// residency view). Needs `shared.glsl` (InstanceVgeo, ViewGpu).
+// residency view). Needs `shared.glsl` (InstanceVgeo, ViewGpu, MeshGpu).
 #ifndef VGEO_LOD_GLSL
 #define VGEO_LOD_GLSL
 

@@ -147,7 +147,8 @@ struct Group {
     uint _pad;
 };
 
-// Builder structs (src/builder/mod.rs), as stored in the .vgeo file.
+// Builder structs (src/builder/mod.rs), as stored in the .vgeo file (a BVH node's
+// max_parent_coverage recomputed at load: src/format.rs).
 struct BvhNode {
     vec3 bounds_min;
     float max_parent_error;

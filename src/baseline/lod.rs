@@ -5,8 +5,9 @@
 //! error meshoptimizer reports (absolute; position and attributes with the builder's weights, so
 //! a level's error is measured as a DAG cluster's is). All levels of a mesh share one vertex buffer and one index
 //! buffer (per-level index ranges). Per instance and frame the coarsest level whose error
-//! projected at the instance's bounding sphere ([`lod_error_px`], the cut's formula) stays within
-//! `error_px * lod_bias` pixels is drawn, with the `brute` pipeline and shading so images compare.
+//! projected at the instance's bounding sphere ([`lod_error_px`], the cut's formula; weighted for
+//! a small instance as vgeo weighs it, [`select_lod`]) stays within `error_px * lod_bias` pixels
+//! is drawn, with the `brute` pipeline and shading so images compare.
 //!
 //! Two ways to pick and draw ([`LodSelection`]):
 //! - `lod` ([`LodSelection::Gpu`], the default), GPU-driven as engines without virtual geometry

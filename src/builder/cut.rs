@@ -2,7 +2,11 @@
 //! operation for operation, the GPU `cluster_cull` shader.
 //!
 //! Cluster `c` is drawn for threshold `tau` pixels iff
-//! `lod_error_px(c.self) <= tau && lod_error_px(c.parent) > tau`.
+//! `lod_error_px(c.self) <= tau && lod_error_px(c.parent) > tau`. The frame applies it to an
+//! instance's errors as it counts them: a small instance counts a share of each
+//! ([`small_instance_weight`]) and its coverage part whole (`BuiltMesh::group_coverage`); the
+//! functions here take the errors as given (whole: `verify`'s cuts), the CPU oracle of the frame
+//! (`reference::cut`) weighs them first.
 //!
 //! **Under partial residency** (some pages absent, `res[page]` false) a group counts as refinable
 //! only when all its pages are resident: the error of a group that is not counts as 0, so its
@@ -190,8 +194,10 @@ pub fn cut_bvh(
 }
 
 /// One cut of a small instance ([`TinyCuts`]): the clusters `first .. first + count` of
-/// [`TinyCuts::clusters`]. It is the instance's cut when `error` (the next group error to refine)
-/// projects to at most the threshold on the mesh's LOD bound and the previous row's does not.
+/// [`TinyCuts::clusters`]. It is the instance's cut when its error (`error`, the next group error
+/// to refine, weighted with `coverage` as the instance counts it: `common/lod.glsl`'s
+/// `weighted_error`) projects to at most the threshold on the mesh's LOD bound and the previous
+/// row's does not.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TinyRow {
     /// The row's threshold: every cluster's self error is at most it.
@@ -216,7 +222,9 @@ pub struct TinyRow {
 /// refines the groups in decreasing order of error, so there is one cut per distinct group error,
 /// and the coarse ones, up to [`TINY_CUT_CLUSTERS`] clusters, fit a small table. Each is a cut
 /// of the DAG with monotonic errors (crack-free): a cluster is in row `k`'s cut iff its parent
-/// error is larger than the row's `error` and its self error is at most that.
+/// error is larger than the row's `error` and its self error is at most that. A small instance
+/// weighs the rows' errors (keeping their coverage part whole) and takes the first that is fine:
+/// a cut as fine as or finer than the per-group rule with those weighted errors.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TinyCuts {
     /// Coarsest first; `error` decreasing.

@@ -325,7 +325,7 @@ fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
     }
     for (gi, g) in m.groups.iter().enumerate() {
         let cov = m.group_coverage_of(gi as u32);
-        if !(0.0 <= cov && cov <= g.error) {
+        if !m.group_coverage.is_empty() && !(0.0 <= cov && cov <= g.error) {
             s.add(format!(
                 "group {gi}: coverage {cov} not within 0..={} (its error)",
                 g.error

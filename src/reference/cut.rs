@@ -61,6 +61,29 @@ fn projected_weighted(
     )
 }
 
+/// The share of its LOD errors instance `inst` of mesh `m` counts in `view`
+/// ([`small_instance_weight`] of its bounding sphere's projected radius: `common/lod.glsl`'s
+/// `instance_weight`).
+pub fn instance_weight(m: &BuiltMesh, inst: &InstanceVgeo, view: &ViewGpu) -> f32 {
+    let (bc, br) = crate::scene_gpu::mesh_sphere(m);
+    small_instance_weight(projected(inst, view, [bc[0], bc[1], bc[2], br], br))
+}
+
+/// Pixels of group `g`'s error (on its LOD sphere) as instance `inst` of mesh `m` counts it with
+/// weight `weight` ([`instance_weight`]): the error weighted, its coverage part whole, as the
+/// cull's tests project it.
+pub fn group_error_px(
+    m: &BuiltMesh,
+    inst: &InstanceVgeo,
+    view: &ViewGpu,
+    g: u32,
+    weight: f32,
+) -> f32 {
+    let grp = &m.groups[g as usize];
+    let e = (grp.error, m.group_coverage_of(g));
+    projected_weighted(inst, view, grp.lod_sphere, e, weight)
+}
+
 /// The cut of every instance for `view` (error threshold `view.error_px`), and the entries whose
 /// decision is within `rel_margin` of the threshold (borderline: either side is acceptable).
 pub fn reference_cut(
@@ -82,8 +105,9 @@ pub fn reference_cut(
 /// (`None`: all), the cut rule of `builder::cut` (a group not wholly resident counts error 0).
 /// Small instances of meshes with every page resident, in a view of many instances, take
 /// `instance_cull`'s cut from the mesh's table ([`TinyCuts`]): every error projected on the
-/// mesh's LOD bound. Every instance's errors count [`small_instance_weight`] of themselves, of its
-/// bounding sphere's projected radius (`common/lod.glsl`'s `instance_error_scale`).
+/// mesh's LOD bound. Every instance counts [`small_instance_weight`] of each error (of its
+/// bounding sphere's projected radius) and its coverage part whole (`common/lod.glsl`'s
+/// `instance_weight` and `weighted_error`).
 pub fn reference_cut_resident(
     built: &[BuiltMesh],
     residency: &[Option<&[bool]>],
@@ -128,7 +152,7 @@ pub fn reference_cut_resident(
         // the "error"), and the share of its errors that counts at that size.
         let (bc, br) = crate::scene_gpu::mesh_sphere(m);
         let size = projected(&inst, view, [bc[0], bc[1], bc[2], br], br);
-        let weight = small_instance_weight(size);
+        let weight = instance_weight(m, &inst, view);
         let uniform = |e: (f32, f32)| projected_weighted(&inst, view, bound, e, weight);
         let row_px = |r: &TinyRow| uniform((r.error, r.coverage));
         let last = table.rows.last().map(row_px);
@@ -142,10 +166,32 @@ pub fn reference_cut_resident(
             && (any_size || size <= TINY_CUT_RADIUS_PX)
             && last.is_some_and(|px| px <= tau);
         // A small instance's cut is the table's row (`emit_tiny_cut`'s binary search).
+        let row_clusters =
+            |r: &TinyRow| &table.clusters[r.first as usize..(r.first + r.count) as usize];
         let row: &[u32] = match table.row_for(tau, row_px).filter(|_| small) {
-            Some(r) => &table.clusters[r.first as usize..(r.first + r.count) as usize],
+            Some(r) => row_clusters(r),
             None => &[],
         };
+        // A row whose weighted error is at the threshold may be taken or passed over by the
+        // GPU's rounding: the clusters in which the rows beside it differ are borderline (a
+        // row's coverage may come from clusters other than those that change).
+        let mut row_edge: Vec<u32> = Vec::new();
+        if small {
+            let k = table.rows.partition_point(|r| row_px(r) > tau);
+            let mut alt = Vec::new();
+            if table.rows.get(k).is_some_and(|r| near(row_px(r))) {
+                alt.extend(table.rows.get(k + 1));
+            }
+            if k > 0 && near(row_px(&table.rows[k - 1])) {
+                alt.push(&table.rows[k - 1]);
+            }
+            for a in alt {
+                let a = row_clusters(a);
+                row_edge.extend(a.iter().filter(|c| row.binary_search(c).is_err()));
+                row_edge.extend(row.iter().filter(|c| a.binary_search(c).is_err()));
+            }
+            row_edge.sort_unstable();
+        }
         // Near the table's edges (its size limit, a row's error at the threshold) the GPU may
         // take either path: clusters the two cuts disagree on are borderline.
         let size_edge =
@@ -183,7 +229,7 @@ pub fn reference_cut_resident(
                 cut.push(e);
             }
             let edge = if small {
-                near(us) || near(uq)
+                near(us) || near(uq) || row_edge.binary_search(&(ci as u32)).is_ok()
             } else {
                 near(s) || near(q)
             };
