@@ -325,7 +325,8 @@ fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
     }
     for (gi, g) in m.groups.iter().enumerate() {
         let cov = m.group_coverage_of(gi as u32);
-        if !m.group_coverage.is_empty() && !(0.0 <= cov && cov <= g.error) {
+        let bounded = (0.0..=g.error).contains(&cov);
+        if !m.group_coverage.is_empty() && !bounded {
             s.add(format!(
                 "group {gi}: coverage {cov} not within 0..={} (its error)",
                 g.error
