@@ -268,6 +268,33 @@ pub fn describe(m: &BuiltMesh, file_len: usize) -> String {
             }
         }
     );
+    if m.group_coverage.is_empty() {
+        let _ = writeln!(
+            o,
+            "small instances: every error counts whole (a file from before vgeo kept the coverage \
+             part of its errors; rebuild it to have instances under {} px weigh theirs)",
+            crate::shared::SMALL_WEIGHT_RADIUS_PX
+        );
+    } else {
+        // Groups whose error is its coverage part (thin parts losing area): a small instance
+        // counts those whole, so the weight does not lighten them.
+        let (n, covered) = m
+            .groups
+            .iter()
+            .zip(&m.group_coverage)
+            .filter(|(g, _)| g.error.is_finite())
+            .fold((0, 0), |(n, c), (g, &cov)| {
+                (n + 1, c + (cov >= g.error) as usize)
+            });
+        let _ = writeln!(
+            o,
+            "small instances: under {} px an error counts a share, its coverage part whole; {} of \
+             {} groups' errors are all coverage",
+            crate::shared::SMALL_WEIGHT_RADIUS_PX,
+            covered,
+            n
+        );
+    }
     let _ = writeln!(
         o,
         "level  clusters  triangles  ratio  max error  groups  stuck"

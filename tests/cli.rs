@@ -210,6 +210,21 @@ fn build_verify_and_info_of_a_vgeo_file() {
         out.contains("closed solid: seen from outside"),
         "info should say spot is a closed solid: {out}"
     );
+    assert!(
+        out.contains("small instances: under 16 px an error counts a share"),
+        "info should say how small instances count the errors: {out}"
+    );
+    // A file from before the coverage part: info says its errors count whole.
+    let mut old = vgeo::format::load(&std::fs::read(&out_file).unwrap()).expect("loads");
+    old.group_coverage.clear();
+    let old_file = dir.join("old.vgeo");
+    std::fs::write(&old_file, vgeo::format::save(&old)).unwrap();
+    let (ok, out, err) = run(vgeo().arg("info").arg(&old_file));
+    assert!(ok, "info failed: {err}");
+    assert!(
+        out.contains("small instances: every error counts whole"),
+        "info should say an older file's errors count whole: {out}"
+    );
     let (ok, out, err) = run(vgeo()
         .arg("build")
         .arg(assets().join("bunny.ply"))
