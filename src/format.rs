@@ -439,6 +439,11 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
         )));
     }
     let entries = pod_vec::<PageEntry>(get(section::PAGE_TABLE, "page table")?, "page table")?;
+    // Optional (a file from before it has none).
+    let has_coverage = h
+        .sections
+        .iter()
+        .any(|(x, _, _)| *x == section::GROUP_COVERAGE);
     let m = BuiltMesh {
         name: meta.name,
         quantization: Quantization {
@@ -470,11 +475,7 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
         vertex_refs: Vec::new(),
         triangles: Vec::new(),
         groups: pod_vec::<Group>(get(section::GROUPS, "groups")?, "groups")?,
-        group_coverage: match h
-            .sections
-            .iter()
-            .any(|(x, _, _)| *x == section::GROUP_COVERAGE)
-        {
+        group_coverage: match has_coverage {
             true => pod_vec::<f32>(
                 get(section::GROUP_COVERAGE, "group coverage")?,
                 "group coverage",
@@ -503,10 +504,6 @@ fn parse_head(h: &Header, head: &[u8]) -> Result<(BuiltMesh, Vec<PageEntry>), Fo
         }
     }
     let mut m = m;
-    let has_coverage = h
-        .sections
-        .iter()
-        .any(|(x, _, _)| *x == section::GROUP_COVERAGE);
     if has_coverage && m.group_coverage.len() != m.groups.len() {
         return Err(FormatError::Invalid(format!(
             "section group coverage: {} values for {} groups",

@@ -374,8 +374,9 @@ uint walk_stack[WALK_STACK];
 uint walk_sp;
 
 // The cut rule, frustum and occlusion for cluster `ci` (global index) of a visible instance, and
-// its emission when drawn.
-void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool partial) {
+// its emission when drawn; `w` is the instance's weight (lod.glsl's instance_weight), which the
+// caller computes once for all the clusters it tests.
+void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool partial, float w) {
     float scale = inst.max_scale;
     bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
     bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
@@ -387,7 +388,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
         in_cut = info_level(info) <= mesh.fallback_level;
     } else {
         uint creator = cluster_creator(at);
-        float self_px = self_error_px(inst, mesh, creator, scale, instance_weight(inst, mesh, view));
+        float self_px = self_error_px(inst, mesh, creator, scale, w);
         bool fine = self_px <= view.error_px;
         if (partial && !fine && !children_resident(mesh, creator)) {
             // Drawn for want of its children; only a cluster in the frustum asks for them (one
@@ -414,8 +415,9 @@ void process_range(uint instance, uint low) {
     uint first = low & ((1u << CULL_RANGE_INDEX_BITS) - 1u);
     uint count = ((low & ~CULL_RANGE_FLAG) >> CULL_RANGE_INDEX_BITS) + 1u;
     bool partial = mesh_partial(mesh);
+    float w = instance_weight(inst, mesh, view);
     for (uint k = 0u; k < count; k++) {
-        test_cluster(instance, inst, mesh, first + k, partial);
+        test_cluster(instance, inst, mesh, first + k, partial, w);
     }
 }
 #endif
@@ -513,7 +515,7 @@ void process_node(uint64_t item, bool local) {
         if (local) {
             // A small instance's walk (one thread, few clusters): tested here.
             for (uint k = 0u; k < group.cluster_count; k++) {
-                test_cluster(instance, inst, mesh, first + k, partial);
+                test_cluster(instance, inst, mesh, first + k, partial, w);
             }
         } else {
             // In ranges on the queue, for other lanes.

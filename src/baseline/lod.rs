@@ -24,7 +24,7 @@ use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::brute::{Classic, ClassicFrame, ClassicMesh, Draw, check_placements, instance_gpu};
-use crate::builder::cut::{lod_error_px, proj_scale, small_instance_weight};
+use crate::builder::cut::{lod_error_px, proj_scale, small_instance_weight, weighted_error};
 use crate::camera::Camera;
 use crate::gpu::{Context, GpuError, GpuResult};
 use crate::material::ShadeMode;
@@ -333,7 +333,7 @@ fn level_for(
     }
     let w = small_instance_weight(lod_error_px(radius, rel, radius, Vec3::ZERO, proj_scale));
     for k in (1..LOD_COUNT).rev() {
-        let e = (errors[k] * w).max(coverages[k]);
+        let e = weighted_error(errors[k], coverages[k], w);
         if lod_error_px(e * scale, rel, radius, Vec3::ZERO, proj_scale) <= tau {
             return k as u8;
         }

@@ -61,6 +61,14 @@ pub fn small_instance_weight(radius_px: f32) -> f32 {
     }
 }
 
+/// A LOD error as an instance of weight `weight` ([`small_instance_weight`]) counts it: the error
+/// weighted, its coverage part (at most the error) whole; `error` itself at weight 1. GPU mirror:
+/// `common/lod.glsl::weighted_error` (the same operations).
+#[inline]
+pub fn weighted_error(error: f32, coverage: f32, weight: f32) -> f32 {
+    (error * weight).max(coverage)
+}
+
 /// `proj_scale` of [`lod_error_px`] for a viewport `height` pixels high and vertical field of view
 /// `fov_y` radians.
 pub fn proj_scale(height: f32, fov_y: f32) -> f32 {

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::builder::cut::{TinyCuts, TinyRow, small_instance_weight};
+use crate::builder::cut::{TinyCuts, TinyRow, small_instance_weight, weighted_error};
 use crate::builder::{BuiltMesh, lod_error_px};
 use crate::camera::Camera;
 use crate::render::Placement;
@@ -53,7 +53,7 @@ fn projected_weighted(
 ) -> f32 {
     let c = relative_position(inst, view, Vec3::new(sphere[0], sphere[1], sphere[2]));
     lod_error_px(
-        (error * weight).max(coverage) * inst.max_scale,
+        weighted_error(error, coverage, weight) * inst.max_scale,
         c,
         sphere[3] * inst.max_scale,
         Vec3::ZERO,
@@ -152,7 +152,7 @@ pub fn reference_cut_resident(
         // the "error"), and the share of its errors that counts at that size.
         let (bc, br) = crate::scene_gpu::mesh_sphere(m);
         let size = projected(&inst, view, [bc[0], bc[1], bc[2], br], br);
-        let weight = instance_weight(m, &inst, view);
+        let weight = small_instance_weight(size);
         let uniform = |e: (f32, f32)| projected_weighted(&inst, view, bound, e, weight);
         let row_px = |r: &TinyRow| uniform((r.error, r.coverage));
         let last = table.rows.last().map(row_px);
