@@ -743,15 +743,6 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
     assert_no_validation_errors(&ctx);
 }
 
-/// The post phase takes what the main phase deferred as one index range: instances, then BVH-node
-/// items, then clusters (`instance_cull`). A camera cut behind the wall of `occlusion_scene`, with
-/// a big cow standing through the wall (visible from the front, so its hidden parts are deferred
-/// as clusters and a node rather than as an instance), defers all three kinds at once in the main
-/// phase; the post phase must draw every one of them: the frame equals the one without
-/// occlusion. Reading the clusters at the wrong offset in that range fails here (tests/cull.rs,
-/// tests/views.rs and this file's other tests pass it). (The node it defers holds no cluster of
-/// the cut, so a node item read at the wrong offset goes unseen: no scene here defers a node
-/// that draws.)
 /// The camera cut of the post-phase tests: `meshes` at `placements` drawn from `front` (error
 /// 0.25 px, occlusion culling on), then from behind [`occlusion_scene`]'s wall ([`cut_view`]),
 /// whose frame culls first with the front view's HZB. The renderer and that frame.
@@ -793,6 +784,15 @@ fn assert_the_cut_is_the_frame_without_occlusion(r: &mut VgeoRenderer, cut: &Vge
     );
 }
 
+/// The post phase takes what the main phase deferred as one index range: instances, then BVH-node
+/// items, then clusters (`instance_cull`). A camera cut behind the wall of `occlusion_scene`, with
+/// a big cow standing through the wall (visible from the front, so its hidden parts are deferred
+/// as clusters and a node rather than as an instance), defers all three kinds at once in the main
+/// phase; the post phase must draw every one of them: the frame equals the one without
+/// occlusion. Reading the clusters at the wrong offset in that range fails here (tests/cull.rs,
+/// tests/views.rs and this file's other tests pass it). (The node it defers holds no cluster of
+/// the cut, so a node item read at the wrong offset goes unseen here:
+/// `deferred_bvh_nodes_draw_their_clusters_in_the_post_phase` defers nodes that draw.)
 #[test]
 fn the_post_phase_draws_deferred_instances_and_clusters_together() {
     let ctx = gpu();
