@@ -15,8 +15,9 @@
 layout(local_size_x = INSTANCE_CULL_WORKGROUP_SIZE) in;
 
 // Whether instance `i` is visible: the frustum test of its mesh's bounding sphere (main phase
-// only: the post phase retests instances the frustum already passed), then the HZB (occluded in
-// the main phase: deferred to the post phase; in the post phase: rejected for good).
+// only: the post phase retests instances the frustum already passed), then the HZB test of its
+// mesh's box (occluded in the main phase: deferred to the post phase; in the post phase: rejected
+// for good).
 bool instance_visible(uint i, InstanceVgeo inst, MeshGpu mesh) {
     CULL_STAT(instances_tested, 1u)
     if (pc.phase == 0u) {
@@ -26,8 +27,10 @@ bool instance_visible(uint i, InstanceVgeo inst, MeshGpu mesh) {
             return false;
         }
     }
-    vec3 rr = vec3(mesh.bounds_radius);
-    if (hzb_occluded(inst, mesh.bounds_center - rr, mesh.bounds_center + rr)) {
+    // The HZB by the mesh's box (its BVH root's), not the cube around its sphere: a long thin
+    // mesh's cube projects to several times its box (stress N=200: 5.2 -> 4.2 M instances pass).
+    BvhNode root = bvh[mesh.bvh_offset + mesh.bvh_root];
+    if (hzb_occluded(inst, root.bounds_min, root.bounds_max)) {
         if (pc.phase == 0u) {
             post_instances[atomicAdd(counters.post_instance_count, 1u)] = i;
         } else {

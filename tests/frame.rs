@@ -743,6 +743,124 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
     assert_no_validation_errors(&ctx);
 }
 
+/// Where the screen rectangle of `corners` (world space) lies seen by `camera`: (left, right)
+/// pixel columns of a `W` x `H` frame.
+fn projected_columns(camera: &Camera, corners: &[DVec3]) -> (f32, f32) {
+    let vp = camera.view_proj(W, H);
+    let xs: Vec<f32> = corners
+        .iter()
+        .map(|&p| {
+            vgeo::camera::project_to_pixel(&vp, (p - camera.position).as_vec3(), W, H)
+                .expect("in front of the eye")[0]
+        })
+        .collect();
+    let lo = xs.iter().copied().fold(f32::INFINITY, f32::min);
+    let hi = xs.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+    (lo, hi)
+}
+
+#[test]
+fn an_instance_just_behind_an_edge_is_culled() {
+    // Small instances behind a wall, their boxes ending 2-3 pixels inside the wall's right edge,
+    // which lies inside a texel of the level a 2x2-texel window would test them at (8 pixels:
+    // columns 88-95, the edge at 92). The HZB window (5x5 texels of 2 pixels here) stays on the
+    // wall and culls them; the coarse window reached past the edge and let them through. One is
+    // thin: tested by the cube around its sphere instead of its box, it would pass too.
+    let ctx = gpu();
+    let (_, spot) = load_built(&assets().join("spot.obj"));
+    let wall = build(&wall_mesh(8), &BuildOptions::default()).unwrap();
+    let camera = occlusion_view(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO);
+    let edge_px = 92.0;
+    // The wall ([-1, 1]^2 at z = 0, scaled by 2) with its right edge at column `edge_px`.
+    let (e0, _) = projected_columns(&camera, &[DVec3::ZERO]);
+    let (e1, _) = projected_columns(&camera, &[DVec3::X]);
+    let wall_x = (edge_px - e0) as f64 / (e1 - e0) as f64 - 2.0;
+    let mut placements = vec![Placement {
+        mesh: 1,
+        transform: DMat4::from_translation(DVec3::new(wall_x, 0.0, 0.0))
+            * DMat4::from_scale(DVec3::splat(2.0)),
+        color: [0.5; 3],
+    }];
+    // Moved along x so that the box of `mesh` (its BVH root's, what instance_cull tests) placed by
+    // `place(x)` has its right side at column 89.6.
+    let at_column = |mesh: &BuiltMesh, place: &dyn Fn(f64) -> DMat4| -> DMat4 {
+        let root = &mesh.bvh[0];
+        let (lo, hi) = (
+            root.bounds_min.map(f64::from),
+            root.bounds_max.map(f64::from),
+        );
+        let mut x = 0.0;
+        for _ in 0..3 {
+            let corners: Vec<DVec3> = (0..8)
+                .map(|i| {
+                    let c = DVec3::new(
+                        if i & 1 != 0 { hi[0] } else { lo[0] },
+                        if i & 2 != 0 { hi[1] } else { lo[1] },
+                        if i & 4 != 0 { hi[2] } else { lo[2] },
+                    );
+                    place(x).transform_point3(c)
+                })
+                .collect();
+            let (l, r) = projected_columns(&camera, &corners);
+            let moved: Vec<DVec3> = corners.iter().map(|c| *c + DVec3::X).collect();
+            let (_, r1) = projected_columns(&camera, &moved);
+            assert!(r - l < 8.0, "the box spans {} pixels", r - l);
+            x += (89.6 - r) as f64 / (r1 - r) as f64;
+        }
+        place(x)
+    };
+    // Three spots (scale 0.15) 4 units behind the wall.
+    for y in [-0.6, 0.0, 0.6] {
+        placements.push(Placement {
+            mesh: 0,
+            transform: at_column(&spot, &|x| {
+                DMat4::from_translation(DVec3::new(x, y, -4.0))
+                    * DMat4::from_scale(DVec3::splat(0.15))
+            }),
+            color: [1.0; 3],
+        });
+    }
+    // A small square seen edge on (a thin mesh): its box is a few pixels tall and no wider than
+    // a line, where the cube around its bounding sphere reaches 8 pixels past the edge.
+    placements.push(Placement {
+        mesh: 1,
+        transform: at_column(&wall, &|x| {
+            DMat4::from_translation(DVec3::new(x, -1.2, -4.0))
+                * DMat4::from_rotation_y(std::f64::consts::FRAC_PI_2)
+                * DMat4::from_scale(DVec3::splat(0.15))
+        }),
+        color: [1.0; 3],
+    });
+    let meshes = vec![spot, wall];
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
+    let on = FrameSettings {
+        error_px: 1.0,
+        ..Default::default()
+    };
+    render(&mut r, &camera, &on);
+    let second = render(&mut r, &camera, &on);
+    let off = render_without_occlusion(&mut r, &camera, &on);
+    // The wall covers columns up to 91 where the instances are, and nothing past the edge.
+    let covered = |x: u32, y: u32| off.frame.depth[(y * W + x) as usize] > 0.0;
+    assert!(
+        covered(91, H / 2) && !covered(92, H / 2),
+        "the wall's edge is not at column 92"
+    );
+    assert_eq!(
+        second.post.counters.occluded_instances, 4,
+        "the instances behind the wall's edge are culled by their instance test"
+    );
+    assert_eq!(
+        second.frame.color, off.frame.color,
+        "occlusion culling changed the image"
+    );
+    assert_eq!(
+        second.frame.depth, off.frame.depth,
+        "occlusion culling changed the depth"
+    );
+    assert_no_validation_errors(&ctx);
+}
+
 /// The camera cut of the post-phase tests: `meshes` at `placements` drawn from `front` (error
 /// 0.25 px, occlusion culling on), then from behind [`occlusion_scene`]'s wall ([`cut_view`]),
 /// whose frame culls first with the front view's HZB. The renderer and that frame.
