@@ -93,20 +93,32 @@ void main() {
         if (finished == gl_NumWorkGroups.x - 1u) {
             uint sw_front = atomicAdd(counters.sw_count, 0u);
             uint sw_small = atomicAdd(counters.sw_small_count, 0u);
+            uint hw_front = atomicAdd(counters.hw_count, 0u);
+            uint sw_quarter = atomicAdd(counters.sw_quarter_count, 0u);
             uint sw = min(sw_front, view.visible_capacity);
             uint small = min(sw_small, view.visible_capacity - sw);
-            // The two ends of the SW list meet only if a cluster was emitted twice under direct
+            uint hw = min(hw_front, view.visible_capacity);
+            uint quarter = min(sw_quarter, view.visible_capacity - hw);
+            // The two ends of a list meet only if a cluster was emitted twice under direct
             // visible slots (never, by the cut's rule): reported, never silent.
             if (sw_front + sw_small > view.visible_capacity) {
                 atomicAdd(counters.visible_overflow, sw_front + sw_small - view.visible_capacity);
             }
-            uint hw = min(atomicAdd(counters.hw_count, 0u), view.visible_capacity);
+            if (hw_front + sw_quarter > view.visible_capacity) {
+                atomicAdd(counters.visible_overflow, hw_front + sw_quarter - view.visible_capacity);
+            }
             // raster_sw: the first workgroups take the small clusters two at a time (their
-            // number in w), the rest the others; sw_count from here on counts both.
-            uint small_groups = min((small + 1u) / 2u, 32768u);
+            // number in w), the next sw_quarter_groups the quarter ones four at a time, the rest
+            // the others (grid-stride loops: at most 65535 workgroups in all); sw_count from here
+            // on counts all three.
+            uint small_groups = min((small + 1u) / 2u, 16384u);
+            uint quarter_groups = min((quarter + 3u) / 4u, 32768u);
             counters.sw_small_count = small;
-            counters.sw_count = sw + small;
-            counters.sw_dispatch = uvec4(small_groups + min(sw, 65535u - small_groups), 1u, 1u, small_groups);
+            counters.sw_quarter_count = quarter;
+            counters.sw_quarter_groups = quarter_groups;
+            counters.sw_count = sw + small + quarter;
+            uint front_groups = min(sw, 65535u - small_groups - quarter_groups);
+            counters.sw_dispatch = uvec4(small_groups + quarter_groups + front_groups, 1u, 1u, small_groups);
             counters.hw_draw = uvec4(MAX_CLUSTER_TRIANGLES * 3u, hw, 0u, 0u);
             // The mesh path: rows of MESH_GROUPS_X workgroups (src/shared.rs hw_mesh_args).
             uint hw_mesh = min(hw, MESH_MAX_CLUSTERS);
@@ -119,7 +131,7 @@ void main() {
             // half the frame), none when this phase drew nothing.
             uvec2 level0 = (uvec2(view.viewport.xy) + 1u) / 2u;
             uvec2 groups = (level0 + 2u * HZB_GROUP - 1u) / (2u * HZB_GROUP);
-            counters.hzb_dispatch = uvec4(sw + small + hw > 0u ? groups.x : 0u, groups.y, 1u, 0u);
+            counters.hzb_dispatch = uvec4(sw + small + quarter + hw > 0u ? groups.x : 0u, groups.y, 1u, 0u);
         }
     }
 }

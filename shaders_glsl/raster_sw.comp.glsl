@@ -1,7 +1,8 @@
 #version 460
 // Pass `raster_sw`: the compute rasterizer for small triangles. The first
 // CullCounters.sw_dispatch.w workgroups take the small clusters (CullCounters.sw_small_count, at
-// the SW list's end) two at a time (raster_small, below); the others one workgroup per SW cluster
+// the SW list's end) two at a time (raster_small, below), the next sw_quarter_groups the smallest
+// (sw_quarter_count, at the HW list's end) four at a time; the others one workgroup per SW cluster
 // (grid-stride over the list's front: sw_count - sw_small_count entries), the cluster's vertices
 // decoded, transformed and snapped into shared memory, then one thread per triangle: fixed-point
 // edge functions (SUBPIXEL_BITS) with the top-left rule exactly as src/reference/raster.rs, depth
@@ -29,6 +30,9 @@ layout(set = 0, binding = 5, scalar) readonly buffer Meshes { MeshGpu meshes[]; 
 layout(set = 0, binding = 6, scalar) readonly buffer Clusters { ClusterLoc cluster_locs[]; };
 layout(set = 0, binding = 7, scalar) readonly buffer Pages { PageGpu pages[]; };
 layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
+// Binding 9: the visibility buffer; 10: the overdraw counter. The HW list's end holds the
+// quarter path's clusters.
+layout(set = 0, binding = 11, scalar) readonly buffer HwList { uint hw_list[]; };
 
 #include "raster.glsl"
 #define OVERDRAW_BINDING 10
@@ -53,7 +57,8 @@ layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 // - a snapped vertex in three words from its entry on (snap_vertices; read by sw_vertex_xy and
 //   sw_vertex_z): fixed-point x, y and the ndc depth's bits (< 0: the vertex cannot be
 //   snapped); the other path's cluster has vertex k at entry 3k, the small path's half h at
-//   SMALL_HALF_WORDS * h + 3k (clusters of at most RASTER_SW_SMALL_VERTICES vertices);
+//   SMALL_HALF_WORDS * h + 3k (clusters of at most RASTER_SW_SMALL_VERTICES vertices), its
+//   quarter q at SMALL_QUARTER_WORDS * q + 3k (RASTER_SW_QUARTER_VERTICES);
 // - the other path's triangles left to its shared pass at SW_BIG + b (big_entry: the triangle's
 //   index in the cluster and its corners, so that the shared pass needs no cluster data), and
 //   their pieces (rows x RASTER_SW_CHUNK columns) at SW_PIECES + b.
@@ -61,6 +66,7 @@ layout(set = 0, binding = 8, scalar) readonly buffer Pool { uint pool[]; };
 #define SW_PIECES (SW_BIG + MAX_CLUSTER_TRIANGLES)
 #define SW_WORDS (SW_PIECES + MAX_CLUSTER_TRIANGLES)
 #define SMALL_HALF_WORDS (3u * RASTER_SW_SMALL_VERTICES)
+#define SMALL_QUARTER_WORDS (3u * RASTER_SW_QUARTER_VERTICES)
 shared uint s_mem[SW_WORDS];
 shared uint s_big_count;
 
@@ -285,50 +291,47 @@ void raster_snapped(uvec3 t, uint base, uint visible_index, uint tri, uint width
 // projecting to at most RASTER_SW_SMALL_PX across, with triangles of at most
 // RASTER_SW_SMALL_TRIANGLE_PX, has few triangles of a large box, and none beyond the cluster's
 // extent). Their cost is per cluster (a chain of dependent reads, the barrier), so a workgroup
-// takes two.
-// Each half keeps its cluster's vertices in its half of s_mem (SMALL_HALF_WORDS words: the cull
-// sends only clusters of at most RASTER_SW_SMALL_VERTICES vertices here).
-#define SMALL_HALF (RASTER_SW_WORKGROUP_SIZE / 2u)
-
-void raster_small(uint first_group, uint groups, uint small_count, uint width, uint height) {
-    uint half_id = gl_LocalInvocationID.x / SMALL_HALF;
-    uint lane = gl_LocalInvocationID.x % SMALL_HALF;
-    uint at = half_id * SMALL_HALF_WORDS;
+// takes two; the smallest (CullCounters::sw_quarter_count, at the end of the HW list, at most
+// RASTER_SW_QUARTER_VERTICES vertices) four, a quarter of it each (up to four triangles an
+// invocation).
+// Each part keeps its cluster's vertices in its part of s_mem (3 words a vertex: the cull sends
+// only clusters of at most RASTER_SW_SMALL_VERTICES / RASTER_SW_QUARTER_VERTICES vertices here).
+// `parts` clusters to a workgroup (2: the SW list's end; 4: the HW list's end), each taken by
+// RASTER_SW_WORKGROUP_SIZE / parts invocations with `words` words of s_mem.
+void raster_small(uint parts, uint words, uint first_group, uint groups, uint small_count,
+                  uint width, uint height) {
+    uint lanes = RASTER_SW_WORKGROUP_SIZE / parts;
+    uint part = gl_LocalInvocationID.x / lanes;
+    uint lane = gl_LocalInvocationID.x % lanes;
+    uint at = part * words;
     uint last = view.visible_capacity - 1u;
-    for (uint p = first_group; 2u * p < small_count; p += groups) {
-        uint j = 2u * p + half_id;
+    for (uint p = first_group; parts * p < small_count; p += groups) {
+        uint j = parts * p + part;
         bool in_list = j < small_count;
-        uint visible_index = in_list ? sw_list[last - j] : 0u;
-        uint vcount = 0u;
+        uint visible_index = 0u;
+        if (in_list) {
+            visible_index = parts == 2u ? sw_list[last - j] : hw_list[last - j];
+        }
         uint tcount = 0u;
         uvec3 t0 = uvec3(0u);
-        uvec3 t1 = uvec3(0u);
-        InstanceVgeo inst;
-        MeshGpu mesh;
         Cluster c;
         ClusterData d;
         if (in_list) {
             uvec2 entry = visible[visible_index];
-            inst = instances[entry.x];
-            mesh = meshes[inst.mesh];
+            InstanceVgeo inst = instances[entry.x];
+            MeshGpu mesh = meshes[inst.mesh];
             c = cluster_at(entry.y);
             d = cluster_data(mesh, c);
-            vcount = cluster_vertex_count(c);
             tcount = cluster_triangle_count(c);
-            snap_vertices(inst, mesh, d, vcount, lane, SMALL_HALF, at);
+            snap_vertices(inst, mesh, d, cluster_vertex_count(c), lane, lanes, at);
             if (lane < tcount) {
                 t0 = cluster_triangle(d, c, lane);
             }
-            if (lane + SMALL_HALF < tcount) {
-                t1 = cluster_triangle(d, c, lane + SMALL_HALF);
-            }
         }
         barrier();
-        for (uint k = 0u; k < 2u; k++) {
-            uint tri = lane + k * SMALL_HALF;
-            if (tri < tcount) {
-                raster_snapped(k == 0u ? t0 : t1, at, visible_index, tri, width, height, false);
-            }
+        for (uint tri = lane; tri < tcount; tri += lanes) {
+            uvec3 t = tri == lane ? t0 : cluster_triangle(d, c, tri);
+            raster_snapped(t, at, visible_index, tri, width, height, false);
         }
         barrier();
     }
@@ -339,15 +342,24 @@ void main() {
     uint height = uint(view.viewport.y);
     // The first sw_dispatch.w workgroups take the small clusters; the others the rest.
     uint small_groups = counters.sw_dispatch.w;
-    uint small_count = min(counters.sw_small_count, view.visible_capacity);
+    uint small_count = counters.sw_small_count;
+    uint quarter_groups = counters.sw_quarter_groups;
+    uint quarter_count = counters.sw_quarter_count;
     if (gl_WorkGroupID.x < small_groups) {
-        raster_small(gl_WorkGroupID.x, small_groups, small_count, width, height);
+        raster_small(2u, SMALL_HALF_WORDS, gl_WorkGroupID.x, small_groups, small_count, width, height);
         return;
     }
-    uint sw_count = min(counters.sw_count, view.visible_capacity) - min(small_count, counters.sw_count);
+    if (gl_WorkGroupID.x < small_groups + quarter_groups) {
+        raster_small(4u, SMALL_QUARTER_WORDS, gl_WorkGroupID.x - small_groups, quarter_groups,
+                     quarter_count, width, height);
+        return;
+    }
+    // The SW list's front (cluster_cull has clamped the counts to the capacity).
+    uint sw_count = counters.sw_count - small_count - quarter_count;
     uint tid = gl_LocalInvocationID.x;
-    uint groups = gl_NumWorkGroups.x - small_groups;
-    for (uint i = gl_WorkGroupID.x - small_groups; i < sw_count; i += groups) {
+    uint head = small_groups + quarter_groups;
+    uint groups = gl_NumWorkGroups.x - head;
+    for (uint i = gl_WorkGroupID.x - head; i < sw_count; i += groups) {
         uint visible_index = sw_list[i];
         uvec2 entry = visible[visible_index];
         InstanceVgeo inst = instances[entry.x];

@@ -53,8 +53,9 @@ pub struct CullResult {
     /// Counters the culling passes wrote.
     pub counters: CullCounters,
     /// `(instance, global cluster)` of every drawn cluster, in the order of the lists: the SW list's
-    /// front, then its small end (`CullCounters::sw_small_count`), then the HW list, each in the
-    /// GPU's (unspecified) order.
+    /// front, then its small end (`CullCounters::sw_small_count`), then the HW list's end (the
+    /// smallest SW clusters, `sw_quarter_count`), then the HW list, each in the GPU's
+    /// (unspecified) order.
     pub visible: Vec<[u32; 2]>,
     /// Visible-list indices per rasterizer.
     pub sw: Vec<u32>,
@@ -1104,18 +1105,29 @@ fn read_cull(
         let n = (n.min(fb.visible_capacity)) as usize;
         Ok(words(&b.download_prefix(4 * n as u64)?))
     };
-    // The small SW clusters fill the list from its end (`CullCounters::sw_small_count`).
+    // The small SW clusters fill the SW list from its end (`CullCounters::sw_small_count`), the
+    // smallest the HW list from its end (`sw_quarter_count`); `sw_count` counts all three.
     let small = counters
         .sw_small_count
         .min(counters.sw_count)
         .min(fb.visible_capacity);
-    let mut sw = list(sw_buf, counters.sw_count - small)?;
-    if small > 0 {
-        // Only the list's tail: its last `small` entries, stored from the end backwards.
-        let first = (fb.visible_capacity - small) as u64;
-        let tail = words(&sw_buf.download_range(4 * first, 4 * small as u64)?);
-        sw.extend(tail.iter().rev());
-    }
+    let quarter = counters
+        .sw_quarter_count
+        .min(counters.sw_count - small)
+        .min(fb.visible_capacity);
+    // Only a list's tail: its last `n` entries, stored from the end backwards.
+    let tail = |b: &Buffer, n: u32| -> GpuResult<Vec<u32>> {
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let first = (fb.visible_capacity - n) as u64;
+        let mut t = words(&b.download_range(4 * first, 4 * n as u64)?);
+        t.reverse();
+        Ok(t)
+    };
+    let mut sw = list(sw_buf, counters.sw_count - small - quarter)?;
+    sw.extend(tail(sw_buf, small)?);
+    sw.extend(tail(hw_buf, quarter)?);
     // A HW entry's high bits are its flags (`HW_ENTRY_*`), the low bits its visible index.
     let mut hw = list(hw_buf, counters.hw_count)?;
     let hw_cull_back = hw.iter().filter(|&&v| v & HW_ENTRY_CULL != 0).count();

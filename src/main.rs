@@ -643,7 +643,7 @@ fn render_vgeo(
     }
     for (name, c) in [("main", &vf.main.counters), ("post", &vf.post.counters)] {
         stats_lines.push(format!(
-            "  {name}: instances {}/{} visible, {} BVH nodes, {} clusters tested, {} drawn ({} sw, {} of them small, {} hw), {} triangles; deferred {} inst / {} nodes / {} clusters; occluded {} inst / {} nodes / {} clusters",
+            "  {name}: instances {}/{} visible, {} BVH nodes, {} clusters tested, {} drawn ({} sw, {} of them small, {} smallest, {} hw), {} triangles; deferred {} inst / {} nodes / {} clusters; occluded {} inst / {} nodes / {} clusters",
             c.instances_visible,
             c.instances_tested,
             c.nodes_visited,
@@ -651,6 +651,7 @@ fn render_vgeo(
             c.sw_count + c.hw_count,
             c.sw_count,
             c.sw_small_count,
+            c.sw_quarter_count,
             c.hw_count,
             c.triangles,
             c.post_instance_count,

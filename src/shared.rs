@@ -60,6 +60,15 @@ pub const RASTER_SW_SMALL_TRIANGLE_PX: f32 = 4.0;
 /// vertices and its large triangles (`raster_sw`'s shared array). 170 takes foliage's grass
 /// clusters (152 and 132 vertices), which 127 kept out.
 pub const RASTER_SW_SMALL_VERTICES: u32 = 170;
+/// The most vertices of a small SW cluster that `raster_sw` draws four to a workgroup (32
+/// threads a cluster, a quarter of its shared array each): the cull puts those at the end of the
+/// HW list (`CullCounters::sw_quarter_count`). Tiny clusters cost a chain of dependent reads
+/// each, so more of them to a workgroup hide more of it (stress N=200's clusters of a far blade,
+/// 12-96 triangles: 7.56 -> 6.16 ms, N=100 2.08 -> 1.87). The shared array stays the same
+/// size: room for 170 vertices a quarter made it twice as large and cost more than it gained
+/// (N=200 7.11 ms, foliage +12 %: bench/results/2026-11-27-session30, calls 5-6), so foliage's
+/// grass clusters (132-152 vertices) stay two to a workgroup.
+pub const RASTER_SW_QUARTER_VERTICES: u32 = 85;
 /// Threads of one `raster_hw` mesh-shader workgroup (the mesh path, one workgroup per HW cluster):
 /// one per triangle, each also decoding up to two of the cluster's vertices.
 pub const RASTER_HW_MESH_WORKGROUP_SIZE: u32 = 128;
@@ -126,6 +135,11 @@ const _: () = assert!(MAX_CLUSTER_TRIANGLES <= 1 << 7 && MAX_CLUSTER_VERTICES <=
 const _: () = assert!(
     2 * 3 * RASTER_SW_SMALL_VERTICES <= 3 * MAX_CLUSTER_VERTICES + 2 * MAX_CLUSTER_TRIANGLES
         && RASTER_SW_SMALL_VERTICES <= MAX_CLUSTER_VERTICES
+);
+// The same for the quarter path's four clusters; its clusters are small ones.
+const _: () = assert!(
+    4 * 3 * RASTER_SW_QUARTER_VERTICES <= 3 * MAX_CLUSTER_VERTICES + 2 * MAX_CLUSTER_TRIANGLES
+        && RASTER_SW_QUARTER_VERTICES <= RASTER_SW_SMALL_VERTICES
 );
 /// Marks a queue item's low word as a range of clusters, not a BVH node.
 pub const CULL_RANGE_FLAG: u32 = 0x8000_0000;
@@ -492,7 +506,8 @@ pub struct CullCounters {
     /// (`emit_tiny_cut`, no BVH walk).
     pub tiny_cuts: u32,
     /// SW clusters whose bounds project to at most [`RASTER_SW_SMALL_PX`] across, with triangles
-    /// of at most [`RASTER_SW_SMALL_TRIANGLE_PX`] and at most [`RASTER_SW_SMALL_VERTICES`]: the last
+    /// of at most [`RASTER_SW_SMALL_TRIANGLE_PX`] and at most [`RASTER_SW_SMALL_VERTICES`] (but
+    /// more than [`RASTER_SW_QUARTER_VERTICES`]: `sw_quarter_count`): the last
     /// `sw_small_count` entries of the SW list, from its end backwards (`raster_sw` draws two at
     /// a time in a workgroup; `sw_dispatch[3]` holds how many workgroups take them).
     pub sw_small_count: u32,
@@ -500,8 +515,14 @@ pub struct CullCounters {
     /// workgroups when the phase drew anything, else none (the visibility buffer, and so the
     /// HZB, are what the main phase left).
     pub hzb_dispatch: [u32; 4],
+    /// Small SW clusters of at most [`RASTER_SW_QUARTER_VERTICES`]: the last `sw_quarter_count`
+    /// entries of the HW list, from its end backwards (`raster_sw` draws four at a time in a
+    /// workgroup, in the `sw_quarter_groups` workgroups after the small ones). Not in
+    /// `sw_small_count`; in `sw_count` once the phase's cull is done.
+    pub sw_quarter_count: u32,
+    pub sw_quarter_groups: u32,
 }
-const _: () = assert!(size_of::<CullCounters>() == 164);
+const _: () = assert!(size_of::<CullCounters>() == 172);
 const _: () = assert!(std::mem::offset_of!(CullCounters, hw_mesh) % 4 == 0);
 
 /// [`CullCounters::hw_mesh`] for `clusters` HW clusters, as `cluster_cull` writes it: rows of

@@ -601,18 +601,19 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
     assert_no_validation_errors(&ctx);
 }
 
-/// Which SW clusters `emit_cluster` sends to `raster_sw`'s small path (`CullCounters::
-/// sw_small_count`, the SW list's end): exactly those of at most `RASTER_SW_SMALL_VERTICES`
-/// vertices that project to at most `RASTER_SW_SMALL_PX` across with triangles of at most
-/// `RASTER_SW_SMALL_TRIANGLE_PX` (the cluster's size code), by the CPU's evaluation of the same
-/// formulas; clusters within 0.1 % of a bound may go either way. Spot's clusters and a grass
-/// field's, whose clusters hold more vertices.
+/// Which SW clusters `emit_cluster` sends to `raster_sw`'s small paths: exactly those of at most
+/// `RASTER_SW_SMALL_VERTICES` vertices that project to at most `RASTER_SW_SMALL_PX` across with
+/// triangles of at most `RASTER_SW_SMALL_TRIANGLE_PX` (the cluster's size code), by the CPU's
+/// evaluation of the same formulas; of them, those of at most `RASTER_SW_QUARTER_VERTICES` to the
+/// quarter path (`CullCounters::sw_quarter_count`, the HW list's end), the others to the small
+/// path (`sw_small_count`, the SW list's end). Clusters within 0.1 % of a bound may go either
+/// way. Spot's clusters and a grass field's, whose clusters hold more vertices.
 #[test]
 fn small_sw_clusters_follow_the_rule() {
     use vgeo::builder::size::size_ratio;
     use vgeo::shared::{
-        RASTER_SW_SMALL_PX, RASTER_SW_SMALL_TRIANGLE_PX, RASTER_SW_SMALL_VERTICES,
-        VIEW_FLAG_FORCE_SW,
+        RASTER_SW_QUARTER_VERTICES, RASTER_SW_SMALL_PX, RASTER_SW_SMALL_TRIANGLE_PX,
+        RASTER_SW_SMALL_VERTICES, VIEW_FLAG_FORCE_SW,
     };
     let ctx = gpu();
     let spot = built(&assets().join("spot.obj"));
@@ -643,8 +644,8 @@ fn small_sw_clusters_follow_the_rule() {
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
     // Small, other, borderline, small over 7 px across, others within RASTER_SW_SMALL_PX across
     // and the vertex bound but of larger triangles, small of over 127 vertices (session 23's
-    // bound), and others kept off by their vertices alone.
-    let mut n = [0u32; 7];
+    // bound), others kept off by their vertices alone, and small ones on the quarter path.
+    let mut n = [0u32; 8];
     // At 1 px, and at 8 px where coarse clusters of few large triangles are drawn small.
     for error_px in [1.0f32, 8.0] {
         let settings = FrameSettings {
@@ -656,10 +657,13 @@ fn small_sw_clusters_follow_the_rule() {
         res.check().expect("no overflow, no watchdog");
         let view = view_for(&camera, w, h, &settings);
         let small_n = res.counters.sw_small_count as usize;
+        let quarter_n = res.counters.sw_quarter_count as usize;
         let sw_n = res.sw.len();
         assert_eq!(res.visible.len(), sw_n + res.hw.len(), "SW, then HW");
+        // The SW list's front, its small end, then the HW list's end (the quarter path).
+        let front_n = sw_n - small_n - quarter_n;
         for (k, &[inst, ci]) in res.visible[..sw_n].iter().enumerate() {
-            let on_small_path = k >= sw_n - small_n;
+            let path = (k >= front_n) as u32 + (k >= front_n + small_n) as u32;
             let p = &placements[inst as usize];
             let c = global_cluster(&meshes, ci);
             let (lo, hi) = (Vec3::from(c.bounds_min), Vec3::from(c.bounds_max));
@@ -679,13 +683,15 @@ fn small_sw_clusters_follow_the_rule() {
             let expected = across <= RASTER_SW_SMALL_PX
                 && size <= RASTER_SW_SMALL_TRIANGLE_PX
                 && c.vertex_count() <= RASTER_SW_SMALL_VERTICES;
+            let quarter = expected && c.vertex_count() <= RASTER_SW_QUARTER_VERTICES;
             assert_eq!(
-                on_small_path,
-                expected,
+                path,
+                expected as u32 + quarter as u32,
                 "{error_px} px, cluster {ci} of instance {inst}: {across:.2} px across, \
-                 triangles {size:.2} px, {} vertices",
+                 triangles {size:.2} px, {} vertices (0: front, 1: small, 2: quarter path)",
                 c.vertex_count()
             );
+            n[7] += quarter as u32;
             if expected {
                 n[0] += 1;
                 n[3] += (across > 7.0) as u32;
@@ -700,11 +706,24 @@ fn small_sw_clusters_follow_the_rule() {
             }
         }
     }
-    let [small, other, borderline, over_7, coarse, many, too_many] = n;
+    let [
+        small,
+        other,
+        borderline,
+        over_7,
+        coarse,
+        many,
+        too_many,
+        quarter,
+    ] = n;
     eprintln!(
-        "{small} small ({over_7} over 7 px across, {many} of over 127 vertices), {other} other SW \
-         clusters ({coarse} within the size, of larger triangles; {too_many} of too many \
-         vertices), {borderline} borderline"
+        "{small} small ({quarter} on the quarter path, {over_7} over 7 px across, {many} of over \
+         127 vertices), {other} other SW clusters ({coarse} within the size, of larger \
+         triangles; {too_many} of too many vertices), {borderline} borderline"
+    );
+    assert!(
+        quarter > 0 && quarter < small,
+        "both small paths: {quarter} of {small} on the quarter path"
     );
     // Both kinds, small clusters beyond session 23's 7 px bound, and clusters kept off the small
     // path by their triangles alone.

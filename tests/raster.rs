@@ -25,8 +25,8 @@ use vgeo::reference::{RasterTarget, rasterize};
 use vgeo::render::Placement;
 use vgeo::scene_gpu::GpuScene;
 use vgeo::shared::{
-    CullCounters, MAX_CLUSTER_TRIANGLES, RASTER_SW_SMALL_VERTICES, VISBUFFER_TRIANGLE_BITS,
-    hw_mesh_args,
+    CullCounters, MAX_CLUSTER_TRIANGLES, RASTER_SW_QUARTER_VERTICES, RASTER_SW_SMALL_VERTICES,
+    VISBUFFER_TRIANGLE_BITS, hw_mesh_args,
 };
 
 const W: u32 = 128;
@@ -69,8 +69,9 @@ enum Split {
     /// Alternating by visible index (even: SW, odd: HW).
     Mixed,
     /// All SW: most clusters of at most `RASTER_SW_SMALL_VERTICES` vertices at the SW list's
-    /// small end (`CullCounters::sw_small_count`, drawn two to a workgroup), the others at its
-    /// front.
+    /// small end (`CullCounters::sw_small_count`, drawn two to a workgroup), most of those of at
+    /// most `RASTER_SW_QUARTER_VERTICES` at the HW list's end instead (`sw_quarter_count`, four
+    /// to a workgroup), the others at the SW list's front.
     SmallSw,
 }
 
@@ -152,6 +153,8 @@ struct Rig {
     visible: Vec<[u32; 2]>,
     /// Clusters the last `render` put at the SW list's small end.
     last_small: u32,
+    /// How many went to the quarter path (`CullCounters::sw_quarter_count`) in the last render.
+    last_quarter: u32,
 }
 
 impl Rig {
@@ -187,6 +190,7 @@ impl Rig {
             placements,
             visible,
             last_small: 0,
+            last_quarter: 0,
         }
     }
 
@@ -212,7 +216,8 @@ impl Rig {
             .view
             .write(0, bytemuck::bytes_of(&view))
             .expect("view upload");
-        let (mut sw_list, mut hw_list, mut small) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut sw_list, mut hw_list) = (Vec::new(), Vec::new());
+        let (mut small, mut quarter) = (Vec::new(), Vec::new());
         for i in 0..self.visible.len() as u32 {
             let to_sw = match split {
                 Split::AllSw | Split::SmallSw => true,
@@ -220,11 +225,12 @@ impl Rig {
                 Split::Mixed => i % 2 == 0,
             };
             let cluster = &self.mesh.clusters[self.visible[i as usize][1] as usize];
-            // An odd number of them (a workgroup half with no cluster), and some at the front.
-            if split == Split::SmallSw
-                && cluster.vertex_count() <= RASTER_SW_SMALL_VERTICES
-                && small_list_may_take(i as usize)
-            {
+            // Some small enough for the quarter path on the two-to-a-workgroup one, and some at
+            // the front.
+            let small_ok = split == Split::SmallSw && small_list_may_take(i as usize);
+            if small_ok && cluster.vertex_count() <= RASTER_SW_QUARTER_VERTICES && i % 3 != 2 {
+                quarter.push(i)
+            } else if small_ok && cluster.vertex_count() <= RASTER_SW_SMALL_VERTICES {
                 small.push(i)
             } else if to_sw {
                 sw_list.push(i)
@@ -233,26 +239,30 @@ impl Rig {
             }
         }
         let (sw_count, hw_count) = (sw_list.len() as u32, hw_list.len() as u32);
-        let small_count = small.len() as u32;
+        let (small_count, quarter_count) = (small.len() as u32, quarter.len() as u32);
         self.last_small = small_count;
-        // The small ones from the list's end backwards (as the cull writes them).
+        self.last_quarter = quarter_count;
+        // The small ones from the SW list's end backwards, the quarter ones from the HW list's
+        // (as the cull writes them).
         let cap = self.fb.visible_capacity as usize;
         sw_list.resize(cap, 0);
+        hw_list.resize(cap, 0);
         for (j, &v) in small.iter().enumerate() {
             sw_list[cap - 1 - j] = v;
         }
+        for (j, &v) in quarter.iter().enumerate() {
+            hw_list[cap - 1 - j] = v;
+        }
         let small_groups = small_count.div_ceil(2);
+        let quarter_groups = quarter_count.div_ceil(4);
         let counters = CullCounters {
             visible_count: self.visible.len() as u32,
-            sw_count: sw_count + small_count,
+            sw_count: sw_count + small_count + quarter_count,
             sw_small_count: small_count,
+            sw_quarter_count: quarter_count,
+            sw_quarter_groups: quarter_groups,
             hw_count,
-            sw_dispatch: [
-                small_groups + sw_count.min(65535 - small_groups),
-                1,
-                1,
-                small_groups,
-            ],
+            sw_dispatch: [small_groups + quarter_groups + sw_count, 1, 1, small_groups],
             hw_draw: [MAX_CLUSTER_TRIANGLES * 3, hw_count, 0, 0],
             hw_mesh: hw_mesh_args(hw_count),
             ..Default::default()
@@ -293,9 +303,7 @@ impl Rig {
             timer.reset(cmd);
             cmd.copy_buffer(&s_visible, &fb.visible, 8 * self.visible.len() as u64);
             cmd.copy_buffer(&s_sw, &fb.sw_list, 4 * cap as u64);
-            if hw_count > 0 {
-                cmd.copy_buffer(&s_hw, &fb.hw_list, 4 * hw_count as u64);
-            }
+            cmd.copy_buffer(&s_hw, &fb.hw_list, 4 * cap as u64);
             cmd.update_buffer(&fb.counters, 0, bytemuck::bytes_of(&counters));
             visbuffer::clear(cmd, fb);
             let shaders = S::COMPUTE_SHADER | hw.input_stages();
@@ -716,11 +724,11 @@ fn every_view_mode_renders() {
     assert_no_validation_errors(&rig.ctx);
 }
 
-/// `raster_sw`'s path for small clusters (`CullCounters::sw_small_count`: two clusters to a
-/// workgroup, two triangles an invocation, every triangle walked by its own invocation) draws
-/// what its path for the others draws, bit for bit: on the usual view (level 0) and on coarse
-/// levels whose large triangles the other path shares across the workgroup, with small and other
-/// clusters in the same dispatch.
+/// `raster_sw`'s paths for small clusters (`CullCounters::sw_small_count`: two clusters to a
+/// workgroup, two triangles an invocation; `sw_quarter_count`: four to a workgroup, up to four
+/// triangles an invocation; every triangle walked by its own invocation) draw what its path for
+/// the others draws, bit for bit: on the usual view (level 0) and on coarse levels whose large
+/// triangles the other path shares across the workgroup, with all three in the same dispatch.
 #[test]
 fn the_small_clusters_path_draws_what_the_other_sw_path_draws() {
     for levels in [[0u32, 0], [3, 4]] {
@@ -728,12 +736,20 @@ fn the_small_clusters_path_draws_what_the_other_sw_path_draws() {
         let sw = rig.render(Split::AllSw, None);
         let small = rig.render(Split::SmallSw, None);
         let n = rig.visible.len() as u32;
+        let (halves, quarters) = (rig.last_small, rig.last_quarter);
         eprintln!(
-            "levels {levels:?}: {} of {n} clusters on the small path",
-            rig.last_small
+            "levels {levels:?}: {halves} of {n} clusters on the small path, {quarters} on the \
+             quarter path"
         );
-        assert!(rig.last_small > 0 && rig.last_small < n, "both paths run");
-        assert!(rig.last_small % 2 == 1, "a workgroup half has no cluster");
+        assert!(halves > 0 && halves + quarters < n, "both SW paths run");
+        // The coarse levels' clusters all have over RASTER_SW_QUARTER_VERTICES vertices.
+        if levels == [0, 0] {
+            assert!(quarters > 0, "the quarter path runs");
+            assert!(
+                halves % 2 == 1 || quarters % 4 != 0,
+                "a workgroup part has no cluster"
+            );
+        }
         assert!(sw.iter().filter(|&&p| p != 0).count() as u32 > W * H / 8);
         assert!(small == sw, "the small clusters' path draws differently");
     }

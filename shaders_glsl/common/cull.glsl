@@ -115,21 +115,28 @@ void emit_cluster(uint instance, uint cluster_index, uint at, uint info, vec3 ce
     }
     // SW clusters that project to at most RASTER_SW_SMALL_PX across with triangles of at most
     // RASTER_SW_SMALL_TRIANGLE_PX (of at most RASTER_SW_SMALL_VERTICES) fill the SW list from its
-    // end (raster_sw draws them two to a workgroup); the others from its start. Each emitted
-    // cluster holds its own visible slot below visible_capacity, so the two ends never meet.
+    // end (raster_sw draws them two to a workgroup), those of them with at most
+    // RASTER_SW_QUARTER_VERTICES the HW list from its end (four to a workgroup); the others the
+    // lists from their starts. Each emitted cluster holds its own visible slot below
+    // visible_capacity, so the two ends of a list never meet.
+    uint vertices = info & 0xffu;
     bool small = !hw && across_px <= RASTER_SW_SMALL_PX && size_px <= RASTER_SW_SMALL_TRIANGLE_PX
-        && (info & 0xffu) <= RASTER_SW_SMALL_VERTICES;
+        && vertices <= RASTER_SW_SMALL_VERTICES;
+    bool quarter = small && vertices <= RASTER_SW_QUARTER_VERTICES;
     // The lists hold visible_capacity entries each; a cluster emitted twice (never, by the cut's
     // rule, but a direct slot is not a count) must not write past them.
-    uint slot = hw ? atomicAdd(counters.hw_count, 1u)
-        : small    ? atomicAdd(counters.sw_small_count, 1u)
-                   : atomicAdd(counters.sw_count, 1u);
+    uint slot = hw    ? atomicAdd(counters.hw_count, 1u)
+        : quarter ? atomicAdd(counters.sw_quarter_count, 1u)
+        : small   ? atomicAdd(counters.sw_small_count, 1u)
+                  : atomicAdd(counters.sw_count, 1u);
     if (slot >= view.visible_capacity) {
         atomicAdd(counters.visible_overflow, 1u);
         return;
     }
     if (hw) {
         hw_list[slot] = v | hw_entry_flags(instance);
+    } else if (quarter) {
+        hw_list[view.visible_capacity - 1u - slot] = v;
     } else if (small) {
         sw_list[view.visible_capacity - 1u - slot] = v;
     } else {

@@ -102,6 +102,8 @@ struct CullCounters {
     uint tiny_cuts;
     uint sw_small_count;
     uvec4 hzb_dispatch;
+    uint sw_quarter_count;
+    uint sw_quarter_groups;
 };
 
 struct OcclusionGpu {

@@ -1,7 +1,8 @@
 //! Pass `raster_sw`: the compute rasterizer (shaders_glsl/raster_sw.comp.glsl).
 //!
 //! One workgroup per cluster of the SW list (`CullCounters::sw_dispatch`, grid-stride over
-//! `sw_count`), [`RASTER_SW_WORKGROUP_SIZE`](crate::shared::RASTER_SW_WORKGROUP_SIZE) threads: the
+//! `sw_count`; small clusters two to a workgroup, the smallest, at the HW list's end, four),
+//! [`RASTER_SW_WORKGROUP_SIZE`](crate::shared::RASTER_SW_WORKGROUP_SIZE) threads: the
 //! cluster's vertices are decoded, made camera-relative, projected and snapped to
 //! [`SUBPIXEL_BITS`](crate::shared::SUBPIXEL_BITS) fixed point in shared memory, then one thread per
 //! triangle tests pixel centres with exact integer edge functions and the top-left rule of
@@ -44,7 +45,8 @@ impl RasterSw {
         let mut bindings = vec![D::UNIFORM_BUFFER];
         bindings.extend([D::STORAGE_BUFFER; 8]);
         bindings.push(vis);
-        bindings.push(D::STORAGE_BUFFER);
+        // The overdraw counter, then the HW list (its end: the quarter path's clusters).
+        bindings.extend([D::STORAGE_BUFFER; 2]);
         let pipeline = ComputePipeline::new(ctx, ShaderStage { name: NAME, spirv }, &bindings, 0)?;
         let no_overdraw = overdraw_placeholder(ctx, NAME)?;
         Ok(Self {
@@ -87,7 +89,7 @@ impl RasterSw {
         phase: Phase,
         overdraw: Option<&Buffer>,
     ) {
-        let (counters, sw_list, _) = fb.phase_lists(phase);
+        let (counters, sw_list, hw_list) = fb.phase_lists(phase);
         timer.begin(cmd, phase.name("raster_sw", "raster_sw (post)"));
         let vis = fb.visbuffer_desc(cmd);
         debug_assert_eq!(
@@ -106,7 +108,11 @@ impl RasterSw {
                     Desc::Storage(sw_list),
                 ],
                 scene,
-                &[vis, Desc::Storage(overdraw.unwrap_or(&self.no_overdraw))],
+                &[
+                    vis,
+                    Desc::Storage(overdraw.unwrap_or(&self.no_overdraw)),
+                    Desc::Storage(hw_list),
+                ],
             ),
         );
         cmd.dispatch_indirect(
