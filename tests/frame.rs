@@ -550,6 +550,19 @@ fn key(f: &VgeoFrame, v: u64) -> (u32, [u32; 2], u32) {
     }
 }
 
+/// An occlusion-culled frame (`on`) shows what the same frame without occlusion culling (`off`)
+/// shows: the same image and depth.
+fn assert_occlusion_kept_the_frame(on: &VgeoFrame, off: &VgeoFrame) {
+    assert_eq!(
+        on.frame.color, off.frame.color,
+        "occlusion culling changed the image"
+    );
+    assert_eq!(
+        on.frame.depth, off.frame.depth,
+        "occlusion culling changed the depth"
+    );
+}
+
 /// A view of [`occlusion_scene`] from `eye` towards `target` (50 degrees, near 0.1).
 fn occlusion_view(eye: DVec3, target: DVec3) -> Camera {
     Camera::look_at(eye, target, Vec3::Y, 50f32.to_radians(), 0.1)
@@ -723,14 +736,7 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
         "all 20 instances behind the wall are culled in frame 2"
     );
     assert!(second.visible().len() < off.visible().len());
-    assert_eq!(
-        second.frame.color, off.frame.color,
-        "occlusion culling changed the image"
-    );
-    assert_eq!(
-        second.frame.depth, off.frame.depth,
-        "occlusion culling changed the depth"
-    );
+    assert_occlusion_kept_the_frame(&second, &off);
     // A camera cut: looking from behind, the old HZB is wrong; the image must still be right.
     let behind = occlusion_view(DVec3::new(0.0, 0.0, -12.0), DVec3::new(0.0, 0.0, -4.0));
     let cut = render(&mut r, &behind, &on);
@@ -850,14 +856,7 @@ fn an_instance_just_behind_an_edge_is_culled() {
         second.post.counters.occluded_instances, 4,
         "the instances behind the wall's edge are culled by their instance test"
     );
-    assert_eq!(
-        second.frame.color, off.frame.color,
-        "occlusion culling changed the image"
-    );
-    assert_eq!(
-        second.frame.depth, off.frame.depth,
-        "occlusion culling changed the depth"
-    );
+    assert_occlusion_kept_the_frame(&second, &off);
     assert_no_validation_errors(&ctx);
 }
 
@@ -892,14 +891,7 @@ fn cut_view() -> Camera {
 /// `cut` (from [`cut_behind_the_wall`]) equals the same view rendered without occlusion culling.
 fn assert_the_cut_is_the_frame_without_occlusion(r: &mut VgeoRenderer, cut: &VgeoFrame) {
     let off = render_without_occlusion(r, &cut_view(), &cut_settings());
-    assert_eq!(
-        cut.frame.color, off.frame.color,
-        "wrong image after the cut"
-    );
-    assert_eq!(
-        cut.frame.depth, off.frame.depth,
-        "wrong depth after the cut"
-    );
+    assert_occlusion_kept_the_frame(cut, &off);
 }
 
 /// The post phase takes what the main phase deferred as one index range: instances, then BVH-node
