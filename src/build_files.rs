@@ -228,6 +228,39 @@ pub fn write_vgeo(built: &BuiltMesh, out: &Path) -> anyhow::Result<usize> {
 }
 
 /// Human-readable statistics of a built mesh.
+/// `m`'s encoded pages (what streams and what the GPU holds of its geometry) per input triangle,
+/// part by part, with the bits a stored vertex and a triangle take.
+fn describe_pages(m: &BuiltMesh) -> String {
+    let b = crate::builder::page::page_bytes_breakdown(m);
+    let per_tri = |bytes: u64| bytes as f64 / m.stats.input_triangles.max(1) as f64;
+    let per_vertex = |bits: u64| bits as f64 / b.stored_vertices.max(1) as f64;
+    let mut fields = format!(
+        "position {:.1}, normal {:.1}",
+        per_vertex(b.position_bits),
+        per_vertex(b.normal_bits)
+    );
+    if m.has_uvs {
+        fields += &format!(", uv {:.1}", per_vertex(b.uv_bits));
+    }
+    if m.has_material_stream() {
+        fields += &format!(", material {:.1}", per_vertex(b.material_bits));
+    }
+    format!(
+        "pages: {} bytes, {:.2} per input triangle: vertices {:.2} ({:.2} stored per triangle, \
+         {:.1} bits each: {fields}), triangles {:.2} ({:.1} bits each), cluster headers {:.2}, \
+         page ends {:.2}",
+        b.total(),
+        per_tri(b.total()),
+        per_tri(b.vertices),
+        b.stored_vertices as f64 / b.stored_triangles.max(1) as f64,
+        per_vertex(b.position_bits + b.normal_bits + b.uv_bits + b.material_bits),
+        per_tri(b.triangles),
+        8.0 * b.triangles as f64 / b.stored_triangles.max(1) as f64,
+        per_tri(b.headers),
+        per_tri(b.page_ends),
+    )
+}
+
 pub fn describe(m: &BuiltMesh, file_len: usize) -> String {
     use std::fmt::Write;
     let s = &m.stats;
@@ -252,6 +285,7 @@ pub fn describe(m: &BuiltMesh, file_len: usize) -> String {
         file_len,
         crate::format::bytes_per_input_triangle(file_len, m)
     );
+    let _ = writeln!(o, "{}", describe_pages(m));
     let _ = writeln!(
         o,
         "{}",

@@ -991,6 +991,46 @@ fn triangle_code_is_short_on_a_scan() {
     assert!(per < 14.0, "{per:.2} bits per triangle");
 }
 
+/// Where the page bytes go (`page_bytes_breakdown`, what `vgeo info` prints): the parts sum to
+/// the encoded pages byte for byte, on a scan (positions and normals) and on spot (UVs too), and
+/// the stored vertices and triangles are the clusters'.
+#[test]
+fn page_bytes_breakdown_sums_to_the_encoded_pages() {
+    use vgeo::builder::page::{clusters_by_page, encode_page, page_bytes_breakdown};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+    for name in ["bunny.ply", "spot.obj"] {
+        let (mesh, _) = vgeo::mesh::load_mesh(&root.join(name)).expect("mesh");
+        let built = builder::build(&mesh, &BuildOptions::default()).expect("build");
+        let b = page_bytes_breakdown(&built);
+        let encoded: u64 = clusters_by_page(&built)
+            .iter()
+            .map(|cl| encode_page(&built, cl).len() as u64)
+            .sum();
+        let stored: u64 = built.pages.iter().map(|p| u64::from(p.bytes)).sum();
+        assert_eq!(
+            b.total(),
+            encoded,
+            "{name}: the parts against the encoded pages"
+        );
+        assert_eq!(encoded, stored, "{name}: the pages' recorded lengths");
+        assert_eq!(b.page_ends, 4 * built.pages.len() as u64);
+        let verts: u64 = built
+            .clusters
+            .iter()
+            .map(|c| u64::from(c.vertex_count()))
+            .sum();
+        assert_eq!(b.stored_vertices, verts);
+        assert_eq!(b.stored_triangles, built.stats.stored_triangles as u64);
+        assert!(b.position_bits > 0 && b.normal_bits > 0 && b.triangles > 0 && b.headers > 0);
+        assert_eq!(
+            b.uv_bits > 0,
+            built.has_uvs,
+            "{name}: UV bits only with UVs"
+        );
+        eprintln!("{name}: {b:?}");
+    }
+}
+
 /// The builder sizes each cluster's page encoding while it packs the clusters; `paginate`, run
 /// again on its output, derives the sizes from the packed streams itself. Both must lay out the
 /// same pages (a size off by a word moves page breaks and data offsets): on a mesh with two

@@ -211,6 +211,10 @@ fn build_verify_and_info_of_a_vgeo_file() {
         "info should say spot is a closed solid: {out}"
     );
     assert!(
+        out.contains("pages: ") && out.contains("bits each: position ") && out.contains(", uv "),
+        "info should say where the page bytes go (spot has UVs): {out}"
+    );
+    assert!(
         out.contains("small instances: under 16 px an error counts a share"),
         "info should say how small instances count the errors: {out}"
     );

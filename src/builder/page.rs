@@ -357,6 +357,63 @@ pub fn encode_page(m: &BuiltMesh, clusters: &[u32]) -> Vec<u8> {
     bytemuck::cast_slice(&words).to_vec()
 }
 
+/// Where a mesh's encoded page bytes go ([`page_bytes_breakdown`]; `vgeo build` / `vgeo info`
+/// print it): the parts sum to the pages' bytes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PageBytes {
+    /// Cluster headers ([`header_words`] each).
+    pub headers: u64,
+    /// Vertex bit streams, each rounded up to whole words.
+    pub vertices: u64,
+    /// Triangle codes ([`super::tricode`]).
+    pub triangles: u64,
+    /// The spare word after each page's last cluster.
+    pub page_ends: u64,
+    /// Vertices stored (once per cluster that uses one) and triangles over all levels.
+    pub stored_vertices: u64,
+    pub stored_triangles: u64,
+    /// Bits of the stored vertices' fields, summed: positions (x, y, z), normals (both
+    /// octahedral components), UVs (both) and materials.
+    pub position_bits: u64,
+    pub normal_bits: u64,
+    pub uv_bits: u64,
+    pub material_bits: u64,
+}
+
+impl PageBytes {
+    /// Every part together: the pages' encoded bytes.
+    pub fn total(&self) -> u64 {
+        self.headers + self.vertices + self.triangles + self.page_ends
+    }
+}
+
+/// Where `m`'s encoded page bytes go, cluster by cluster, as [`encode_page`] lays them out.
+pub fn page_bytes_breakdown(m: &BuiltMesh) -> PageBytes {
+    let (has_uvs, has_mats) = (m.has_uvs, m.has_material_stream());
+    let mut b = PageBytes {
+        page_ends: 4 * m.pages.len() as u64,
+        ..Default::default()
+    };
+    for c in &m.clusters {
+        let verts = cluster_vertices(m, c);
+        let code = ClusterCode::of(&verts, has_uvs, has_mats);
+        let n = verts.len() as u64;
+        let [x, y, z, nw, uw, mw] = code.field_widths().map(u64::from);
+        b.headers += 4 * header_words(has_uvs, has_mats) as u64;
+        b.vertices += 4 * (n * code.vertex_bits() as u64).div_ceil(32);
+        b.triangles +=
+            4 * super::tricode::encoded_words(&m.cluster_local_triangles(c), c.vertex_count())
+                as u64;
+        b.stored_vertices += n;
+        b.stored_triangles += c.triangle_count() as u64;
+        b.position_bits += n * (x + y + z);
+        b.normal_bits += n * 2 * nw;
+        b.uv_bits += n * 2 * uw;
+        b.material_bits += n * mw;
+    }
+    b
+}
+
 /// Page `page`'s encoded bytes (finds its clusters by a pass over all clusters: for one page at a
 /// time; [`encode_page`] with [`clusters_by_page`] for many).
 pub fn page_bytes(m: &BuiltMesh, page: u32) -> Vec<u8> {
