@@ -3,15 +3,16 @@
 // CullCounters.sw_dispatch.w workgroups take the small clusters (CullCounters.sw_small_count, at
 // the SW list's end) two at a time (raster_small, below), the next sw_quarter_groups the smallest
 // (sw_quarter_count, at the HW list's end) four at a time; the others one workgroup per SW cluster
-// (grid-stride over the list's front: sw_count - sw_small_count entries), the cluster's vertices
-// decoded, transformed and snapped into shared memory, then one thread per triangle: fixed-point
-// edge functions (SUBPIXEL_BITS) with the top-left rule exactly as src/reference/raster.rs, depth
-// from the snapped positions, atomicMax into the visibility buffer. Small triangles walk their
-// bounding box with int32 edge functions, larger ones walk scanlines (the covered span of each
-// row solved from the int64 edge functions without an int64 division: a float estimate made
-// exact, first_inside / last_inside), and those whose box exceeds RASTER_SW_BIG_BOX_PIXELS are
-// left to the whole workgroup after the per-thread pass (pieces of rows, one per invocation), so
-// one large triangle does not hold its cluster's workgroup for as many steps as it has pixels.
+// (grid-stride over the list's front: sw_count - sw_small_count - sw_quarter_count entries), the
+// cluster's vertices decoded, transformed and snapped into shared memory, then one thread per
+// triangle: fixed-point edge functions (SUBPIXEL_BITS) with the top-left rule exactly as
+// src/reference/raster.rs, depth from the snapped positions, atomicMax into the visibility
+// buffer. Small triangles walk their bounding box with int32 edge functions, larger ones walk
+// scanlines (the covered span of each row solved from the int64 edge functions without an int64
+// division: a float estimate made exact, first_inside / last_inside), and those whose box exceeds
+// RASTER_SW_BIG_BOX_PIXELS are left to the whole workgroup after the per-thread pass (pieces of
+// rows, one per invocation), so one large triangle does not hold its cluster's workgroup for as
+// many steps as it has pixels.
 // With VIEW_FLAG_COUNT_OVERDRAW each covered pixel also adds 1 to the overdraw counter (binding 10).
 //! variant image VISBUFFER_IMAGE
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -311,6 +312,10 @@ void raster_small(uint parts, uint words, uint first_group, uint groups, uint sm
         uint visible_index = 0u;
         if (in_list) {
             visible_index = parts == 2u ? sw_list[last - j] : hw_list[last - j];
+            // Only if a cluster was emitted twice (reported as a visible overflow) can the HW
+            // list's ends meet, and an HW entry carries flags in its high bits: never read past
+            // the visible list.
+            in_list = visible_index < view.visible_capacity;
         }
         uint tcount = 0u;
         uvec3 t0 = uvec3(0u);

@@ -520,6 +520,8 @@ pub struct CullCounters {
     /// workgroup, in the `sw_quarter_groups` workgroups after the small ones). Not in
     /// `sw_small_count`; in `sw_count` once the phase's cull is done.
     pub sw_quarter_count: u32,
+    /// `raster_sw` workgroups that take the `sw_quarter_count` clusters (four at a time, after
+    /// the `sw_dispatch[3]` that take the small ones).
     pub sw_quarter_groups: u32,
 }
 const _: () = assert!(size_of::<CullCounters>() == 172);

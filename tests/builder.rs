@@ -1031,6 +1031,34 @@ fn page_bytes_breakdown_sums_to_the_encoded_pages() {
     }
 }
 
+/// The cull tests an instance by its BVH root's box and walks the BVH by its groups' boxes, so a
+/// file whose boxes do not enclose its clusters would lose them on screen without a word: the
+/// load refuses one whose root box misses a cluster, whose group box misses a member, or that
+/// has no BVH; a built mesh has none of these (and `verify` passes).
+#[test]
+fn a_file_whose_boxes_miss_its_clusters_is_refused() {
+    let b = sample_built();
+    assert!(vgeo::format::load(&vgeo::format::save(&b)).is_ok());
+    // The root box shrunk by a tenth of its size on one side.
+    let mut small = b.clone();
+    let (lo, hi) = (small.bvh[0].bounds_min, small.bvh[0].bounds_max);
+    small.bvh[0].bounds_max[0] = hi[0] - 0.1 * (hi[0] - lo[0]);
+    let err = vgeo::format::load(&vgeo::format::save(&small)).expect_err("refused");
+    assert!(err.to_string().contains("root"), "{err}");
+    // A group's box shrunk to a point at its centre (its leaf's box kept).
+    let mut group = b.clone();
+    let g = &mut group.groups[0];
+    let c: [f32; 3] = std::array::from_fn(|k| 0.5 * (g.bounds_min[k] + g.bounds_max[k]));
+    g.bounds_min = c;
+    g.bounds_max = c;
+    let err = vgeo::format::load(&vgeo::format::save(&group)).expect_err("refused");
+    assert!(err.to_string().contains("group's box"), "{err}");
+    // No BVH at all.
+    let mut none = b.clone();
+    none.bvh.clear();
+    assert!(vgeo::format::load(&vgeo::format::save(&none)).is_err());
+}
+
 /// The builder sizes each cluster's page encoding while it packs the clusters; `paginate`, run
 /// again on its output, derives the sizes from the packed streams itself. Both must lay out the
 /// same pages (a size off by a word moves page breaks and data offsets): on a mesh with two

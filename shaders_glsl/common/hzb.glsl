@@ -58,13 +58,14 @@ bool hzb_rect_occluded(vec2 lo, vec2 hi, float nearest, vec2 viewport, uint leve
     uvec2 t1 = min(uvec2(floor(hi / texel)), uvec2(w - 1u, h - 1u));
     t1 = min(t1, t0 + (HZB_WINDOW - 1u));
     // A row's texels are read at once (independent loads; a column past the box reads its last
-    // texel again), and a row holding a texel at least as near as the box ends the test: visible.
+    // texel again), and a row holding a texel at least as near as the box ends the test: visible
+    // (as is a NaN depth: only a box surely behind is occluded).
     for (uint y = t0.y; y <= t1.y; y++) {
         float farthest = 1.0;
         for (uint i = 0u; i < HZB_WINDOW; i++) {
             farthest = min(farthest, hzb[offset + y * w + min(t0.x + i, t1.x)]);
         }
-        if (farthest <= nearest) {
+        if (!(nearest < farthest)) {
             return false;
         }
     }

@@ -106,6 +106,11 @@ impl Sink<'_> {
     }
 }
 
+/// Whether the box `lo..hi` lies inside `outer_lo..outer_hi` (false with a NaN).
+fn box_inside(lo: [f32; 3], hi: [f32; 3], outer_lo: [f32; 3], outer_hi: [f32; 3]) -> bool {
+    (0..3).all(|k| outer_lo[k] <= lo[k] && hi[k] <= outer_hi[k])
+}
+
 fn contains(outer: &Sphere, inner: &Sphere) -> bool {
     let d = ((outer[0] as f64 - inner[0] as f64).powi(2)
         + (outer[1] as f64 - inner[1] as f64).powi(2)
@@ -358,6 +363,32 @@ fn check_structure_of(m: &BuiltMesh, s: &mut Sink, streams: bool) -> bool {
                 s.add(format!(
                     "group {gi}: member {ci} names group {}",
                     m.clusters[ci as usize].group
+                ));
+            }
+            // The cull walks the BVH by the groups' boxes (a leaf's box encloses its groups').
+            let c = &m.clusters[ci as usize];
+            if !box_inside(c.bounds_min, c.bounds_max, g.bounds_min, g.bounds_max) {
+                s.add(format!(
+                    "group {gi}: member {ci}'s bounds outside the group's box"
+                ));
+            }
+        }
+    }
+    // instance_cull tests an instance by the BVH root's box: every cluster of every level (the
+    // small-instance table's and the root's too, drawn without a walk) must lie inside it.
+    match m.bvh.first() {
+        None => s.add("no BVH nodes".into()),
+        Some(root) => {
+            let outside = m
+                .clusters
+                .iter()
+                .filter(|c| {
+                    !box_inside(c.bounds_min, c.bounds_max, root.bounds_min, root.bounds_max)
+                })
+                .count();
+            if outside > 0 {
+                s.add(format!(
+                    "{outside} clusters' bounds outside the BVH root's box"
                 ));
             }
         }
@@ -616,7 +647,7 @@ fn check_dag(m: &BuiltMesh, s: &mut Sink) {
                     cov,
                 )
             };
-            let inside = (0..3).all(|k| n.bounds_min[k] <= lo[k] && hi[k] <= n.bounds_max[k]);
+            let inside = box_inside(lo, hi, n.bounds_min, n.bounds_max);
             let above = |a: f32, b: f32| a.partial_cmp(&b) == Some(std::cmp::Ordering::Greater);
             if !inside
                 || !contains(&n.lod_sphere, &sphere)
