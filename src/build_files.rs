@@ -227,7 +227,6 @@ pub fn write_vgeo(built: &BuiltMesh, out: &Path) -> anyhow::Result<usize> {
     Ok(bytes.len())
 }
 
-/// Human-readable statistics of a built mesh.
 /// `m`'s encoded pages (what streams and what the GPU holds of its geometry) per input triangle,
 /// part by part, with the bits a stored vertex and a triangle take.
 fn describe_pages(m: &BuiltMesh) -> String {
@@ -261,6 +260,7 @@ fn describe_pages(m: &BuiltMesh) -> String {
     )
 }
 
+/// Human-readable statistics of a built mesh.
 pub fn describe(m: &BuiltMesh, file_len: usize) -> String {
     use std::fmt::Write;
     let s = &m.stats;

@@ -301,6 +301,12 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     return true;
 }
 
+// The error of the small-instance table's row at word `row` (its error, first entry, count and
+// coverage part: src/builder/cut.rs TinyCuts::words) as an instance of weight `w` counts it.
+float tiny_row_error(uint row, float w) {
+    return weighted_error(uintBitsToFloat(tiny_cuts[row]), uintBitsToFloat(tiny_cuts[row + 3u]), w);
+}
+
 // Small instances (src/builder/cut.rs, TinyCuts): the cut of an instance far from the camera
 // compared to its size comes from its mesh's table. Every group error is projected at the point
 // of the mesh's LOD bound (`walk_radius` around `bounds_center`, enclosing every group's LOD
@@ -341,8 +347,7 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     // (instance_weight, weighted_error: their coverage part whole).
     float w = small_instance_weight(size);
     uint row0 = base + 1u;
-    uint lastw = row0 + TINY_ROW_WORDS * (rows - 1u);
-    float last = weighted_error(uintBitsToFloat(tiny_cuts[lastw]), uintBitsToFloat(tiny_cuts[lastw + 3u]), w);
+    float last = tiny_row_error(row0 + TINY_ROW_WORDS * (rows - 1u), w);
     if (lod_error_px(last * scale, c, r, view.proj_scale) > view.error_px) {
         return false;
     }
@@ -352,8 +357,7 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     uint hi = rows - 1u;
     while (lo < hi) {
         uint mid = (lo + hi) / 2u;
-        uint at = row0 + TINY_ROW_WORDS * mid;
-        float e = weighted_error(uintBitsToFloat(tiny_cuts[at]), uintBitsToFloat(tiny_cuts[at + 3u]), w);
+        float e = tiny_row_error(row0 + TINY_ROW_WORDS * mid, w);
         if (lod_error_px(e * scale, c, r, view.proj_scale) <= view.error_px) {
             hi = mid;
         } else {
