@@ -1,7 +1,9 @@
 #version 460
 // Pass `instance_cull`.
-// Main phase: a thread per instance; frustum test of the mesh's bounding sphere, then the previous
-// frame's HZB: visible instances whose cut is in their mesh's table of small-instance cuts emit
+// Main phase: a thread per instance; frustum test of the mesh's bounding sphere, in a frame
+// without a previous HZB the distance (occluder_select's cutoff: farther instances wait for the
+// post phase),
+// then the previous frame's HZB: visible instances whose cut is in their mesh's table of small-instance cuts emit
 // it directly (emit_tiny_cut, cull.glsl), as do those whose whole cut is the DAG's root cluster
 // (instance-level LOD), small ones walk their BVH here (walk_or_push_item), the others push their BVH
 // root into cluster_cull's queue;
@@ -14,6 +16,10 @@
 
 layout(local_size_x = INSTANCE_CULL_WORKGROUP_SIZE) in;
 
+// VIEW_FLAG_COLD_FRAME (main phase): the farthest distance bin drawn now (occluder_select's
+// CullCounters::cold_cutoff, read once per workgroup).
+shared uint s_cold_cutoff;
+
 // Whether instance `i` is visible: the frustum test of its mesh's bounding sphere (main phase
 // only: the post phase retests instances the frustum already passed), then the HZB test of its
 // mesh's box (occluded in the main phase: deferred to the post phase; in the post phase: rejected
@@ -24,6 +30,12 @@ bool instance_visible(uint i, InstanceVgeo inst, MeshGpu mesh) {
         vec3 c = relative_position(inst, view, mesh.bounds_center);
         float r = mesh.bounds_radius * inst.max_scale;
         if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, c, r)) {
+            return false;
+        }
+        // No previous HZB: only the nearest instances now, the rest tested by the post phase
+        // against what they drew.
+        if ((view.flags & VIEW_FLAG_COLD_FRAME) != 0u && cold_bin(c, r) > s_cold_cutoff) {
+            post_instances[atomicAdd(counters.post_instance_count, 1u)] = i;
             return false;
         }
     }
@@ -52,6 +64,12 @@ void main() {
     uint threads = gl_NumWorkGroups.x * gl_NumWorkGroups.y * INSTANCE_CULL_WORKGROUP_SIZE;
     uint gid = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * INSTANCE_CULL_WORKGROUP_SIZE
         + gl_LocalInvocationID.x;
+    if (pc.phase == 0u && (view.flags & VIEW_FLAG_COLD_FRAME) != 0u) {
+        if (gl_LocalInvocationID.x == 0u) {
+            s_cold_cutoff = counters.cold_cutoff;
+        }
+        barrier();
+    }
     uint n_inst;
     uint n_nodes = 0u;
     uint n_clusters = 0u;

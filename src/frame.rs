@@ -29,6 +29,7 @@ use crate::passes::emit_gbuffer::EmitPath;
 use crate::passes::instance_cull::InstanceCull;
 use crate::passes::material_classify::MaterialTargets;
 use crate::passes::materials::{MaterialOutput, MaterialPasses};
+use crate::passes::occluder_select::OccluderSelect;
 use crate::passes::raster_hw::{HwPath, RasterHw};
 use crate::passes::raster_sw::RasterSw;
 use crate::passes::view::{FrameSettings, MaterialViewGpu, view_gpu};
@@ -37,8 +38,8 @@ use crate::render::{Frame, Light, Placement};
 use crate::scene_gpu::{GpuScene, PoolWords};
 use crate::shared::{
     CullCounters, HW_ENTRY_CULL, HW_ENTRY_MIRRORED, MESH_MAX_CLUSTERS, OcclusionGpu,
-    VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_CULL_STATS, VIEW_FLAG_DIRECT_VISIBLE, VIEW_FLAG_HW_MESH,
-    ViewGpu,
+    VIEW_FLAG_COLD_FRAME, VIEW_FLAG_COUNT_OVERDRAW, VIEW_FLAG_CULL_STATS, VIEW_FLAG_DIRECT_VISIBLE,
+    VIEW_FLAG_HW_MESH, ViewGpu,
 };
 
 /// Largest visible-cluster list: the visibility buffer's cluster field has 25 bits, and its
@@ -107,6 +108,7 @@ pub struct VgeoRenderer {
     /// The scene on the GPU: add, move and remove meshes and instances here between frames.
     pub scene: GpuScene,
     instance_cull: InstanceCull,
+    occluder_select: OccluderSelect,
     cluster_cull: ClusterCull,
     raster_sw: RasterSw,
     raster_hw: RasterHw,
@@ -197,6 +199,7 @@ impl VgeoRenderer {
         Ok(Self {
             ctx: ctx.clone(),
             instance_cull: InstanceCull::new(ctx)?,
+            occluder_select: OccluderSelect::new(ctx)?,
             cluster_cull: ClusterCull::new(ctx, default_workgroups(ctx.caps()))?,
             raster_sw: RasterSw::new(ctx, vis_path)?,
             raster_hw: RasterHw::new(ctx, vis_path, HwPath::Auto)?,
@@ -391,6 +394,7 @@ impl VgeoRenderer {
         fb: &FrameBuffers,
         hzb: &Buffer,
         phase: Phase,
+        cold: bool,
     ) {
         let counters = match phase {
             Phase::Main => &fb.counters,
@@ -415,6 +419,14 @@ impl VgeoRenderer {
             ),
             (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
         );
+        if cold && phase == Phase::Main {
+            self.occluder_select
+                .record(cmd, timer, &self.scene, fb, hzb);
+            cmd.barrier(
+                (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+                (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
+            );
+        }
         self.instance_cull
             .record(cmd, timer, &self.scene, fb, hzb, phase);
         cmd.barrier(
@@ -679,12 +691,7 @@ impl VgeoRenderer {
                 (Some(sm), Some(m)) => Some(m.view_for(fb, cam, light.direction, sm)?),
                 _ => None,
             };
-            data.push(FrameData {
-                view,
-                main,
-                current,
-                mview,
-            });
+            data.push(FrameData::new(view, main, current, mview));
             history = settings.occlusion.then_some(current);
         }
         let pyramid = present(self.pyramid.as_ref(), "HZB")?;
@@ -847,7 +854,7 @@ impl VgeoRenderer {
         // The culls write page feedback: the next `record_feedback` copies it.
         self.scene.note_feedback_frame();
         for phase in [Phase::Main, Phase::Post] {
-            self.record_cull(cmd, timer, fb, &inputs.pyramid.hzb, phase);
+            self.record_cull(cmd, timer, fb, &inputs.pyramid.hzb, phase, d.cold());
             self.raster_sw
                 .record_counting(cmd, timer, &self.scene, fb, phase, inputs.overdraw);
             // Both rasterizers do atomics on the visibility buffer.
@@ -956,7 +963,7 @@ impl VgeoRenderer {
             timer.reset(cmd);
             scene.record_updates(cmd);
             cmd.fill_buffer(&fb.visible, u32::MAX);
-            self.record_cull(cmd, &mut timer, fb, hzb, Phase::Main);
+            self.record_cull(cmd, &mut timer, fb, hzb, Phase::Main, false);
             scene.note_feedback_frame();
             scene.record_feedback(cmd);
         })?;
@@ -985,6 +992,32 @@ struct FrameData {
     main: OcclusionGpu,
     current: OcclusionGpu,
     mview: Option<MaterialViewGpu>,
+}
+
+impl FrameData {
+    /// A frame's uniforms; a frame whose main phase has no HZB to test while its post phase has
+    /// one gets [`VIEW_FLAG_COLD_FRAME`] (its main phase draws only the nearest instances).
+    fn new(
+        mut view: ViewGpu,
+        main: OcclusionGpu,
+        current: OcclusionGpu,
+        mview: Option<MaterialViewGpu>,
+    ) -> Self {
+        if main.enabled == 0 && current.enabled != 0 {
+            view.flags |= VIEW_FLAG_COLD_FRAME;
+        }
+        Self {
+            view,
+            main,
+            current,
+            mview,
+        }
+    }
+
+    /// Whether the frame is cold ([`VIEW_FLAG_COLD_FRAME`]): `occluder_select` runs first.
+    fn cold(&self) -> bool {
+        self.view.flags & VIEW_FLAG_COLD_FRAME != 0
+    }
 }
 
 /// What a frame ends with after the rasterizers.

@@ -17,7 +17,7 @@ use vgeo::mesh::Mesh;
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
 use vgeo::render::{Light, Placement};
-use vgeo::shared::{VIEW_FLAG_FORCE_HW, VIEW_FLAG_FORCE_SW};
+use vgeo::shared::{COLD_OCCLUDER_COVER, VIEW_FLAG_FORCE_HW, VIEW_FLAG_FORCE_SW};
 
 const W: u32 = 192;
 const H: u32 = 160;
@@ -727,10 +727,7 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
         second.visible().len(),
         off.visible().len()
     );
-    assert_eq!(
-        first.main.counters.post_instance_count, 0,
-        "the first frame has no previous HZB"
-    );
+    assert_occlusion_kept_the_frame(&first, &off);
     assert_eq!(
         p.occluded_instances, 20,
         "all 20 instances behind the wall are culled in frame 2"
@@ -745,6 +742,48 @@ fn occlusion_culling_culls_hidden_instances_and_keeps_the_image() {
         cut.frame.color, cut_off.frame.color,
         "wrong image after a camera cut"
     );
+    assert!(cut.frame.covered() > 1000);
+    assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn a_frame_without_history_draws_the_nearest_instances_first() {
+    // The occlusion scene with walls enough in front that their bounding spheres cover the
+    // screen COLD_OCCLUDER_COVER times: the first frame (no previous HZB) draws the walls in its
+    // main phase and defers the 20 spots behind them, which the post phase finds occluded.
+    let ctx = gpu();
+    let (meshes, mut placements, camera) = occlusion_scene();
+    let extra = COLD_OCCLUDER_COVER.ceil() as usize;
+    for k in 1..=extra {
+        let mut wall = placements[0];
+        wall.transform =
+            DMat4::from_translation(DVec3::new(0.0, 0.0, 0.05 * k as f64)) * wall.transform;
+        placements.push(wall);
+    }
+    let on = FrameSettings {
+        error_px: 1.0,
+        ..Default::default()
+    };
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
+    let first = render(&mut r, &camera, &on);
+    let (m, p) = (&first.main.counters, &first.post.counters);
+    assert_eq!(
+        m.post_instance_count, 20,
+        "the main phase of a frame without history defers the spots behind the walls"
+    );
+    assert_eq!(
+        p.occluded_instances, 20,
+        "the post phase finds them behind the walls the main phase drew"
+    );
+    let off = render_without_occlusion(&mut r, &camera, &on);
+    assert_occlusion_kept_the_frame(&first, &off);
+    // A camera cut from behind: the spots are now the nearest, the walls farther; nothing
+    // occluded may be missing from the image.
+    r.reset_history();
+    let behind = occlusion_view(DVec3::new(0.0, 0.0, -12.0), DVec3::new(0.0, 0.0, -4.0));
+    let cut = render(&mut r, &behind, &on);
+    let cut_off = render_without_occlusion(&mut r, &behind, &on);
+    assert_occlusion_kept_the_frame(&cut, &cut_off);
     assert!(cut.frame.covered() > 1000);
     assert_no_validation_errors(&ctx);
 }

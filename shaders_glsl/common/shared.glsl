@@ -104,6 +104,9 @@ struct CullCounters {
     uvec4 hzb_dispatch;
     uint sw_quarter_count;
     uint sw_quarter_groups;
+    uint cold_cutoff;
+    uint cold_groups_done;
+    uvec2 cold_area[COLD_DEPTH_BINS];
 };
 
 struct OcclusionGpu {

@@ -476,12 +476,12 @@ impl VgeoRenderer {
             v.flags |= SHADE_FLAG_COVERED_ONLY;
             v
         });
-        let data = FrameData {
-            view: self.view_of(cam, width, height, &settings),
+        let data = FrameData::new(
+            self.view_of(cam, width, height, &settings),
             main,
             current,
             mview,
-        };
+        );
         let View {
             fb,
             pyramid,

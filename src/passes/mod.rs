@@ -20,6 +20,7 @@ pub mod instance_cull;
 pub mod material_classify;
 pub mod material_depth;
 pub mod materials;
+pub mod occluder_select;
 pub mod raster_hw;
 pub mod raster_sw;
 pub mod shade;
