@@ -788,6 +788,59 @@ fn a_frame_without_history_draws_the_nearest_instances_first() {
     assert_no_validation_errors(&ctx);
 }
 
+#[test]
+fn a_frame_without_history_selects_occluders_among_many_instances() {
+    // More instances than occluder_select's workgroups take one each (OCCLUDER_SELECT_GROUPS x
+    // the workgroup size): each workgroup sums several of them, and the one that adds its sums
+    // last picks the cutoff. The walls come last in the instance list, so a cutoff picked before
+    // their workgroup added their areas (by the first workgroup to finish, say) would draw
+    // everything in the main phase.
+    use vgeo::shared::{INSTANCE_CULL_WORKGROUP_SIZE, OCCLUDER_SELECT_GROUPS};
+    let ctx = gpu();
+    let (meshes, scene, camera) = occlusion_scene();
+    let extra = COLD_OCCLUDER_COVER.ceil() as usize;
+    let walls = (0..=extra).map(|k| {
+        let mut wall = scene[0];
+        wall.transform =
+            DMat4::from_translation(DVec3::new(0.0, 0.0, 0.05 * k as f64)) * wall.transform;
+        wall
+    });
+    let mut placements = Vec::new();
+    let hidden = (OCCLUDER_SELECT_GROUPS * INSTANCE_CULL_WORKGROUP_SIZE) as usize + 4_000;
+    let side = (hidden as f64).sqrt().ceil() as usize;
+    for i in 0..hidden {
+        let (x, y) = ((i % side) as f64, (i / side) as f64);
+        placements.push(Placement {
+            mesh: 0,
+            transform: DMat4::from_translation(DVec3::new(
+                (x / side as f64 - 0.5) * 4.0,
+                (y / side as f64 - 0.5) * 3.0,
+                -4.0,
+            )) * DMat4::from_scale(DVec3::splat(0.02)),
+            color: [1.0; 3],
+        });
+    }
+    placements.extend(walls);
+    let on = FrameSettings {
+        error_px: 1.0,
+        ..Default::default()
+    };
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
+    let first = render(&mut r, &camera, &on);
+    let (m, p) = (&first.main.counters, &first.post.counters);
+    assert_eq!(
+        m.post_instance_count as usize, hidden,
+        "the main phase of a frame without history defers every instance behind the walls"
+    );
+    assert_eq!(
+        p.occluded_instances as usize, hidden,
+        "the post phase finds them all behind the walls"
+    );
+    let off = render_without_occlusion(&mut r, &camera, &on);
+    assert_occlusion_kept_the_frame(&first, &off);
+    assert_no_validation_errors(&ctx);
+}
+
 /// Where the screen rectangle of `corners` (world space) lies seen by `camera`: (left, right)
 /// pixel columns of a `W` x `H` frame.
 fn projected_columns(camera: &Camera, corners: &[DVec3]) -> (f32, f32) {
