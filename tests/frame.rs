@@ -753,30 +753,15 @@ fn a_frame_without_history_draws_the_nearest_instances_first() {
     // main phase and defers the 20 spots behind them, which the post phase finds occluded.
     let ctx = gpu();
     let (meshes, mut placements, camera) = occlusion_scene();
-    let extra = COLD_OCCLUDER_COVER.ceil() as usize;
-    for k in 1..=extra {
-        let mut wall = placements[0];
-        wall.transform =
-            DMat4::from_translation(DVec3::new(0.0, 0.0, 0.05 * k as f64)) * wall.transform;
-        placements.push(wall);
-    }
+    let walls = cold_walls(placements[0]);
+    placements.extend_from_slice(&walls[1..]);
     let on = FrameSettings {
         error_px: 1.0,
         ..Default::default()
     };
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
     let first = render(&mut r, &camera, &on);
-    let (m, p) = (&first.main.counters, &first.post.counters);
-    assert_eq!(
-        m.post_instance_count, 20,
-        "the main phase of a frame without history defers the spots behind the walls"
-    );
-    assert_eq!(
-        p.occluded_instances, 20,
-        "the post phase finds them behind the walls the main phase drew"
-    );
-    let off = render_without_occlusion(&mut r, &camera, &on);
-    assert_occlusion_kept_the_frame(&first, &off);
+    assert_cold_frame_hid(&mut r, &camera, &on, &first, 20);
     // A camera cut from behind: the spots are now the nearest, the walls farther; nothing
     // occluded may be missing from the image.
     r.reset_history();
@@ -798,13 +783,6 @@ fn a_frame_without_history_selects_occluders_among_many_instances() {
     use vgeo::shared::{INSTANCE_CULL_WORKGROUP_SIZE, OCCLUDER_SELECT_GROUPS};
     let ctx = gpu();
     let (meshes, scene, camera) = occlusion_scene();
-    let extra = COLD_OCCLUDER_COVER.ceil() as usize;
-    let walls = (0..=extra).map(|k| {
-        let mut wall = scene[0];
-        wall.transform =
-            DMat4::from_translation(DVec3::new(0.0, 0.0, 0.05 * k as f64)) * wall.transform;
-        wall
-    });
     let mut placements = Vec::new();
     let hidden = (OCCLUDER_SELECT_GROUPS * INSTANCE_CULL_WORKGROUP_SIZE) as usize + 4_000;
     let side = (hidden as f64).sqrt().ceil() as usize;
@@ -820,25 +798,49 @@ fn a_frame_without_history_selects_occluders_among_many_instances() {
             color: [1.0; 3],
         });
     }
-    placements.extend(walls);
+    placements.extend(cold_walls(scene[0]));
     let on = FrameSettings {
         error_px: 1.0,
         ..Default::default()
     };
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
     let first = render(&mut r, &camera, &on);
-    let (m, p) = (&first.main.counters, &first.post.counters);
-    assert_eq!(
-        m.post_instance_count as usize, hidden,
-        "the main phase of a frame without history defers every instance behind the walls"
-    );
-    assert_eq!(
-        p.occluded_instances as usize, hidden,
-        "the post phase finds them all behind the walls"
-    );
-    let off = render_without_occlusion(&mut r, &camera, &on);
-    assert_occlusion_kept_the_frame(&first, &off);
+    assert_cold_frame_hid(&mut r, &camera, &on, &first, hidden as u32);
     assert_no_validation_errors(&ctx);
+}
+
+/// `wall` and `COLD_OCCLUDER_COVER` more just in front of it: walls whose bounding-sphere
+/// discs (each the whole screen) are enough for a frame without history to draw them first.
+fn cold_walls(wall: Placement) -> Vec<Placement> {
+    (0..=COLD_OCCLUDER_COVER.ceil() as u32)
+        .map(|k| Placement {
+            transform: DMat4::from_translation(DVec3::new(0.0, 0.0, 0.05 * k as f64))
+                * wall.transform,
+            ..wall
+        })
+        .collect()
+}
+
+/// `first`, a frame without history of `r`'s scene seen by `camera`, deferred its `hidden`
+/// instances behind the walls to the post phase, which found them occluded, and shows what the
+/// same frame without occlusion culling shows.
+fn assert_cold_frame_hid(
+    r: &mut VgeoRenderer,
+    camera: &Camera,
+    settings: &FrameSettings,
+    first: &VgeoFrame,
+    hidden: u32,
+) {
+    assert_eq!(
+        first.main.counters.post_instance_count, hidden,
+        "the main phase of a frame without history defers the instances behind the walls"
+    );
+    assert_eq!(
+        first.post.counters.occluded_instances, hidden,
+        "the post phase finds them behind the walls the main phase drew"
+    );
+    let off = render_without_occlusion(r, camera, settings);
+    assert_occlusion_kept_the_frame(first, &off);
 }
 
 /// Where the screen rectangle of `corners` (world space) lies seen by `camera`: (left, right)
