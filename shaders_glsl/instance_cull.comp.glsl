@@ -2,9 +2,8 @@
 // Pass `instance_cull`.
 // Main phase: a thread per instance; frustum test of the mesh's bounding sphere, in a frame
 // without a previous HZB the distance (occluder_select's cutoff: farther instances wait for the
-// post phase),
-// then the previous frame's HZB: visible instances whose cut is in their mesh's table of small-instance cuts emit
-// it directly (emit_tiny_cut, cull.glsl), as do those whose whole cut is the DAG's root cluster
+// post phase), then the previous frame's HZB: visible instances whose cut is in their mesh's
+// table of small-instance cuts emit it directly (emit_tiny_cut, cull.glsl), as do those whose whole cut is the DAG's root cluster
 // (instance-level LOD), small ones walk their BVH here (walk_or_push_item), the others push their BVH
 // root into cluster_cull's queue;
 // occluded ones wait in `post_instances` for the post phase.

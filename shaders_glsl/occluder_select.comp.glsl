@@ -51,10 +51,14 @@ void main() {
             continue;
         }
         // The disc of its bounding sphere at its nearest point, at most the screen (a NaN or
-        // infinite size, the camera inside the sphere: the screen).
+        // infinite size, the camera inside the sphere: the screen), in units that fit 32 bits
+        // whatever the screen. A sphere around the camera counts a whole screen, as a wall in
+        // front does; four ground tiles or a room's walls around the camera then make bin 0 the
+        // cutoff and defer even what stands in front of them: the post phase draws that, a
+        // frame's latency later (a cost of speed in that one frame, never of the image).
         float px = instance_size_px(inst, mesh, view);
         float area = px < 1e6 ? min(3.14159265 * px * px, screen) : screen;
-        uint units = uint(ceil(area * COLD_AREA_SCALE));
+        uint units = uint(min(ceil(area * COLD_AREA_SCALE), 4294967040.0));
         uint bin = cold_bin(c, r);
         ADD64(s_area[bin][0], s_area[bin][1], units)
     }

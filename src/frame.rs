@@ -462,6 +462,8 @@ impl VgeoRenderer {
         settings: &FrameSettings,
     ) -> ViewGpu {
         let mut settings = *settings;
+        // Only FrameData::new says a frame is cold (and records occluder_select with it).
+        settings.flags &= !VIEW_FLAG_COLD_FRAME;
         if settings.auto_split() {
             settings.hw_threshold_px = self.split.threshold();
         }

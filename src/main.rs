@@ -642,6 +642,15 @@ fn render_vgeo(
         summary.push(format!("wrote {} (clusters view)", path.display()));
     }
     for (name, c) in [("main", &vf.main.counters), ("post", &vf.post.counters)] {
+        // A frame without history: occluder_select ran (docs/architecture.md).
+        let cold = if c.cold_groups_done > 0 {
+            format!(
+                " (no previous HZB: instances up to distance bin {} drawn first)",
+                c.cold_cutoff
+            )
+        } else {
+            String::new()
+        };
         stats_lines.push(format!(
             "  {name}: instances {}/{} visible, {} BVH nodes, {} clusters tested, {} drawn ({} sw, {} of them small, {} smallest, {} hw), {} triangles; deferred {} inst / {} nodes / {} clusters; occluded {} inst / {} nodes / {} clusters",
             c.instances_visible,
@@ -660,7 +669,7 @@ fn render_vgeo(
             c.occluded_instances,
             c.occluded_nodes,
             c.occluded_clusters,
-        ));
+        ) + &cold);
     }
     stats_lines.push(format!(
         "  visibility buffer: {:?} path; raster_hw: {} path (--hw-path {}); geometry {:.1} MiB",

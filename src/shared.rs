@@ -549,9 +549,10 @@ pub struct CullCounters {
     /// the `sw_dispatch[3]` that take the small ones).
     pub sw_quarter_groups: u32,
     /// [`VIEW_FLAG_COLD_FRAME`] (main phase): the farthest distance bin the main phase draws
-    /// (`occluder_select`'s last workgroup writes it from `cold_area`), and how many of its
-    /// workgroups have added their sums.
+    /// (`occluder_select`'s last workgroup writes it from `cold_area`).
     pub cold_cutoff: u32,
+    /// [`VIEW_FLAG_COLD_FRAME`] (main phase): how many `occluder_select` workgroups have added
+    /// their sums to `cold_area` (the last one picks `cold_cutoff`); 0 in other frames.
     pub cold_groups_done: u32,
     /// [`VIEW_FLAG_COLD_FRAME`] (main phase): the projected area of the instances in the frustum
     /// (their bounding spheres' discs at their nearest point, at most the screen each), in

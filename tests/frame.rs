@@ -762,11 +762,17 @@ fn a_frame_without_history_draws_the_nearest_instances_first() {
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
     let first = render(&mut r, &camera, &on);
     assert_cold_frame_hid(&mut r, &camera, &on, &first, 20);
-    // A camera cut from behind: the spots are now the nearest, the walls farther; nothing
-    // occluded may be missing from the image.
+    // A camera cut to behind the spots: the walls' bounding spheres still reach nearer than the
+    // spots, so the walls are drawn first again, but now the 20 deferred spots stand in front of
+    // them: the post phase must draw every one.
     r.reset_history();
     let behind = occlusion_view(DVec3::new(0.0, 0.0, -12.0), DVec3::new(0.0, 0.0, -4.0));
     let cut = render(&mut r, &behind, &on);
+    assert_eq!(cut.main.counters.post_instance_count, 20);
+    assert_eq!(
+        cut.post.counters.instances_visible, 20,
+        "the deferred spots in front of the walls are drawn by the post phase"
+    );
     let cut_off = render_without_occlusion(&mut r, &behind, &on);
     assert_occlusion_kept_the_frame(&cut, &cut_off);
     assert!(cut.frame.covered() > 1000);
@@ -806,6 +812,10 @@ fn a_frame_without_history_selects_occluders_among_many_instances() {
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).unwrap();
     let first = render(&mut r, &camera, &on);
     assert_cold_frame_hid(&mut r, &camera, &on, &first, hidden as u32);
+    assert_eq!(
+        first.main.counters.cold_groups_done, OCCLUDER_SELECT_GROUPS,
+        "every occluder_select workgroup added its sums"
+    );
     assert_no_validation_errors(&ctx);
 }
 

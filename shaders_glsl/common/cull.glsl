@@ -13,7 +13,6 @@
 // are read back (VIEW_FLAG_CULL_STATS, src/shared.rs).
 #define CULL_STAT(counter, n) if ((view.flags & VIEW_FLAG_CULL_STATS) != 0u) { atomicAdd(counters.counter, n); }
 
-// Whether a camera-relative sphere touches the frustum (far plane at infinity).
 // The distance bin (CullCounters::cold_area) of a bounding sphere at camera-relative centre `c`
 // with radius `r`: COLD_BINS_PER_OCTAVE per doubling of its nearest point's distance from the
 // near plane's, the last bin holding everything beyond.
@@ -23,6 +22,7 @@ uint cold_bin(vec3 c, float r) {
     return b < float(COLD_DEPTH_BINS - 1u) ? uint(b) : COLD_DEPTH_BINS - 1u;
 }
 
+// Whether a camera-relative sphere touches the frustum (far plane at infinity).
 bool sphere_in_frustum(ViewGpu v, vec3 c, float r) {
     for (int i = 0; i < 5; i++) {
         if (dot(v.frustum[i].xyz, c) + v.frustum[i].w < -r) {
@@ -377,11 +377,10 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     uint first = base + tiny_cuts[row + 1u];
     uint count = tiny_cuts[row + 2u];
     CULL_STAT(tiny_cuts, 1u)
-    CULL_STAT(clusters_tested, count)
     // A cut of one cluster of a mesh of more than WALK_CLUSTERS clusters is the mesh whole at a
     // coarse level (the instance is under TINY_CUT_RADIUS_PX): the instance's own frustum and HZB
     // tests, by the mesh's sphere and box, stand for the cluster's (stress N=200: instance_cull
-    // -0.17 ms for 0.2 % more triangles; foliage's clumps, which take the table at any size,
+    // -0.15 ms for 0.2 % more triangles; foliage's clumps, which take the table at any size,
     // keep the test: there it rejected 2 % of the triangles).
     if (count == 1u && mesh.cluster_count > WALK_CLUSTERS) {
         uint ci = mesh.cluster_offset + tiny_cuts[first];
@@ -393,6 +392,7 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
         emit_cluster(instance, ci, at, cluster_info(at), cc, cr);
         return true;
     }
+    CULL_STAT(clusters_tested, count)
     // Otherwise each cluster is still tested (frustum, HZB) as test_cluster tests a drawn one:
     // emitting the whole cut untested drew 14 % more triangles on stress N=100 (clusters these
     // tests reject), and rasterizing them cost more than the tests.
