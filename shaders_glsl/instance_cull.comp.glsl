@@ -3,10 +3,10 @@
 // Main phase: a thread per instance; frustum test of the mesh's bounding sphere, in a frame
 // without a previous HZB the distance (occluder_select's cutoff: farther instances wait for the
 // post phase), then the previous frame's HZB: visible instances whose cut is in their mesh's
-// table of small-instance cuts emit it directly (emit_tiny_cut, cull.glsl), as do those whose whole cut is the DAG's root cluster
-// (instance-level LOD), small ones walk their BVH here (walk_or_push_item), the others push their BVH
-// root into cluster_cull's queue;
-// occluded ones wait in `post_instances` for the post phase.
+// table of small-instance cuts emit it directly (emit_tiny_cut, cull.glsl), as do those whose
+// whole cut is the DAG's root cluster (instance-level LOD), small ones walk their BVH here
+// (walk_or_push_item), the others push their BVH root into cluster_cull's queue; occluded ones
+// wait in `post_instances` for the post phase.
 // Post phase: grid-stride over what the main phase deferred: instances (tested against this frame's
 // HZB, walked or pushed if visible), BVH-node items (walked here for small instances, else pushed
 // back: cluster_cull tests them again) and clusters
@@ -103,8 +103,9 @@ void main() {
                 CULL_STAT(occluded_clusters, 1u)
                 continue;
             }
-            vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
-            float cr = length(bmax - bmin) * 0.5 * inst.max_scale;
+            vec3 cc;
+            float cr;
+            box_sphere(inst, bmin, bmax, cc, cr);
             emit_cluster(e.x, e.y, at, cluster_info(at), cc, cr);
             continue;
         }

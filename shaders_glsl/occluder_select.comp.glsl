@@ -56,7 +56,8 @@ void main() {
         // front does; four ground tiles or a room's walls around the camera then make bin 0 the
         // cutoff and defer even what stands in front of them: the post phase draws that, a
         // frame's latency later (a cost of speed in that one frame, never of the image).
-        float px = instance_size_px(inst, mesh, view);
+        // instance_size_px, from the sphere already at hand.
+        float px = lod_error_px(r, c, r, view.proj_scale);
         float area = px < 1e6 ? min(3.14159265 * px * px, screen) : screen;
         uint units = uint(min(ceil(area * COLD_AREA_SCALE), 4294967040.0));
         uint bin = cold_bin(c, r);

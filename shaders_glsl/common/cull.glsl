@@ -176,11 +176,19 @@ bool cluster_occluded(uint instance, InstanceVgeo inst, vec3 bmin, vec3 bmax, ui
 // The tests a cluster of the cut gets before it is drawn (frustum by its bounds' sphere, the HZB:
 // deferred in the main phase, rejected in the post phase), then its emission. `at`: its pool word,
 // `info`: its info word.
+// The camera-relative sphere around a cluster's box [bmin, bmax] in instance `inst` (what the
+// frustum test and emit_cluster take).
+void box_sphere(InstanceVgeo inst, vec3 bmin, vec3 bmax, out vec3 cc, out float cr) {
+    cc = relative_position(inst, view, (bmin + bmax) * 0.5);
+    cr = length(bmax - bmin) * 0.5 * inst.max_scale;
+}
+
 void draw_if_visible(uint instance, InstanceVgeo inst, uint ci, uint at, uint info) {
     vec3 bmin = cluster_bounds_min(at);
     vec3 bmax = cluster_bounds_max(at);
-    vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
-    float cr = length(bmax - bmin) * 0.5 * inst.max_scale;
+    vec3 cc;
+    float cr;
+    box_sphere(inst, bmin, bmax, cc, cr);
     if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, cc, cr)) {
         return;
     }
@@ -385,10 +393,9 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     if (count == 1u && mesh.cluster_count > WALK_CLUSTERS) {
         uint ci = mesh.cluster_offset + tiny_cuts[first];
         uint at = cluster_word(mesh, ci);
-        vec3 bmin = cluster_bounds_min(at);
-        vec3 bmax = cluster_bounds_max(at);
-        vec3 cc = relative_position(inst, view, (bmin + bmax) * 0.5);
-        float cr = length(bmax - bmin) * 0.5 * scale;
+        vec3 cc;
+        float cr;
+        box_sphere(inst, cluster_bounds_min(at), cluster_bounds_max(at), cc, cr);
         emit_cluster(instance, ci, at, cluster_info(at), cc, cr);
         return true;
     }
