@@ -41,6 +41,8 @@ pub struct Options {
     pub frames: u32,
     pub width: u32,
     pub height: u32,
+    /// The builder's triangle ratio of one simplification step.
+    pub ratio: f32,
 }
 
 impl Default for Options {
@@ -55,6 +57,7 @@ impl Default for Options {
             levels: 3,
             copies: 4,
             frames: 120,
+            ratio: vgeo::BuildOptions::default().simplify_ratio,
             width: 1920,
             height: 1080,
         }
@@ -105,8 +108,12 @@ fn unique_mesh(opts: &Options, i: usize) -> Result<PathBuf> {
     let ply = opts.work.join(format!("m{i}.ply"));
     subdivide_mesh::write_subdivided(&opts.mesh, &ply, opts.levels, opts.copies, i as u64)?;
     let mesh = vgeo::merge_meshes(vgeo::load_meshes(&ply, &vgeo::ImportOptions::default())?);
-    let built = vgeo::build(&mesh, &vgeo::BuildOptions::default())
-        .map_err(|e| anyhow::anyhow!("building mesh {i}: {e}"))?;
+    let build = vgeo::BuildOptions {
+        simplify_ratio: opts.ratio,
+        ..Default::default()
+    };
+    let built =
+        vgeo::build(&mesh, &build).map_err(|e| anyhow::anyhow!("building mesh {i}: {e}"))?;
     let tmp = opts.work.join(format!("m{i}.vgeo.part"));
     std::fs::write(&tmp, vgeo::save_vgeo(&built))?;
     std::fs::rename(&tmp, &vgeo)?;
@@ -536,6 +543,7 @@ fn parse_args() -> Result<Options> {
             "--levels" => o.levels = value()?.parse()?,
             "--copies" => o.copies = value()?.parse()?,
             "--frames" => o.frames = value()?.parse()?,
+            "--ratio" => o.ratio = value()?.parse()?,
             "--size" => {
                 let v = value()?;
                 let (x, y) = v.split_once('x').context("--size WxH")?;
@@ -543,7 +551,7 @@ fn parse_args() -> Result<Options> {
             }
             "--help" | "-h" => {
                 println!(
-                    "stream_sizes [--mesh SCAN] [--work DIR] [--out DIR] [--sizes 4,8,16] [--budget-mib 256] [--mib-per-frame 64] [--levels 3] [--copies 4] [--frames 120] [--size 1920x1080]\n\nStreams scenes of 4, 8, 16 unique meshes (made once in --work) under one budget and plots what stays on the GPU against the scene's size (sizes.md, sizes.json, sizes.svg in --out)."
+                    "stream_sizes [--mesh SCAN] [--work DIR] [--out DIR] [--sizes 4,8,16] [--budget-mib 256] [--mib-per-frame 64] [--levels 3] [--copies 4] [--frames 120] [--size 1920x1080] [--ratio 0.5]\n\nStreams scenes of 4, 8, 16 unique meshes (made once in --work) under one budget and plots what stays on the GPU against the scene's size (sizes.md, sizes.json, sizes.svg in --out)."
                 );
                 std::process::exit(0);
             }

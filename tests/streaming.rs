@@ -972,6 +972,8 @@ fn resident_bytes_follow_the_budget_not_the_scene_size() {
         frames: 24,
         width: 160,
         height: 96,
+        // The ratio docs/architecture.md ("The DAG's step") advises for geometry that streams.
+        ratio: 0.35,
     };
     let recs = stream_sizes::run_on(&ctx, &opts).expect("the sizes run");
     assert_no_validation_errors(&ctx);
