@@ -26,9 +26,10 @@ shared uint s_cold_cutoff;
 bool instance_visible(uint i, InstanceVgeo inst, MeshGpu mesh) {
     CULL_STAT(instances_tested, 1u)
     if (pc.phase == 0u) {
-        vec3 c = relative_position(inst, view, mesh.bounds_center);
-        float r = mesh.bounds_radius * inst.max_scale;
-        if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, c, r)) {
+        vec3 c;
+        float r;
+        instance_sphere(inst, mesh, c, r);
+        if (frustum_rejects(c, r)) {
             return false;
         }
         // No previous HZB: only the nearest instances now, the rest tested by the post phase

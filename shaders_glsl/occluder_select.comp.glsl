@@ -45,9 +45,10 @@ void main() {
     for (uint i = gl_GlobalInvocationID.x; i < view.instance_count; i += threads) {
         InstanceVgeo inst = instances[i];
         MeshGpu mesh = meshes[inst.mesh];
-        vec3 c = relative_position(inst, view, mesh.bounds_center);
-        float r = mesh.bounds_radius * inst.max_scale;
-        if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, c, r)) {
+        vec3 c;
+        float r;
+        instance_sphere(inst, mesh, c, r);
+        if (frustum_rejects(c, r)) {
             continue;
         }
         // The disc of its bounding sphere at its nearest point, at most the screen (a NaN or

@@ -173,9 +173,19 @@ bool cluster_occluded(uint instance, InstanceVgeo inst, vec3 bmin, vec3 bmax, ui
     return true;
 }
 
-// The tests a cluster of the cut gets before it is drawn (frustum by its bounds' sphere, the HZB:
-// deferred in the main phase, rejected in the post phase), then its emission. `at`: its pool word,
-// `info`: its info word.
+// Whether the view's frustum test rejects the camera-relative sphere (c, r) (never with
+// VIEW_FLAG_NO_FRUSTUM).
+bool frustum_rejects(vec3 c, float r) {
+    return (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, c, r);
+}
+
+// The camera-relative bounding sphere of instance `inst` of `mesh`: what instance_cull tests and
+// occluder_select bins by (the same sphere, so that the cutoff sorts what instance_cull sees).
+void instance_sphere(InstanceVgeo inst, MeshGpu mesh, out vec3 c, out float r) {
+    c = relative_position(inst, view, mesh.bounds_center);
+    r = mesh.bounds_radius * inst.max_scale;
+}
+
 // The camera-relative sphere around a cluster's box [bmin, bmax] in instance `inst` (what the
 // frustum test and emit_cluster take).
 void box_sphere(InstanceVgeo inst, vec3 bmin, vec3 bmax, out vec3 cc, out float cr) {
@@ -183,13 +193,16 @@ void box_sphere(InstanceVgeo inst, vec3 bmin, vec3 bmax, out vec3 cc, out float 
     cr = length(bmax - bmin) * 0.5 * inst.max_scale;
 }
 
+// The tests a cluster of the cut gets before it is drawn (frustum by its bounds' sphere, the HZB:
+// deferred in the main phase, rejected in the post phase), then its emission. `at`: its pool word,
+// `info`: its info word.
 void draw_if_visible(uint instance, InstanceVgeo inst, uint ci, uint at, uint info) {
     vec3 bmin = cluster_bounds_min(at);
     vec3 bmax = cluster_bounds_max(at);
     vec3 cc;
     float cr;
     box_sphere(inst, bmin, bmax, cc, cr);
-    if ((view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u && !sphere_in_frustum(view, cc, cr)) {
+    if (frustum_rejects(cc, cr)) {
         return;
     }
     if (!cluster_occluded(instance, inst, bmin, bmax, ci)) {

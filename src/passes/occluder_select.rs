@@ -1,6 +1,6 @@
-//! Pass `occluder_select`: in a frame without a previous HZB ([`VIEW_FLAG_COLD_FRAME`]), a thread
-//! per instance sums the projected area of the instances in the frustum by distance
-//! ([`CullCounters::cold_area`](crate::shared::CullCounters::cold_area)), so that the main
+//! Pass `occluder_select`: in a frame without a previous HZB ([`VIEW_FLAG_COLD_FRAME`]), at most
+//! [`OCCLUDER_SELECT_GROUPS`] workgroups sum the projected area of the instances in the frustum by
+//! distance ([`CullCounters::cold_area`](crate::shared::CullCounters::cold_area)), so that the main
 //! phase's `instance_cull` draws only the nearest and defers the rest to the post phase.
 //!
 //! [`VIEW_FLAG_COLD_FRAME`]: crate::shared::VIEW_FLAG_COLD_FRAME
