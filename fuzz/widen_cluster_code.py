@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# Makes fuzz/regressions/load_vgeo/non_minimal_cluster_code.vgeo from a valid .vgeo (format v5): widens
+# Makes fuzz/regressions/load_vgeo/non_minimal_cluster_code.vgeo from a valid .vgeo (format v8): widens
 # one position field of the first cluster whose vertex stream keeps its word count, re-packs its
 # vertices, and fixes the page and head checksums. Usage: widen_cluster_code.py IN.vgeo OUT.vgeo
 # (the regression was made from fuzz/corpus/load_vgeo/tetra_and_triangle.vgeo).
@@ -19,7 +19,7 @@ meta=json.loads(bytes(d[secs[1][0]:secs[1][0]+secs[1][1]]))
 has_uvs=meta['has_uvs']; has_mats=len(meta['materials'])>1
 pt=secs[11][0]; npages=secs[11][1]//64
 nc=secs[4][1]//96
-hw=9+5+(1 if has_uvs else 0)+(1 if has_mats else 0)
+hw=8+2+(1 if has_uvs else 0)+(1 if has_mats else 0)
 def getbits(words,bit,n):
     v=0
     for k in range(n):
@@ -30,7 +30,7 @@ for c in range(nc):
     data_off=v[17]; counts=v[19]; page=v[23]; vc=counts&0xff
     poff=struct.unpack_from('<Q',d,pt+64*page+32)[0]
     at=poff+4*data_off
-    w=struct.unpack_from('<I',d,at+4*12)[0]
+    w=struct.unpack_from('<I',d,at+4*8)[0]
     f=[(w>>(5*k))&31 for k in range(6)]
     vb=f[0]+f[1]+f[2]+2*f[3]+2*f[4]+f[5]
     ks=[k for k in range(3) if f[k]<20]
@@ -52,7 +52,7 @@ for c in range(nc):
             acc|=val<<bit; bit+=width
     out=[(acc>>(32*k))&0xffffffff for k in range(nw)]
     struct.pack_into('<%dI'%nw,d,vs,*out)
-    struct.pack_into('<I',d,at+4*12,w+(1<<(5*K)))
+    struct.pack_into('<I',d,at+4*8,w+(1<<(5*K)))
     plen=struct.unpack_from('<Q',d,pt+64*page+40)[0]
     struct.pack_into('<Q',d,pt+64*page+48,fnv(d[poff:poff+plen]))
     head_end=secs[12][0]

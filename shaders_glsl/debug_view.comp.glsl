@@ -77,17 +77,13 @@ uint hash_u32(uint x) {
     return x;
 }
 
-// A cluster's identity for its colour: its group and its bounds' six words, hashed. By what the
-// cluster is, not where its page lies in the pool (a visible entry's word): a streamed cluster
-// keeps its colour when its page moves to another slot.
+// A cluster's identity for its colour: its group and its box's five cull words (grid
+// coordinates and extents), hashed. By what the cluster is, not where its page lies in the pool (a
+// visible entry's word): a streamed cluster keeps its colour when its page moves to another slot.
 uint cluster_id(uint at) {
-    Cluster c = cluster_at(at);
-    uvec3 lo = floatBitsToUint(c.bounds_min);
-    uvec3 hi = floatBitsToUint(c.bounds_max);
-    uint words[6] = uint[6](lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
-    uint h = hash_u32(c.group);
-    for (int k = 0; k < 6; k++) {
-        h = hash_u32(h ^ words[k]);
+    uint h = hash_u32(cluster_group(at));
+    for (uint k = 0u; k < 5u; k++) {
+        h = hash_u32(h ^ pool[at + k]);
     }
     return h;
 }

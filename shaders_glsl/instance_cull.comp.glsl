@@ -97,9 +97,10 @@ void main() {
         } else {
             uvec2 e = post_clusters[j - n_inst - n_nodes];
             InstanceVgeo inst = instances[e.x];
-            uint at = cluster_word(meshes[inst.mesh], e.y);
-            vec3 bmin = cluster_bounds_min(at);
-            vec3 bmax = cluster_bounds_max(at);
+            MeshGpu mesh = meshes[inst.mesh];
+            uint at = cluster_word(mesh, e.y);
+            vec3 bmin = cluster_bounds_min(mesh, at);
+            vec3 bmax = cluster_bounds_max(mesh, at);
             if (hzb_occluded(inst, bmin, bmax)) {
                 CULL_STAT(occluded_clusters, 1u)
                 continue;

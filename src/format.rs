@@ -20,7 +20,9 @@
 //! triangles (`builder::size`, bits 24-31 of the counts and of the cull words' info word, where
 //! the level now has 8 bits) by which the frame splits them between the rasterizers, and
 //! version 6 stored a cluster's triangles as plain packed indices rather than the max-delta code
-//! (`builder::tricode`) with its canonical triangle order.
+//! (`builder::tricode`) with its canonical triangle order, and version 7 stored a cluster's
+//! bounds in its cull words as six floats rather than its box on the mesh's grid (16 bytes more
+//! per cluster).
 //!
 //! [`load`] and [`VgeoFile`] check everything before use: magic, version, lengths, checksums,
 //! section bounds, element sizes, and every index inside the data (so a loaded mesh can be indexed
@@ -41,7 +43,7 @@ use crate::mesh::Material;
 /// File magic.
 pub const MAGIC: [u8; 8] = *b"VGEO\0\r\n\x1a";
 /// Current format version.
-pub const VERSION: u32 = 7;
+pub const VERSION: u32 = 8;
 const HEADER_LEN: usize = 32;
 const ENTRY_LEN: usize = 24;
 const MAX_SECTIONS: u32 = 64;
@@ -79,9 +81,10 @@ pub enum FormatError {
     /// Not a .vgeo file.
     BadMagic,
     #[error(
-        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 6 and \
-         older store their triangles in a longer code (version 5 and older also lack the \
-         clusters' triangle size that splits the rasterizers): rebuild them with `vgeo build`)"
+        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 7 and \
+         older store their clusters' boxes in a longer form (version 6 and older also their \
+         triangles, version 5 and older lack the clusters' triangle size that splits the \
+         rasterizers): rebuild them with `vgeo build`)"
     )]
     /// A format version this build does not read.
     Version(u32),
@@ -552,7 +555,14 @@ fn check_page(
     let p = &e.page;
     let bad = |what: String| FormatError::Invalid(format!("page {i}: {what}"));
     let cs: Vec<&Cluster> = clusters.iter().map(|&c| &m.clusters[c as usize]).collect();
-    let st = decode_page(bytes, &cs, m.has_uvs, m.has_material_stream()).map_err(bad)?;
+    let st = decode_page(
+        bytes,
+        &cs,
+        &m.quantization,
+        m.has_uvs,
+        m.has_material_stream(),
+    )
+    .map_err(bad)?;
     for (&ci, &(r, t)) in clusters.iter().zip(&st.cluster_starts) {
         let c = &m.clusters[ci as usize];
         if c.vertex_ref_offset as u64 != p.ref_first as u64 + r as u64

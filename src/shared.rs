@@ -231,10 +231,11 @@ pub const CLUSTER_FLAG_REFS_U32: u32 = 1;
 /// Most bytes of one geometry page (the encoded clusters of whole groups; see
 /// `src/builder/page.rs`): the unit a `.vgeo` file stores and checks, and the GPU holds per slot.
 pub const PAGE_BYTES: u32 = 131072;
-/// Words at the start of a cluster's header in its page that culling reads: bounds (min, max as
-/// f32 bits), `vertex_count | triangle_count << 8 | level << 16 | size_code << 24`, group, creator
-/// group (`src/builder/page.rs`); the vertex code follows them.
-pub const CLUSTER_CULL_WORDS: u32 = 9;
+/// Words at the start of a cluster's header in its page that culling reads: its box on the mesh's
+/// grid (the smallest coordinates, 3 words, then the extents, 2 words; the bounds are
+/// `quant_origin + coordinate * quant_step`), `vertex_count | triangle_count << 8 | level << 16 |
+/// size_code << 24`, group, creator group (`src/builder/page.rs`); the vertex code follows them.
+pub const CLUSTER_CULL_WORDS: u32 = 8;
 /// Bits of a grid coordinate (`builder::quantize::POSITION_BITS`). In an encoded cluster's header
 /// the bits above them in its smallest x coordinate carry its triangle code's header, the corner
 /// offsets' width (`builder::tricode`).

@@ -1189,8 +1189,14 @@ fn gpu_geometry_is_the_pages_bytes_and_at_most_19_bytes_per_triangle_without_uvs
         .collect();
     let bytes = vgeo::builder::page::encode_page(&built, &by_page[0]);
     assert_eq!(bytes.len(), built.pages[0].bytes as usize);
-    let st = vgeo::builder::page::decode_page(&bytes, &clusters, true, built.has_material_stream())
-        .expect("decodes");
+    let st = vgeo::builder::page::decode_page(
+        &bytes,
+        &clusters,
+        &built.quantization,
+        true,
+        built.has_material_stream(),
+    )
+    .expect("decodes");
     let n = built.pages[0].vertex_count as usize;
     assert_eq!(st.vertices, built.vertices[..n]);
     assert!(

@@ -41,9 +41,8 @@ const REGRESSIONS: &[(&str, &str, Expect)] = &[
     // A page whose cluster header used wider fields than its vertices need decoded fine, but
     // saving the loaded mesh re-encoded it shorter than its page record said: the saved file did
     // not load (vgeo_fuzz::load_vgeo). The loader now accepts only the minimal code. (Found as
-    // a version-5 file; its version field says 7 since the format's bumps to 6, which changed
-    // nothing the file holds: its levels fit 8 bits and its size codes are 0, and to 7, whose
-    // triangle code the loader reads only after the vertex code this file fails.)
+    // a version-5 file; remade as version 8, whose cull words hold the cluster's box on the grid,
+    // by fuzz/widen_cluster_code.py from the seed tetra_and_triangle.vgeo: the same defect.)
     (
         "load_vgeo",
         "non_minimal_cluster_code.vgeo",

@@ -196,9 +196,9 @@ void box_sphere(InstanceVgeo inst, vec3 bmin, vec3 bmax, out vec3 cc, out float 
 // The tests a cluster of the cut gets before it is drawn (frustum by its bounds' sphere, the HZB:
 // deferred in the main phase, rejected in the post phase), then its emission. `at`: its pool word,
 // `info`: its info word.
-void draw_if_visible(uint instance, InstanceVgeo inst, uint ci, uint at, uint info) {
-    vec3 bmin = cluster_bounds_min(at);
-    vec3 bmax = cluster_bounds_max(at);
+void draw_if_visible(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, uint at, uint info) {
+    vec3 bmin = cluster_bounds_min(mesh, at);
+    vec3 bmax = cluster_bounds_max(mesh, at);
     vec3 cc;
     float cr;
     box_sphere(inst, bmin, bmax, cc, cr);
@@ -273,9 +273,9 @@ void request_children(InstanceVgeo inst, MeshGpu mesh, uint creator, float wish)
 // corners are outside one plane. Tighter than the box's sphere, which near the eye reaches past
 // the near plane from clusters wholly behind it (and would stream in the detail of meshes behind
 // the camera).
-bool cluster_in_frustum(InstanceVgeo inst, uint at) {
-    vec3 bmin = cluster_bounds_min(at);
-    vec3 bmax = cluster_bounds_max(at);
+bool cluster_in_frustum(InstanceVgeo inst, MeshGpu mesh, uint at) {
+    vec3 bmin = cluster_bounds_min(mesh, at);
+    vec3 bmax = cluster_bounds_max(mesh, at);
     vec3 corners[8];
     for (int i = 0; i < 8; i++) {
         corners[i] = relative_position(inst, view, box_corner(bmin, bmax, i));
@@ -320,14 +320,14 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
             if (children_resident(mesh, creator)) {
                 return false;
             }
-            if ((view.flags & VIEW_FLAG_NO_FRUSTUM) != 0u || cluster_in_frustum(inst, at)) {
+            if ((view.flags & VIEW_FLAG_NO_FRUSTUM) != 0u || cluster_in_frustum(inst, mesh, at)) {
                 request_children(inst, mesh, creator, self_px / view.error_px);
             }
         }
     }
     mark_used(mesh, ci);
     CULL_STAT(clusters_tested, 1u)
-    draw_if_visible(instance, inst, ci, at, info);
+    draw_if_visible(instance, inst, mesh, ci, at, info);
     return true;
 }
 
@@ -408,7 +408,7 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
         uint at = cluster_word(mesh, ci);
         vec3 cc;
         float cr;
-        box_sphere(inst, cluster_bounds_min(at), cluster_bounds_max(at), cc, cr);
+        box_sphere(inst, cluster_bounds_min(mesh, at), cluster_bounds_max(mesh, at), cc, cr);
         emit_cluster(instance, ci, at, cluster_info(at), cc, cr);
         return true;
     }
@@ -419,7 +419,7 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     for (uint k = 0u; k < count; k++) {
         uint ci = mesh.cluster_offset + tiny_cuts[first + k];
         uint at = cluster_word(mesh, ci);
-        draw_if_visible(instance, inst, ci, at, cluster_info(at));
+        draw_if_visible(instance, inst, mesh, ci, at, cluster_info(at));
     }
     return true;
 }
@@ -448,7 +448,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
         if (partial && !fine && !children_resident(mesh, creator)) {
             // Drawn for want of its children; only a cluster in the frustum asks for them (one
             // outside it shows nothing their detail could change).
-            if (!frustum || cluster_in_frustum(inst, at)) {
+            if (!frustum || cluster_in_frustum(inst, mesh, at)) {
                 request_children(inst, mesh, creator, self_px / view.error_px);
             }
             fine = true;
@@ -459,7 +459,7 @@ void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool 
         return;
     }
     mark_used(mesh, ci);
-    draw_if_visible(instance, inst, ci, at, info);
+    draw_if_visible(instance, inst, mesh, ci, at, info);
 }
 
 #ifdef CULL_RANGE_ITEMS

@@ -68,14 +68,15 @@ uint64_t pool_bits64(uint word0, uint bit) {
 // The cluster's data, from its page's slot (the page must be resident).
 ClusterData cluster_data(MeshGpu mesh, Cluster c) {
     ClusterData d;
-    uint at = c.word + CLUSTER_CULL_WORDS;
-    // The smallest coordinates, x's high bits the triangle code's header.
-    uint px = pool[at];
-    d.position_min = uvec3(px & ((1u << CLUSTER_COORD_BITS) - 1u), pool[at + 1u], pool[at + 2u]);
+    // The smallest coordinates (the first cull words), x's high bits the triangle code's header.
+    uint px = pool[c.word];
+    d.position_min = uvec3(px & ((1u << CLUSTER_COORD_BITS) - 1u), pool[c.word + 1u],
+        pool[c.word + 2u]);
     d.triangle_head = px >> CLUSTER_COORD_BITS;
-    uint w = pool[at + 3u];
-    d.normal_min = pool[at + 4u];
-    uint h = at + 5u;
+    uint at = c.word + CLUSTER_CULL_WORDS;
+    uint w = pool[at];
+    d.normal_min = pool[at + 1u];
+    uint h = at + 2u;
     d.uv_min = 0u;
     if ((mesh.streams & MESH_STREAM_UVS) != 0u) {
         d.uv_min = pool[h];

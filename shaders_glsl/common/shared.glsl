@@ -123,8 +123,6 @@ struct OcclusionGpu {
 // A cluster as the passes use it: read from the pool word a visible-list entry holds (`cluster_at`,
 // common/cluster.glsl). Its LOD pairs are not here: they are its groups' (common/cull.glsl).
 struct Cluster {
-    vec3 bounds_min;
-    vec3 bounds_max;
     uint word;  // pool word of the cluster's encoded data
     uint counts;  // vertex_count | triangle_count << 8
     uint group;

@@ -1870,6 +1870,28 @@ impl GroupCtx<'_> {
     }
 }
 
+/// The box of the positions with grid codes `codes`, its corners as the GPU computes them from a
+/// page's cull words ([`super::quantize::grid_corner`]): it holds every vertex the GPU decodes,
+/// and a page stores it exactly as the smallest coordinates and the extents.
+fn grid_box(
+    quant: &super::Quantization,
+    codes: impl Iterator<Item = [u32; 2]>,
+) -> ([f32; 3], [f32; 3]) {
+    let mut lo = [u32::MAX; 3];
+    let mut hi = [0u32; 3];
+    for code in codes {
+        let c = super::quantize::position_coords(code);
+        for k in 0..3 {
+            lo[k] = lo[k].min(c[k]);
+            hi[k] = hi[k].max(c[k]);
+        }
+    }
+    (
+        super::quantize::grid_corner(quant, lo),
+        super::quantize::grid_corner(quant, hi),
+    )
+}
+
 #[allow(clippy::too_many_arguments)]
 fn assemble(
     mesh: &Mesh,
@@ -1886,17 +1908,13 @@ fn assemble(
     let pre: Vec<Group> = wgroups
         .par_iter()
         .map(|g| {
-            let mut lo = [f32::MAX; 3];
-            let mut hi = [f32::MIN; 3];
-            for &m in &g.members {
-                for &v in wclusters[m as usize].tris.iter().flatten() {
-                    let p = positions[v as usize];
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(p[k]);
-                        hi[k] = hi[k].max(p[k]);
-                    }
-                }
-            }
+            let (lo, hi) = grid_box(
+                &quant,
+                g.members
+                    .iter()
+                    .flat_map(|&m| wclusters[m as usize].tris.iter().flatten())
+                    .map(|&v| vertices[v as usize].position),
+            );
             Group {
                 lod_sphere: g.sphere,
                 bounds_min: lo,
@@ -1943,15 +1961,7 @@ fn assemble(
         .map(|&ci| {
             let w = &wclusters[ci as usize];
             let (local, local_idx) = super::simplify::compact(&w.tris, nverts);
-            let mut lo = [f32::MAX; 3];
-            let mut hi = [f32::MIN; 3];
-            for &v in &local {
-                let p = positions[v as usize];
-                for k in 0..3 {
-                    lo[k] = lo[k].min(p[k]);
-                    hi[k] = hi[k].max(p[k]);
-                }
-            }
+            let (lo, hi) = grid_box(&quant, local.iter().map(|&v| vertices[v as usize].position));
             // The canonical triangle order, which the page's triangle code needs.
             let mut local_tris: Vec<[u32; 3]> = local_idx
                 .chunks_exact(3)

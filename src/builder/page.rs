@@ -13,13 +13,14 @@
 //! [`super::Cluster::data_offset`]:
 //!
 //! - a header of [`header_words`] u32 words: first what culling reads ([`CULL_WORDS`]: the
-//!   cluster's bounds, min then max, as f32 bits; `vertex_count | triangle_count << 8 | level <<
-//!   16`; its group; its creator group), then its code: the smallest grid coordinates of its
-//!   positions (3 words; x's bits above [`crate::shared::CLUSTER_COORD_BITS`] hold the triangle
-//!   code's header, [`super::tricode`]), the bit widths `x | y << 5 | z << 10 | normal << 15 | uv << 20 |
-//!   material << 25`, the smallest octahedral normal components (two i16), the smallest UV
-//!   components (two u16, meshes with UVs) and the smallest material (meshes with a material
-//!   stream);
+//!   cluster's box on the mesh's grid, its smallest coordinates (3 words; x's bits above
+//!   [`crate::shared::CLUSTER_COORD_BITS`] hold the triangle code's header, [`super::tricode`])
+//!   and its extents (2 words, [`join_box`]), which the GPU turns into its bounds as it decodes a
+//!   vertex ([`super::quantize::grid_corner`]); `vertex_count | triangle_count << 8 | level << 16
+//!   | size_code << 24`; its group; its creator group), then the rest of its code: the bit widths
+//!   `x | y << 5 | z << 10 | normal << 15 | uv << 20 | material << 25`, the smallest octahedral
+//!   normal components (two i16), the smallest UV components (two u16, meshes with UVs) and the
+//!   smallest material (meshes with a material stream);
 //! - its vertices, each `vertex_bits` bits (the widths summed, normal and UV components twice)
 //!   of offsets from those minimums, as one little-endian bit stream (vertex `i` at bit
 //!   `i * vertex_bits`; fields x, y, z, normal x, normal y, u, v, material);
@@ -84,22 +85,23 @@ pub const CULL_WORDS: u32 = crate::shared::CLUSTER_CULL_WORDS;
 
 /// Words of a cluster's header in an encoded page.
 pub fn header_words(has_uvs: bool, has_materials: bool) -> u32 {
-    CULL_WORDS + 5 + has_uvs as u32 + has_materials as u32
+    CULL_WORDS + 2 + has_uvs as u32 + has_materials as u32
 }
 
-/// A cluster's cull words ([`CULL_WORDS`]), from its record: bounds, then
-/// `vertex_count | triangle_count << 8 | level << 16 | size_code << 24` (the level has 8 bits:
-/// [`crate::shared::MAX_CLUSTER_LEVEL`], which the builder and the loader's checks keep), group,
-/// creator.
-pub fn cull_words(c: &Cluster) -> [u32; CULL_WORDS as usize] {
-    let (lo, hi) = (c.bounds_min, c.bounds_max);
+/// A cluster's cull words ([`CULL_WORDS`]), from its code and record: its box on the mesh's grid
+/// (the smallest coordinates, x's high bits the triangle code's header `tri_head`, then the
+/// extents, [`join_box`]), `vertex_count | triangle_count << 8 | level << 16 | size_code << 24`
+/// (the level has 8 bits: [`crate::shared::MAX_CLUSTER_LEVEL`], which the builder and the
+/// loader's checks keep), group, creator. The record's bounds are that box's corners
+/// ([`super::quantize::grid_corner`]; [`decode_page`] checks it).
+pub fn cull_words(c: &Cluster, code: &ClusterCode, tri_head: u32) -> [u32; CULL_WORDS as usize] {
+    let b = join_box(code.position_min, code.position_extent, tri_head);
     [
-        lo[0].to_bits(),
-        lo[1].to_bits(),
-        lo[2].to_bits(),
-        hi[0].to_bits(),
-        hi[1].to_bits(),
-        hi[2].to_bits(),
+        b[0],
+        b[1],
+        b[2],
+        b[3],
+        b[4],
         c.vertex_count()
             | c.triangle_count() << 8
             | c.level.min(crate::shared::MAX_CLUSTER_LEVEL) << 16
@@ -118,6 +120,8 @@ fn width(range: u32) -> u32 {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ClusterCode {
     pub position_min: [u32; 3],
+    /// Largest minus smallest grid coordinate per axis (the box the cull reads).
+    pub position_extent: [u32; 3],
     pub widths: u32,
     pub normal_min: u32,
     pub uv_min: u32,
@@ -186,6 +190,7 @@ impl ClusterCode {
         .fold(0u32, |acc, (k, &w)| acc | w << (5 * k));
         ClusterCode {
             position_min: lo,
+            position_extent: std::array::from_fn(|k| hi[k] - lo[k]),
             widths,
             normal_min: (nlo[0] as u16 as u32) | (nlo[1] as u16 as u32) << 16,
             uv_min: if has_uvs { ulo[0] | ulo[1] << 16 } else { 0 },
@@ -292,8 +297,7 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
     let code = ClusterCode::of(&verts, has_uvs, has_mats);
     let (tri_head, tri_words) =
         super::tricode::encode(&m.cluster_local_triangles(c), c.vertex_count());
-    out.extend_from_slice(&cull_words(c));
-    out.extend_from_slice(&join_triangle_head(code.position_min, tri_head));
+    out.extend_from_slice(&cull_words(c, &code, tri_head));
     out.push(code.widths);
     out.push(code.normal_min);
     if has_uvs {
@@ -323,22 +327,34 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
     out.extend(tri_words);
 }
 
-/// The smallest grid coordinates with the triangle code's header in x's spare high bits
-/// (above [`crate::shared::CLUSTER_COORD_BITS`]).
-fn join_triangle_head(min: [u32; 3], head: u32) -> [u32; 3] {
+/// A cluster's box on the grid as the first five cull words: the smallest coordinates (x's spare
+/// high bits, above [`crate::shared::CLUSTER_COORD_BITS`], the triangle code's header), then the
+/// three extents of [`crate::shared::CLUSTER_COORD_BITS`] bits each in two words (x in bits 0-20
+/// of the first, y in its bits 21-31 and bits 0-9 of the second, z in bits 10-30 of the second;
+/// `common/cluster.glsl` reads them).
+fn join_box(min: [u32; 3], extent: [u32; 3], head: u32) -> [u32; 5] {
+    let b = crate::shared::CLUSTER_COORD_BITS;
     [
-        min[0] | head << crate::shared::CLUSTER_COORD_BITS,
+        min[0] | head << b,
         min[1],
         min[2],
+        extent[0] | extent[1] << b,
+        extent[1] >> (32 - b) | extent[2] << (2 * b - 32),
     ]
 }
 
-/// The inverse of [`join_triangle_head`] (high bits of y and z are left for the coordinate
-/// check to refuse).
-fn split_triangle_head(words: [u32; 3]) -> ([u32; 3], u32) {
+/// The inverse of [`join_box`]: smallest coordinates, extents, triangle header (high bits of y
+/// and z and of the extents' last word are left for the checks to refuse).
+fn split_box(words: &[u32]) -> ([u32; 3], [u32; 3], u32) {
     let b = crate::shared::CLUSTER_COORD_BITS;
+    let mask = (1u32 << b) - 1;
     (
-        [words[0] & ((1 << b) - 1), words[1], words[2]],
+        [words[0] & mask, words[1], words[2]],
+        [
+            words[3] & mask,
+            words[3] >> b | (words[4] << (32 - b)) & mask,
+            words[4] >> (2 * b - 32),
+        ],
         words[0] >> b,
     )
 }
@@ -454,6 +470,7 @@ pub struct PageStreams {
 pub fn decode_page(
     bytes: &[u8],
     clusters: &[&Cluster],
+    quant: &super::Quantization,
     has_uvs: bool,
     has_materials: bool,
 ) -> Result<PageStreams, String> {
@@ -487,22 +504,41 @@ pub fn decode_page(
             .get(at..at + hw)
             .ok_or_else(|| bad("header past the page's end".into()))?;
         let (cull, head) = head.split_at(CULL_WORDS as usize);
-        if cull != cull_words(c) {
+        let (position_min, position_extent, tri_head) = split_box(cull);
+        let mut code = ClusterCode {
+            position_min,
+            position_extent,
+            widths: head[0],
+            normal_min: head[1],
+            uv_min: 0,
+            material_min: 0,
+        };
+        if cull != cull_words(c, &code, tri_head) {
             return Err(bad(
-                "its cull words (bounds, counts, level, size code, group, creator) differ from its \
+                "its cull words (box, counts, level, size code, group, creator) differ from its \
                  record"
                     .into(),
             ));
         }
-        let (position_min, tri_head) = split_triangle_head([head[0], head[1], head[2]]);
-        let mut code = ClusterCode {
-            position_min,
-            widths: head[3],
-            normal_min: head[4],
-            uv_min: 0,
-            material_min: 0,
-        };
-        let mut h = 5;
+        // The bounds the CPU's cut and the checks use are the box the GPU reads.
+        let hi: [u64; 3] =
+            std::array::from_fn(|a| position_min[a] as u64 + position_extent[a] as u64);
+        if hi.iter().any(|&x| x > coord_max) {
+            return Err(bad(format!(
+                "its box {position_min:?} + {position_extent:?} leaves the grid"
+            )));
+        }
+        let hi = hi.map(|x| x as u32);
+        let (lo_f, hi_f) = (
+            super::quantize::grid_corner(quant, position_min),
+            super::quantize::grid_corner(quant, hi),
+        );
+        if lo_f.map(f32::to_bits) != c.bounds_min.map(f32::to_bits)
+            || hi_f.map(f32::to_bits) != c.bounds_max.map(f32::to_bits)
+        {
+            return Err(bad("its box on the grid is not its record's bounds".into()));
+        }
+        let mut h = 2;
         if has_uvs {
             code.uv_min = head[h];
             h += 1;

@@ -95,6 +95,15 @@ pub fn position_coords(code: [u32; 2]) -> [u32; 3] {
     ]
 }
 
+/// The corner of a cluster's box at grid coordinates `c`, as the GPU computes it from a page's
+/// cull words (`common/cluster.glsl`, `cluster_bounds_min`): `origin + c * step` in f32 with one
+/// fused multiply-add, from the mesh's f32 grid (`MeshGpu::quant_origin`, `quant_step`). It is
+/// the GPU's vertex decoding (`common/raster.glsl`, `decode_position`), so a box made of the
+/// smallest and largest coordinates holds every vertex the GPU draws (the fma grows with `c`).
+pub fn grid_corner(q: &Quantization, c: [u32; 3]) -> [f32; 3] {
+    std::array::from_fn(|k| (c[k] as f32).mul_add(q.step as f32, q.origin[k] as f32))
+}
+
 /// Position of a grid code.
 pub fn decode_position(q: &Quantization, code: [u32; 2]) -> [f32; 3] {
     let c = position_coords(code);
