@@ -39,8 +39,8 @@ uvec3 cluster_grid_max(uint at) {
 }
 // A grid corner in the mesh's space, decoded as raster.glsl's decode_position decodes a vertex
 // (one fma, `precise`): the box of a cluster's grid coordinates holds every vertex the
-// rasterizers draw of it, and equals the record's bounds bit for bit (src/builder/quantize.rs,
-// grid_corner).
+// rasterizers draw of it, and where the fma rounds once (NVIDIA, lavapipe; Vulkan does not
+// promise it) equals the record's bounds bit for bit (src/builder/quantize.rs, grid_corner).
 vec3 grid_corner(MeshGpu mesh, uvec3 c) {
     precise vec3 p = fma(vec3(c), vec3(mesh.quant_step), mesh.quant_origin);
     return p;

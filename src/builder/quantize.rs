@@ -97,9 +97,11 @@ pub fn position_coords(code: [u32; 2]) -> [u32; 3] {
 
 /// The corner of a cluster's box at grid coordinates `c`, as the GPU computes it from a page's
 /// cull words (`common/cluster.glsl`, `cluster_bounds_min`): `origin + c * step` in f32 with one
-/// fused multiply-add, from the mesh's f32 grid (`MeshGpu::quant_origin`, `quant_step`). It is
-/// the GPU's vertex decoding (`common/raster.glsl`, `decode_position`), so a box made of the
-/// smallest and largest coordinates holds every vertex the GPU draws (the fma grows with `c`).
+/// fused multiply-add, from the mesh's f32 grid (`MeshGpu::quant_origin`, `quant_step`). The GPU
+/// decodes a vertex with the same `precise` fma (`common/raster.glsl`, `decode_position`), so the
+/// box of the smallest and largest coordinates holds every vertex it draws (the fma grows with
+/// `c`) whatever its rounding; where the GPU's fma rounds once, as on NVIDIA and lavapipe
+/// (Vulkan does not promise it), the box is also this one bit for bit.
 pub fn grid_corner(q: &Quantization, c: [u32; 3]) -> [f32; 3] {
     std::array::from_fn(|k| (c[k] as f32).mul_add(q.step as f32, q.origin[k] as f32))
 }
