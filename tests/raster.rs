@@ -11,7 +11,7 @@ mod common;
 use std::sync::OnceLock;
 
 use common::{assert_no_validation_errors, assets, gpu};
-use glam::{DMat4, DVec3, Mat4, Vec3};
+use glam::{DMat4, DVec3, Mat4, Vec3, Vec4};
 use vgeo::builder::{BuildOptions, BuiltMesh};
 use vgeo::camera::Camera;
 use vgeo::gpu::{Buffer, Context, MemoryKind, Timer, vk};
@@ -31,8 +31,8 @@ use vgeo::shared::{
 
 const W: u32 = 128;
 const H: u32 = 96;
-/// The zoom of `very_large_triangles_match_reference`.
-const ZOOM_VERY_LARGE: f64 = 0.1;
+/// The zooms `very_large_triangles_match_reference` tries, closest first.
+const ZOOMS_VERY_LARGE: [f64; 5] = [0.1, 0.15, 0.2, 0.25, 0.3];
 
 /// spot.obj built once for all tests of this file.
 fn spot() -> &'static BuiltMesh {
@@ -123,6 +123,24 @@ fn visible_list(m: &BuiltMesh, levels: &[u32]) -> Vec<[u32; 2]> {
         }
     }
     v
+}
+
+/// The clip-space positions of the vertices of `visible`'s clusters.
+fn clip_vertices<'a>(
+    m: &'a BuiltMesh,
+    camera: &'a Camera,
+    placements: &'a [Placement],
+    visible: &'a [[u32; 2]],
+) -> impl Iterator<Item = Vec4> + 'a {
+    let vp = camera.view_proj(W, H);
+    visible.iter().flat_map(move |&[inst, c]| {
+        let model = camera.relative_model(&placements[inst as usize].transform);
+        let cl = &m.clusters[c as usize];
+        (0..cl.vertex_count()).map(move |i| {
+            let p = model.transform_point3(Vec3::from(m.position(m.vertex_ref(cl, i))));
+            vp * p.extend(1.0)
+        })
+    })
 }
 
 /// The hardware rasterizer's paths this device has: vertex pulling, and mesh shaders where present.
@@ -503,7 +521,27 @@ fn large_triangles_match_reference() {
 fn very_large_triangles_match_reference() {
     let levels = spot().stats.levels.len() as u32;
     let root = levels - 1;
-    let mut rig = Rig::with_zoom(DVec3::ZERO, &[root, root], ZOOM_VERY_LARGE);
+    // The closest zoom at which the root lies wholly in front of the near plane: `raster_sw`
+    // skips a triangle that crosses it (`near_plane_crossing` checks that case), and a close
+    // camera can stand inside a coarse root's hull.
+    let visible = visible_list(spot(), &[root, root]);
+    let zoom = ZOOMS_VERY_LARGE
+        .into_iter()
+        .find(|&z| {
+            let (placements, camera) = scene(spot(), DVec3::ZERO, z);
+            clip_vertices(spot(), &camera, &placements, &visible).all(|c| c.z <= c.w)
+        })
+        .expect("a zoom with the root in front of the near plane");
+    let mut rig = Rig::with_zoom(DVec3::ZERO, &[root, root], zoom);
+    // Very large: some vertex far off the frame (beyond three frame widths from its centre).
+    let far = clip_vertices(rig.mesh, &rig.camera, &rig.placements, &rig.visible)
+        .map(|c| (c.x / c.w).abs().max((c.y / c.w).abs()))
+        .fold(0.0, f32::max);
+    eprintln!("zoom {zoom}: farthest vertex at {far:.1} half-frames from the centre");
+    assert!(
+        far > 3.0,
+        "the root's vertices should leave the frame far: {far}"
+    );
     let sw = rig.render(Split::AllSw, None);
     let (cover, depth, ids, _, both) = compare(&sw, &rig.reference());
     eprintln!("root close up: {both} pixels covered by both, depth within 1e-4 {depth:.5}");
@@ -525,21 +563,7 @@ fn near_plane_crossing() {
     // The near plane through the middle of the nearer instance.
     rig.camera.near = rig.camera.position.length() as f32 * 0.85;
     let r = rig.reference();
-    let vp = rig.camera.view_proj(W, H);
-    let behind = rig
-        .visible
-        .iter()
-        .flat_map(|&[inst, c]| {
-            let model = rig
-                .camera
-                .relative_model(&rig.placements[inst as usize].transform);
-            let m = spot();
-            let cl = &m.clusters[c as usize];
-            (0..cl.vertex_count()).map(move |i| {
-                let p = model.transform_point3(Vec3::from(m.position(m.vertex_ref(cl, i))));
-                vp * p.extend(1.0)
-            })
-        })
+    let behind = clip_vertices(rig.mesh, &rig.camera, &rig.placements, &rig.visible)
         .filter(|c| c.z > c.w)
         .count();
     eprintln!("{behind} cluster vertices behind the near plane");

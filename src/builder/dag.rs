@@ -1241,6 +1241,7 @@ fn build_inner(
 
     let mut groups: Vec<WGroup> = Vec::new();
     let mut working: Vec<u32> = (0..clusters.len() as u32).collect();
+    let mut chain_source: Option<ChainSource> = None;
     let mut levels = vec![level_stats(0, &working, &clusters, 0, 0, 0)];
     let mut widened = Vec::new();
     let mut fallback_groups = 0;
@@ -1330,7 +1331,12 @@ fn build_inner(
             sort_total(&mut keys, |&k| k);
             Edges::from_sorted(&keys)
         };
+        // The first level of at most CHAIN_SOURCE_TRIANGLES: the root chain's source.
+        if chain_source.is_none() {
+            chain_source = ChainSource::of(&working, &clusters);
+        }
         let ctx = GroupCtx {
+            source: None,
             parter,
             clusters: &clusters,
             positions: &positions,
@@ -1390,12 +1396,16 @@ fn build_inner(
     // is above `root_triangles` and simplification still removes triangles into one cluster.
     let owner = vec![NONE; npid];
     let shared = Edges(Vec::new());
+    if chain_source.is_none() {
+        chain_source = ChainSource::of(&working, &clusters);
+    }
     while (opts.root_triangles as usize) > 0
         && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
         && iteration < MAX_CLUSTER_LEVEL
     {
         let top = working[0];
         let ctx = GroupCtx {
+            source: chain_source.as_ref(),
             parter,
             clusters: &clusters,
             positions: &positions,
@@ -1562,6 +1572,8 @@ fn level_stats(
 }
 
 struct GroupCtx<'a> {
+    /// The root chain's source ([`ChainSource`]): a chain step simplifies it, not its member.
+    source: Option<&'a ChainSource>,
     parter: Parter<'a>,
     clusters: &'a [WCluster],
     positions: &'a [[f32; 3]],
@@ -1634,12 +1646,22 @@ impl GroupCtx<'_> {
     }
 
     fn simplify_group(&self, members: &[u32]) -> Option<Outcome> {
-        let tris: Vec<[u32; 3]> = members
+        // `n`: the members' triangles, which a result must have fewer of; a root chain step
+        // simplifies its source (the whole mesh at a finer level) to CHAIN_RATIO of them.
+        let n: usize = members
             .iter()
-            .flat_map(|&m| self.clusters[m as usize].tris.iter().copied())
-            .collect();
-        let n = tris.len();
-        let target = ((n as f32 * self.opts.simplify_ratio) as usize).max(1);
+            .map(|&m| self.clusters[m as usize].tris.len())
+            .sum();
+        let (tris, target): (Vec<[u32; 3]>, usize) = match self.source {
+            Some(src) => (src.tris.clone(), ((n as f32 * CHAIN_RATIO) as usize).max(1)),
+            None => (
+                members
+                    .iter()
+                    .flat_map(|&m| self.clusters[m as usize].tris.iter().copied())
+                    .collect(),
+                ((n as f32 * self.opts.simplify_ratio) as usize).max(1),
+            ),
+        };
         let locked = |v: u32| self.owner[self.pid[v as usize] as usize] == MULTI;
         let members_max = members
             .iter()
@@ -1838,10 +1860,14 @@ impl GroupCtx<'_> {
             }
         }
         let (t, e, fallback) = result?;
-        let members_pos = members
-            .iter()
-            .map(|&m| self.clusters[m as usize].pos_error)
-            .fold(0.0, f32::max);
+        // The error is measured against what was simplified: a chain step's source.
+        let members_pos = match self.source {
+            Some(src) => src.pos_error,
+            None => members
+                .iter()
+                .map(|&m| self.clusters[m as usize].pos_error)
+                .fold(0.0, f32::max),
+        };
         let (error, pos_error) = group_error(e.0, e.1, members_pos, members_max, self.min_error);
         // The coverage part: not summed (see group_error), the members' at least.
         let coverage = members
@@ -1866,6 +1892,44 @@ impl GroupCtx<'_> {
             coverage,
             sphere,
             fallback,
+        })
+    }
+}
+
+/// The root chain (a single cluster simplified further, each step a level of one cluster) steps
+/// by this ratio, finer than the DAG's: a small instance's cut lies on the chain, and finer steps
+/// give it a cut nearer the threshold (docs/architecture.md, "The root chain").
+const CHAIN_RATIO: f32 = 0.7;
+/// The root chain simplifies the first level of at most this many triangles ([`ChainSource`]).
+const CHAIN_SOURCE_TRIANGLES: usize = 2048;
+
+/// The root chain's source: the whole mesh at the first level of at most
+/// [`CHAIN_SOURCE_TRIANGLES`] triangles, and its position error. Each chain step simplifies it
+/// (not the chain's last cluster), so a step's position error is the source's plus that one
+/// simplification's, not the sum of every step's along the chain: the sum grew with the number
+/// of steps and made finer steps draw more triangles at the same error (session 33).
+struct ChainSource {
+    tris: Vec<[u32; 3]>,
+    pos_error: f32,
+}
+
+impl ChainSource {
+    /// The source, when the level `working` (the whole mesh) has at most
+    /// [`CHAIN_SOURCE_TRIANGLES`] triangles.
+    fn of(working: &[u32], clusters: &[WCluster]) -> Option<Self> {
+        let n: usize = working
+            .iter()
+            .map(|&c| clusters[c as usize].tris.len())
+            .sum();
+        (n <= CHAIN_SOURCE_TRIANGLES).then(|| ChainSource {
+            tris: working
+                .iter()
+                .flat_map(|&c| clusters[c as usize].tris.iter().copied())
+                .collect(),
+            pos_error: working
+                .iter()
+                .map(|&c| clusters[c as usize].pos_error)
+                .fold(0.0, f32::max),
         })
     }
 }

@@ -32,8 +32,9 @@ pub struct BuildArgs {
     /// Triangle ratio of one simplification step. For geometry that streams under a budget,
     /// 0.35: about a quarter fewer bytes, and the levels kept resident above a drawn region weigh
     /// about half of it instead of as much (a cold camera cut holds 1.7x the page bytes it draws
-    /// instead of 2.3x); image error at 1 px within 0.2 dB, frame times -6 % to +6 % on the
-    /// bench's stress and outdoor scenes (H100; docs/architecture.md, "The DAG's step").
+    /// instead of 2.3x); image error at 1 px within 0.2 dB, frame times -2 % to +1 % on the
+    /// bench's stress and outdoor scenes (H100; docs/architecture.md, "The DAG's step" and "The
+    /// root chain").
     #[arg(long = "ratio", default_value_t = 0.5)]
     pub ratio: f32,
     /// Percentage of input triangles kept at level 0 (UE Nanite's "Keep Triangle Percent").
