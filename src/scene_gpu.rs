@@ -715,7 +715,7 @@ impl GpuScene {
                     iteration: g.iteration,
                     page_first: g.page_first,
                     page_count: g.page_count,
-                    _pad: 0,
+                    members_creator: members_creator(m, g),
                 })
                 .collect();
             let data: [&[u8]; ARENAS] = [
@@ -1533,21 +1533,50 @@ impl PoolWords<'_> {
     }
 }
 
+/// `GroupGpu::members_creator` of group `g` of `m`: its members' one creator group, or
+/// [`crate::shared::NO_GROUP_ID`] when they have several (or none: level 0).
+pub(crate) fn members_creator(m: &BuiltMesh, g: &crate::builder::Group) -> u32 {
+    let members = &m.clusters[g.first_cluster as usize..][..g.cluster_count as usize];
+    match members.split_first() {
+        Some((first, rest)) if rest.iter().all(|c| c.creator == first.creator) => first.creator,
+        _ => crate::shared::NO_GROUP_ID,
+    }
+}
+
 /// `MeshGpu::walk_error`, `walk_error_wide` and `walk_radius` of a mesh whose bounding sphere is
-/// centred at `center`: the largest parent error but the [`crate::shared::WALK_CLUSTERS`]
-/// (`WALK_CLUSTERS_WIDE`) largest (0 when the mesh has no more clusters), and a radius around
-/// `center` enclosing every parent sphere and BVH LOD sphere. Any cluster (and node) outside those largest has a parent error at most `walk_error`
-/// on a sphere inside that radius, so when `walk_error` projects under the threshold there, none
-/// of them is in the cut (nor walked): the walk is short. Only the walk's length depends on it,
-/// never the cut.
+/// centred at `center`: `walk_error` the largest parent error but the
+/// [`crate::shared::WALK_CLUSTERS`] largest (0 when the mesh has no more clusters), and a radius
+/// around `center` enclosing every parent sphere and BVH LOD sphere. Any cluster (and node)
+/// outside those largest has a parent error at most `walk_error` on a sphere inside that radius,
+/// so when `walk_error` projects under the threshold there, none of them is in the cut (nor
+/// walked): the walk is short. `walk_error_wide` is the same count for `WALK_CLUSTERS_WIDE`
+/// with a group of one creator counted once where the walk tests it once (`members_creator`):
+/// an estimate there (the creator's error is projected on its own sphere), which a whole-mesh
+/// level's group of many members needs, else its members crowd the count. Only the walk's
+/// length depends on either, never the cut.
 pub(crate) fn walk_bound(m: &BuiltMesh, center: [f32; 3]) -> (f32, f32, f32) {
-    let mut errors: Vec<f32> = m.clusters.iter().map(|c| c.parent_error).collect();
-    errors.sort_unstable_by(|a, b| b.total_cmp(a));
-    let beyond = |k: u32| errors.get(k as usize).map_or(0.0, |e| e.max(0.0));
-    let (walk_error, walk_error_wide) = (
-        beyond(crate::shared::WALK_CLUSTERS),
-        beyond(crate::shared::WALK_CLUSTERS_WIDE),
-    );
+    // The walk tests a cluster when its parent error is over the threshold. In a wide view the
+    // members of a group of one creator whose error is over it too are tested once for all
+    // (`members_creator`): one test, not one per member. So at threshold t it tests (+1 per
+    // cluster with parent error > t) - (members - 1 per such group with min(its error, its
+    // creator's) > t), counted from the largest key down; the narrow bound (few instances, a
+    // long walk is the frame's latency) counts every cluster, as the walk's nodes cost too.
+    let mut events: Vec<(f32, i64)> = m
+        .clusters
+        .iter()
+        .map(|c| (c.parent_error.max(0.0), 1))
+        .collect();
+    let walk_error = bound_of(&mut events, crate::shared::WALK_CLUSTERS);
+    for g in &m.groups {
+        let mc = members_creator(m, g);
+        if let Some(creator) = m.groups.get(mc as usize) {
+            events.push((
+                g.error.min(creator.error).max(0.0),
+                1 - g.cluster_count as i64,
+            ));
+        }
+    }
+    let walk_error_wide = bound_of(&mut events, crate::shared::WALK_CLUSTERS_WIDE);
     let reach = |s: &[f32; 4]| {
         let d =
             ((s[0] - center[0]).powi(2) + (s[1] - center[1]).powi(2) + (s[2] - center[2]).powi(2))
@@ -1562,4 +1591,46 @@ pub(crate) fn walk_bound(m: &BuiltMesh, center: [f32; 3]) -> (f32, f32, f32) {
         .fold(0.0f32, f32::max);
     // A margin against rounding of the sums above (only the walk's length depends on it).
     (walk_error, walk_error_wide, radius * (1.0 + 1.0 / 1024.0))
+}
+
+/// The largest key of `events` (a key and how many tests it adds at thresholds under it) at which
+/// the tests at a threshold just under it first exceed `k`: every threshold from there up tests
+/// at most `k`. 0 when none does.
+fn bound_of(events: &mut [(f32, i64)], k: u32) -> f32 {
+    events.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    let mut tested = 0i64;
+    let mut i = 0;
+    while i < events.len() {
+        let key = events[i].0;
+        while i < events.len() && events[i].0 == key {
+            tested += events[i].1;
+            i += 1;
+        }
+        if tested > k as i64 {
+            return key;
+        }
+    }
+    0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::bound_of;
+
+    #[test]
+    fn the_walk_bound_is_the_key_where_the_tests_first_exceed_k() {
+        // One test per key: the (k + 1)-th largest, as a sorted list of parent errors gives it.
+        let mut e: Vec<(f32, i64)> = [5.0, 1.0, 4.0, 2.0, 3.0].iter().map(|&x| (x, 1)).collect();
+        assert_eq!(bound_of(&mut e, 2), 3.0);
+        assert_eq!(bound_of(&mut e, 0), 5.0);
+        assert_eq!(bound_of(&mut e, 5), 0.0, "never more than 5 tests");
+        // Ties count together.
+        let mut t = vec![(2.0, 1), (2.0, 1), (1.0, 1)];
+        assert_eq!(bound_of(&mut t, 1), 2.0);
+        // A group of 3 members of one creator under key 4: 2 tests fewer from there down, so
+        // 2 tests under 5, 2 + 3 - 2 = 3 under 4 and 4 under 3: k = 3 is first exceeded at 3.
+        let mut g = vec![(5.0, 2), (4.0, 3), (4.0, -2), (3.0, 1)];
+        assert_eq!(bound_of(&mut g, 3), 3.0);
+        assert_eq!(bound_of(&mut g, 2), 4.0);
+    }
 }

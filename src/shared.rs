@@ -426,7 +426,10 @@ pub struct GroupGpu {
     pub iteration: u32,
     pub page_first: u32,
     pub page_count: u32,
-    pub _pad: u32,
+    /// The creator group of every member when they have one and the same ([`NO_GROUP_ID`]
+    /// otherwise): the walk then tests the members' LOD error once for all of them (a group of
+    /// a whole-mesh level, whose members are the whole level below, all too coarse but one).
+    pub members_creator: u32,
 }
 const _: () = assert!(size_of::<GroupGpu>() == 48);
 

@@ -107,6 +107,57 @@ fn root_chain_shrinks_the_root_one_cluster_per_level() {
     assert!(short.clusters[short.root as usize].triangle_count() > 16);
 }
 
+/// A mesh larger than the root chain's source (at most 2048 triangles): the levels of one group
+/// after the source step like the chain (to about 0.7 of the level before, each simplified from
+/// the source), and a small mesh, whose source is its input, keeps the DAG's step.
+#[test]
+fn whole_mesh_levels_step_from_the_source_of_a_large_mesh_only() {
+    let steps = |rows: u32, cols: u32| {
+        let (p, i) = grid(rows, cols, [0.0; 3], 0.1);
+        let b = build_and_verify(&mesh_from("grid", p, i));
+        let levels = b.stats.levels.clone();
+        // Levels of one group before the chain, after the first level of at most 2048.
+        let source = levels
+            .iter()
+            .position(|l| l.triangles <= 2048)
+            .expect("a level of at most 2048");
+        let whole: Vec<_> = levels
+            .iter()
+            .enumerate()
+            .skip(source + 1)
+            .filter(|(_, l)| l.groups == 1 && l.clusters > 1)
+            .map(|(k, l)| {
+                (
+                    l.triangles as f32 / levels[k - 1].triangles as f32,
+                    l.max_error,
+                )
+            })
+            .collect();
+        (source, whole, levels)
+    };
+    let (source, whole, levels) = steps(60, 40);
+    assert!(
+        source > 0,
+        "4800 triangles: the source is coarser than the input"
+    );
+    assert!(
+        !whole.is_empty(),
+        "whole-mesh levels after the source: {levels:?}"
+    );
+    for (ratio, _) in &whole {
+        assert!(
+            (0.6..0.8).contains(ratio),
+            "a step of about 0.7: {levels:?}"
+        );
+    }
+    let (source, whole, levels) = steps(30, 20);
+    assert_eq!(source, 0, "1200 triangles: the source is the input");
+    assert!(!whole.is_empty(), "whole-mesh levels: {levels:?}");
+    for (ratio, _) in &whole {
+        assert!(*ratio < 0.6, "the DAG's step of 0.5: {levels:?}");
+    }
+}
+
 #[test]
 fn grid_reaches_one_root() {
     let (p, i) = grid(60, 40, [0.0; 3], 0.1);

@@ -566,6 +566,14 @@ void process_node(uint64_t item, bool local) {
                 continue;
             }
         }
+        // Members of one creator share their own error: when it is over the threshold, none is
+        // drawn (test_cluster's test, once; under partial residency a member may be drawn for
+        // want of its children, so each is tested there).
+        if (!fallback && !partial && group.members_creator != NO_GROUP_ID
+            && self_error_px(inst, mesh, group.members_creator, scale, w) > view.error_px) {
+            CULL_STAT(clusters_tested, group.cluster_count)
+            continue;
+        }
         uint first = mesh.cluster_offset + group.first_cluster;
         if (local) {
             // A small instance's walk (one thread, few clusters): tested here.

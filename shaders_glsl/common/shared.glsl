@@ -147,7 +147,7 @@ struct Group {
     uint iteration;
     uint page_first;
     uint page_count;
-    uint _pad;
+    uint members_creator;  // every member's creator group when they share one, else NO_GROUP_ID
 };
 
 // Builder structs (src/builder/mod.rs), as stored in the .vgeo file (a BVH node's

@@ -1333,10 +1333,12 @@ fn build_inner(
         };
         // The first level of at most CHAIN_SOURCE_TRIANGLES: the root chain's source.
         if chain_source.is_none() {
-            chain_source = ChainSource::of(&working, &clusters);
+            chain_source = ChainSource::of(&working, &clusters, iteration);
         }
         let ctx = GroupCtx {
-            source: None,
+            // A level of one group (the whole mesh) simplifies the source too, as the root chain,
+            // when the source is coarser than the input (a small mesh keeps the DAG's step).
+            source: chain_source.as_ref().filter(|s| single && !s.is_input),
             parter,
             clusters: &clusters,
             positions: &positions,
@@ -1397,7 +1399,7 @@ fn build_inner(
     let owner = vec![NONE; npid];
     let shared = Edges(Vec::new());
     if chain_source.is_none() {
-        chain_source = ChainSource::of(&working, &clusters);
+        chain_source = ChainSource::of(&working, &clusters, iteration);
     }
     while (opts.root_triangles as usize) > 0
         && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
@@ -1849,7 +1851,7 @@ impl GroupCtx<'_> {
         }
         if result.is_none() && self.single {
             // Last resort: everything fits in one cluster; merge without simplifying.
-            let fits = n <= max_tris && {
+            let fits = self.source.is_none() && n <= max_tris && {
                 let mut v: Vec<u32> = tris.iter().flatten().copied().collect();
                 v.sort_unstable();
                 v.dedup();
@@ -1911,12 +1913,14 @@ const CHAIN_SOURCE_TRIANGLES: usize = 2048;
 struct ChainSource {
     tris: Vec<[u32; 3]>,
     pos_error: f32,
+    /// Whether the source is the mesh's input (level 0).
+    is_input: bool,
 }
 
 impl ChainSource {
     /// The source, when the level `working` (the whole mesh) has at most
     /// [`CHAIN_SOURCE_TRIANGLES`] triangles.
-    fn of(working: &[u32], clusters: &[WCluster]) -> Option<Self> {
+    fn of(working: &[u32], clusters: &[WCluster], level: u32) -> Option<Self> {
         let n: usize = working
             .iter()
             .map(|&c| clusters[c as usize].tris.len())
@@ -1930,6 +1934,7 @@ impl ChainSource {
                 .iter()
                 .map(|&c| clusters[c as usize].pos_error)
                 .fold(0.0, f32::max),
+            is_input: level == 0,
         })
     }
 }
