@@ -1536,7 +1536,12 @@ impl PoolWords<'_> {
 /// `GroupGpu::members_creator` of group `g` of `m`: its members' one creator group, or
 /// [`crate::shared::NO_GROUP_ID`] when they have several (or none: level 0).
 pub(crate) fn members_creator(m: &BuiltMesh, g: &crate::builder::Group) -> u32 {
-    let members = &m.clusters[g.first_cluster as usize..][..g.cluster_count as usize];
+    // A range past the clusters (refused where a mesh is loaded or built) reads as no members.
+    let members = m
+        .clusters
+        .get(g.first_cluster as usize..)
+        .and_then(|c| c.get(..g.cluster_count as usize))
+        .unwrap_or(&[]);
     match members.split_first() {
         Some((first, rest)) if rest.iter().all(|c| c.creator == first.creator) => first.creator,
         _ => crate::shared::NO_GROUP_ID,

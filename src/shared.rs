@@ -375,7 +375,9 @@ pub struct MeshGpu {
     /// radius `walk_radius` around `bounds_center`, at most that many clusters can be in the cut
     /// and `instance_cull` walks the BVH itself.
     pub walk_error: f32,
-    /// As `walk_error` for [`WALK_CLUSTERS_WIDE`] clusters.
+    /// As `walk_error` for [`WALK_CLUSTERS_WIDE`] clusters, a group whose members share one
+    /// creator counted once (the walk tests them once: `GroupGpu::members_creator`): an
+    /// estimate there, not a bound (`scene_gpu::walk_bound`).
     pub walk_error_wide: f32,
     /// Radius around `bounds_center` enclosing every cluster's parent sphere and every BVH
     /// node's LOD sphere.

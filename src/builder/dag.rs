@@ -1574,7 +1574,8 @@ fn level_stats(
 }
 
 struct GroupCtx<'a> {
-    /// The root chain's source ([`ChainSource`]): a chain step simplifies it, not its member.
+    /// The root chain's source ([`ChainSource`]): a chain step, and a whole-mesh level of a mesh
+    /// whose source is not its input, simplifies it, not its members.
     source: Option<&'a ChainSource>,
     parter: Parter<'a>,
     clusters: &'a [WCluster],
@@ -1647,14 +1648,25 @@ impl GroupCtx<'_> {
         bad
     }
 
+    /// The group `members` simplified: from the source when there is one ([`Self::source`]);
+    /// a whole-mesh level (several members) that cannot be made from it takes the DAG's step
+    /// from its members instead, with its last resort (a root chain step has none: it ends).
     fn simplify_group(&self, members: &[u32]) -> Option<Outcome> {
-        // `n`: the members' triangles, which a result must have fewer of; a root chain step
-        // simplifies its source (the whole mesh at a finer level) to CHAIN_RATIO of them.
+        self.simplify_from(members, self.source).or_else(|| {
+            (self.source.is_some() && members.len() > 1)
+                .then(|| self.simplify_from(members, None))
+                .flatten()
+        })
+    }
+
+    fn simplify_from(&self, members: &[u32], source: Option<&ChainSource>) -> Option<Outcome> {
+        // `n`: the members' triangles, which a result must have fewer of; from a source (the
+        // whole mesh at a finer level) the target is CHAIN_RATIO of them.
         let n: usize = members
             .iter()
             .map(|&m| self.clusters[m as usize].tris.len())
             .sum();
-        let (tris, target): (Vec<[u32; 3]>, usize) = match self.source {
+        let (tris, target): (Vec<[u32; 3]>, usize) = match source {
             Some(src) => (src.tris.clone(), ((n as f32 * CHAIN_RATIO) as usize).max(1)),
             None => (
                 members
@@ -1851,7 +1863,7 @@ impl GroupCtx<'_> {
         }
         if result.is_none() && self.single {
             // Last resort: everything fits in one cluster; merge without simplifying.
-            let fits = self.source.is_none() && n <= max_tris && {
+            let fits = source.is_none() && n <= max_tris && {
                 let mut v: Vec<u32> = tris.iter().flatten().copied().collect();
                 v.sort_unstable();
                 v.dedup();
@@ -1863,7 +1875,7 @@ impl GroupCtx<'_> {
         }
         let (t, e, fallback) = result?;
         // The error is measured against what was simplified: a chain step's source.
-        let members_pos = match self.source {
+        let members_pos = match source {
             Some(src) => src.pos_error,
             None => members
                 .iter()
