@@ -1536,11 +1536,27 @@ fn stuck(mesh: &Mesh, iteration: u32, working: &[u32], clusters: &[WCluster]) ->
         name: mesh.name.clone(),
         iteration,
         clusters: working.len(),
-        triangles: working
-            .iter()
-            .map(|&c| clusters[c as usize].tris.len())
-            .sum(),
+        triangles: triangle_count(working, clusters),
     }
+}
+
+/// The triangles of clusters `ids`.
+fn triangle_count(ids: &[u32], clusters: &[WCluster]) -> usize {
+    ids.iter().map(|&c| clusters[c as usize].tris.len()).sum()
+}
+
+/// The triangles of clusters `ids`, in order.
+fn triangles_of(ids: &[u32], clusters: &[WCluster]) -> Vec<[u32; 3]> {
+    ids.iter()
+        .flat_map(|&c| clusters[c as usize].tris.iter().copied())
+        .collect()
+}
+
+/// The largest position error of clusters `ids`.
+fn max_pos_error(ids: &[u32], clusters: &[WCluster]) -> f32 {
+    ids.iter()
+        .map(|&c| clusters[c as usize].pos_error)
+        .fold(0.0, f32::max)
 }
 
 fn level_stats(
@@ -1551,10 +1567,7 @@ fn level_stats(
     groups: usize,
     stuck: usize,
 ) -> LevelStats {
-    let triangles: usize = working
-        .iter()
-        .map(|&c| clusters[c as usize].tris.len())
-        .sum();
+    let triangles = triangle_count(working, clusters);
     LevelStats {
         level,
         clusters: working.len(),
@@ -1662,17 +1675,11 @@ impl GroupCtx<'_> {
     fn simplify_from(&self, members: &[u32], source: Option<&ChainSource>) -> Option<Outcome> {
         // `n`: the members' triangles, which a result must have fewer of; from a source (the
         // whole mesh at a finer level) the target is CHAIN_RATIO of them.
-        let n: usize = members
-            .iter()
-            .map(|&m| self.clusters[m as usize].tris.len())
-            .sum();
+        let n = triangle_count(members, self.clusters);
         let (tris, target): (Vec<[u32; 3]>, usize) = match source {
             Some(src) => (src.tris.clone(), ((n as f32 * CHAIN_RATIO) as usize).max(1)),
             None => (
-                members
-                    .iter()
-                    .flat_map(|&m| self.clusters[m as usize].tris.iter().copied())
-                    .collect(),
+                triangles_of(members, self.clusters),
                 ((n as f32 * self.opts.simplify_ratio) as usize).max(1),
             ),
         };
@@ -1874,13 +1881,10 @@ impl GroupCtx<'_> {
             }
         }
         let (t, e, fallback) = result?;
-        // The error is measured against what was simplified: a chain step's source.
+        // The error is measured against what was simplified: the source, when there is one.
         let members_pos = match source {
             Some(src) => src.pos_error,
-            None => members
-                .iter()
-                .map(|&m| self.clusters[m as usize].pos_error)
-                .fold(0.0, f32::max),
+            None => max_pos_error(members, self.clusters),
         };
         let (error, pos_error) = group_error(e.0, e.1, members_pos, members_max, self.min_error);
         // The coverage part: not summed (see group_error), the members' at least.
@@ -1933,19 +1937,9 @@ impl ChainSource {
     /// The source, when the level `working` (the whole mesh) has at most
     /// [`CHAIN_SOURCE_TRIANGLES`] triangles.
     fn of(working: &[u32], clusters: &[WCluster], level: u32) -> Option<Self> {
-        let n: usize = working
-            .iter()
-            .map(|&c| clusters[c as usize].tris.len())
-            .sum();
-        (n <= CHAIN_SOURCE_TRIANGLES).then(|| ChainSource {
-            tris: working
-                .iter()
-                .flat_map(|&c| clusters[c as usize].tris.iter().copied())
-                .collect(),
-            pos_error: working
-                .iter()
-                .map(|&c| clusters[c as usize].pos_error)
-                .fold(0.0, f32::max),
+        (triangle_count(working, clusters) <= CHAIN_SOURCE_TRIANGLES).then(|| ChainSource {
+            tris: triangles_of(working, clusters),
+            pos_error: max_pos_error(working, clusters),
             is_input: level == 0,
         })
     }
