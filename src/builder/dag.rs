@@ -2035,20 +2035,16 @@ fn assemble(
         .par_iter()
         .map(|&ci| {
             let w = &wclusters[ci as usize];
-            let (local, local_idx) = super::simplify::compact(&w.tris, nverts);
-            let (lo, hi) = grid_box(&quant, local.iter().map(|&v| vertices[v as usize].position));
-            // The canonical triangle order, which the page's triangle code needs.
-            let mut local_tris: Vec<[u32; 3]> = local_idx
-                .chunks_exact(3)
-                .map(|t| [t[0], t[1], t[2]])
-                .collect();
+            // The local vertices and the canonical triangle order the page's triangle code
+            // needs, in the order that codes the triangles in the fewest words.
             // (A triangle whose corners have several materials keeps its first corner, whose
             // material is the triangle's.)
             // (With one material, every triangle may rotate.)
-            let material = |l: u32| vmat.get(local[l as usize] as usize).copied();
-            super::tricode::canonical_order(&mut local_tris, &|t| {
+            let material = |v: u32| vmat.get(v as usize).copied();
+            let (local, local_tris) = super::tricode::stored_order(&w.tris, nverts, &|t| {
                 one_material || material(t[0]) == material(t[1]) && material(t[0]) == material(t[2])
             });
+            let (lo, hi) = grid_box(&quant, local.iter().map(|&v| vertices[v as usize].position));
             let local_idx: Vec<u8> = local_tris.iter().flatten().map(|&l| l as u8).collect();
             // Its encoded bytes in a page (`page::paginate`'s sizes, from what is at hand here).
             let coded: Vec<(PackedVertex, u16)> = local

@@ -64,6 +64,123 @@ pub fn canonical_order(tris: &mut [[u32; 3]], rotatable: &dyn Fn(&[u32; 3]) -> b
     tris.copy_from_slice(&sorted);
 }
 
+/// A cluster's triangles (mesh vertex ids) in the order that stores them in the fewest words:
+/// its local vertices (mesh ids, numbered in order of first use) and its local triangles in
+/// canonical order ([`canonical_order`]; `rotatable` is asked with mesh ids).
+///
+/// The max-delta code stores two corner offsets per triangle in the cluster's widest offset's
+/// bits, so the fewest bits come from a vertex numbering in which every triangle's corners lie
+/// close together: a band. Besides the order given, it tries the orders of breadth-first
+/// numberings of the vertex graph (reverse Cuthill-McKee without the reversal: neighbours by
+/// increasing degree, from the end of two sweeps from each of three starts: the vertex of least
+/// degree, the first, the middle), the triangles sorted by their largest and smallest number,
+/// and keeps the one whose code takes the fewest words (the first on ties: deterministic). On
+/// the scans the offsets' width drops from 5-6 to 4 bits: 12.9 -> 11.0 bits a triangle (turbine
+/// blade).
+pub fn stored_order(
+    tris: &[[u32; 3]],
+    vertex_count: usize,
+    rotatable: &dyn Fn(&[u32; 3]) -> bool,
+) -> (Vec<u32>, Vec<[u32; 3]>) {
+    let numbered = |order: &[[u32; 3]]| -> (Vec<u32>, Vec<[u32; 3]>, usize) {
+        let (local, idx) = super::simplify::compact(order, vertex_count);
+        let mut lt: Vec<[u32; 3]> = idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        canonical_order(&mut lt, &|t| rotatable(&t.map(|l| local[l as usize])));
+        let words = encoded_words(&lt, local.len() as u32);
+        (local, lt, words)
+    };
+    let mut best = numbered(tris);
+    // Band orders, on the given order's local numbering.
+    let (local, idx) = super::simplify::compact(tris, vertex_count);
+    let n = local.len();
+    if n < 2 {
+        return (best.0, best.1);
+    }
+    let local_tris: Vec<[u32; 3]> = idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+    let mut adj: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for t in &local_tris {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if a != b && !adj[a as usize].contains(&b) {
+                adj[a as usize].push(b);
+                adj[b as usize].push(a);
+            }
+        }
+    }
+    // Neighbours by increasing degree (then id), once: what each numbering visits in order.
+    let degree: Vec<usize> = adj.iter().map(Vec::len).collect();
+    for a in &mut adj {
+        a.sort_unstable_by_key(|&v| (degree[v as usize], v));
+    }
+    // Breadth-first numbering from `s` into `out`; a vertex not reached (another piece) starts
+    // over from the first one left.
+    let mut seen = vec![false; n];
+    let mut bfs = |s: u32, out: &mut Vec<u32>| {
+        seen.fill(false);
+        out.clear();
+        let mut next_unseen = 0usize;
+        let mut start = s;
+        loop {
+            seen[start as usize] = true;
+            out.push(start);
+            let mut i = out.len() - 1;
+            while i < out.len() {
+                let u = out[i];
+                i += 1;
+                for &v in &adj[u as usize] {
+                    if !seen[v as usize] {
+                        seen[v as usize] = true;
+                        out.push(v);
+                    }
+                }
+            }
+            while next_unseen < n && seen[next_unseen] {
+                next_unseen += 1;
+            }
+            if next_unseen == n {
+                return;
+            }
+            start = next_unseen as u32;
+        }
+    };
+    let least = (0..n as u32)
+        .min_by_key(|&v| (degree[v as usize], v))
+        .unwrap_or(0);
+    let mut numbering = Vec::with_capacity(n);
+    let mut tried = Vec::new();
+    for s0 in [least, 0, n as u32 / 2] {
+        let mut s = s0;
+        for _ in 0..2 {
+            bfs(s, &mut numbering);
+            s = *numbering.last().unwrap_or(&s);
+        }
+        if tried.contains(&s) {
+            continue;
+        }
+        tried.push(s);
+        bfs(s, &mut numbering);
+        let mut pos = vec![0u32; n];
+        for (i, &v) in numbering.iter().enumerate() {
+            pos[v as usize] = i as u32;
+        }
+        let mut order: Vec<(u32, u32, usize)> = local_tris
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let p = t.map(|v| pos[v as usize]);
+                (p[0].max(p[1]).max(p[2]), p[0].min(p[1]).min(p[2]), i)
+            })
+            .collect();
+        order.sort_unstable();
+        let permuted: Vec<[u32; 3]> = order.iter().map(|&(_, _, i)| tris[i]).collect();
+        let c = numbered(&permuted);
+        if c.2 < best.2 {
+            best = c;
+        }
+    }
+    (best.0, best.1)
+}
+
 /// The corner offsets' width of `tris`' max-delta code (`None` when they are not in canonical
 /// order).
 fn max_delta_width(tris: &[[u32; 3]]) -> Option<u32> {
@@ -225,6 +342,71 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    /// A grid patch of `w` x `h` quads (two triangles each, counter-clockwise), vertex ids
+    /// `base + x + y (w + 1)`, in a scrambled order (a fixed permutation).
+    fn scrambled_patch(w: u32, h: u32, base: u32) -> Vec<[u32; 3]> {
+        let id = |x: u32, y: u32| base + x + y * (w + 1);
+        let mut t = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                t.push([id(x, y), id(x + 1, y), id(x + 1, y + 1)]);
+                t.push([id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
+            }
+        }
+        let n = t.len();
+        (0..n).map(|i| t[(i * 37 + 11) % n]).collect()
+    }
+
+    #[test]
+    fn stored_order_keeps_the_triangles_and_bands_the_offsets() {
+        // A 8 x 8 grid patch (128 triangles, 81 vertices), scrambled; and the same with a
+        // second piece and vertex ids far apart. The result: the same triangles (mesh ids, each
+        // with its winding), local vertices in order of first use, canonical, and its code
+        // shorter than that of the given order, with offsets of at most 4 bits (a band of about
+        // the grid's width); the given order's code needs 7.
+        for tris in [scrambled_patch(8, 8, 1000), {
+            let mut t = scrambled_patch(6, 5, 0);
+            t.extend(scrambled_patch(3, 4, 90_000));
+            t
+        }] {
+            let vertex_count = 100_000;
+            let (local, lt) = stored_order(&tris, vertex_count, &|_| true);
+            let cyc = |t: [u32; 3]| (0..3).map(|r| [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]).min();
+            let mut a: Vec<_> = tris.iter().map(|&t| cyc(t)).collect();
+            let mut b: Vec<_> = lt
+                .iter()
+                .map(|t| cyc(t.map(|l| local[l as usize])))
+                .collect();
+            a.sort();
+            b.sort();
+            assert_eq!(a, b, "the same triangles with their windings");
+            let mut first_use = Vec::new();
+            for &l in lt.iter().flatten() {
+                if !first_use.contains(&l) {
+                    first_use.push(l);
+                }
+            }
+            let mut sorted_use = first_use.clone();
+            sorted_use.sort();
+            assert_eq!(sorted_use, (0..local.len() as u32).collect::<Vec<_>>());
+            let given = {
+                let (gl, idx) = super::super::simplify::compact(&tris, vertex_count);
+                let mut g: Vec<[u32; 3]> =
+                    idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+                canonical_order(&mut g, &|_| true);
+                (max_delta_width(&g), encoded_words(&g, gl.len() as u32))
+            };
+            let w = max_delta_width(&lt).expect("canonical");
+            assert!(w <= 4, "offsets of {w} bits (given order: {:?})", given.0);
+            assert!(given.0.expect("canonical") >= 6, "{:?}", given.0);
+            assert!(encoded_words(&lt, local.len() as u32) < given.1);
+            let (head, code) = encode(&lt, local.len() as u32);
+            assert_eq!(head, w);
+            let back = decode(head, &code, lt.len() as u32, local.len() as u32).expect("decode");
+            assert_eq!(back.0, lt);
+        }
     }
 
     #[test]
