@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# Makes fuzz/regressions/load_vgeo/non_minimal_cluster_code.vgeo from a valid .vgeo (format v8): widens
+# Makes fuzz/regressions/load_vgeo/non_minimal_cluster_code.vgeo from a valid .vgeo (format v9): widens
 # one position field of the first cluster whose vertex stream keeps its word count, re-packs its
 # vertices, and fixes the page and head checksums. Usage: widen_cluster_code.py IN.vgeo OUT.vgeo
 # (the regression was made from fuzz/corpus/load_vgeo/tetra_and_triangle.vgeo).
@@ -31,8 +31,12 @@ for c in range(nc):
     poff=struct.unpack_from('<Q',d,pt+64*page+32)[0]
     at=poff+4*data_off
     w=struct.unpack_from('<I',d,at+4*8)[0]
-    f=[(w>>(5*k))&31 for k in range(6)]
-    vb=f[0]+f[1]+f[2]+2*f[3]+2*f[4]+f[5]
+    # widths x, y, z, normal x, uv (per component), material in the widths word; the normals' y
+    # width in bits 25-29 of the smallest x coordinate (above the triangle code's header)
+    xw=struct.unpack_from('<I',d,at)[0]
+    g=[(w>>(5*k))&31 for k in range(6)]
+    f=[g[0],g[1],g[2],g[3],(xw>>25)&31,g[4],g[5]]
+    vb=f[0]+f[1]+f[2]+f[3]+f[4]+2*f[5]+f[6]
     ks=[k for k in range(3) if f[k]<20]
     if not ks or (vc*vb+31)//32 != (vc*(vb+1)+31)//32: continue
     K=ks[0]
@@ -42,13 +46,13 @@ for c in range(nc):
     fields=[]
     for i in range(vc):
         bit=i*vb; vals=[]
-        for width in [f[0],f[1],f[2],f[3],f[3],f[4],f[4],f[5]]:
+        for width in [f[0],f[1],f[2],f[3],f[4],f[5],f[5],f[6]]:
             vals.append(getbits(words,bit,width)); bit+=width
         fields.append(vals)
     f2=list(f); f2[K]+=1
     acc=0; bit=0
     for vals in fields:
-        for width,val in zip([f2[0],f2[1],f2[2],f2[3],f2[3],f2[4],f2[4],f2[5]],vals):
+        for width,val in zip([f2[0],f2[1],f2[2],f2[3],f2[4],f2[5],f2[5],f2[6]],vals):
             acc|=val<<bit; bit+=width
     out=[(acc>>(32*k))&0xffffffff for k in range(nw)]
     struct.pack_into('<%dI'%nw,d,vs,*out)

@@ -22,7 +22,8 @@
 //! version 6 stored a cluster's triangles as plain packed indices rather than the max-delta code
 //! (`builder::tricode`) with its canonical triangle order, and version 7 stored a cluster's
 //! bounds in its cull words as six floats rather than its box on the mesh's grid (16 bytes more
-//! per cluster).
+//! per cluster), and version 8 gave both components of a cluster's normals one bit width (the
+//! wider one's) where version 9 gives each its own.
 //!
 //! [`load`] and [`VgeoFile`] check everything before use: magic, version, lengths, checksums,
 //! section bounds, element sizes, and every index inside the data (so a loaded mesh can be indexed
@@ -43,7 +44,7 @@ use crate::mesh::Material;
 /// File magic.
 pub const MAGIC: [u8; 8] = *b"VGEO\0\r\n\x1a";
 /// Current format version.
-pub const VERSION: u32 = 8;
+pub const VERSION: u32 = 9;
 const HEADER_LEN: usize = 32;
 const ENTRY_LEN: usize = 24;
 const MAX_SECTIONS: u32 = 64;
@@ -81,10 +82,10 @@ pub enum FormatError {
     /// Not a .vgeo file.
     BadMagic,
     #[error(
-        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 7 and \
-         older store their clusters' boxes in a longer form (version 6 and older also their \
-         triangles, version 5 and older lack the clusters' triangle size that splits the \
-         rasterizers): rebuild them with `vgeo build`)"
+        "unsupported .vgeo version {0} (this build reads version {VERSION}; files of version 8 and \
+         older code their clusters' vertices in another layout (version 7 and older also their \
+         boxes, version 6 and older their triangles, version 5 and older lack the clusters' \
+         triangle size that splits the rasterizers): rebuild them with `vgeo build`)"
     )]
     /// A format version this build does not read.
     Version(u32),

@@ -238,8 +238,12 @@ pub const PAGE_BYTES: u32 = 131072;
 pub const CLUSTER_CULL_WORDS: u32 = 8;
 /// Bits of a grid coordinate (`builder::quantize::POSITION_BITS`). In an encoded cluster's header
 /// the bits above them in its smallest x coordinate carry its triangle code's header, the corner
-/// offsets' width (`builder::tricode`).
+/// offsets' width (`builder::tricode`, [`TRIANGLE_HEAD_BITS`]), then its normals' y components'
+/// bit width (`builder::page`).
 pub const CLUSTER_COORD_BITS: u32 = 21;
+/// Bits of the triangle code's header (the corner offsets' width, at most 8) above
+/// [`CLUSTER_COORD_BITS`] in a cluster's smallest x coordinate.
+pub const TRIANGLE_HEAD_BITS: u32 = 4;
 /// Triangles per word of the triangle code's steps (`builder::tricode`).
 pub const TRIANGLE_CODE_BLOCK: u32 = 12;
 /// Most DAG levels of a mesh: a cluster's level has 8 bits in its cull words (the builder stops

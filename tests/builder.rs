@@ -980,9 +980,10 @@ fn vgeo_files_are_read_page_by_page_and_each_page_is_checked() {
         Err(FormatError::Checksum { .. })
     ));
     // Versions 2 (no pages), 3 (pages of plain streams), 4 (cluster headers without cull words),
-    // 5 (clusters without the size code of their triangles), 6 (plain packed triangles) and 7
-    // (bounds as floats in the cull words): refused with the hint to rebuild.
-    for old in [2u32, 3, 4, 5, 6, 7] {
+    // 5 (clusters without the size code of their triangles), 6 (plain packed triangles), 7
+    // (bounds as floats in the cull words) and 8 (one width for both normal components):
+    // refused with the hint to rebuild.
+    for old in [2u32, 3, 4, 5, 6, 7, 8] {
         let mut v = bytes.clone();
         v[8..12].copy_from_slice(&old.to_le_bytes());
         let err = load(&v).expect_err("an old version");

@@ -41,7 +41,7 @@ const REGRESSIONS: &[(&str, &str, Expect)] = &[
     // A page whose cluster header used wider fields than its vertices need decoded fine, but
     // saving the loaded mesh re-encoded it shorter than its page record said: the saved file did
     // not load (vgeo_fuzz::load_vgeo). The loader now accepts only the minimal code. (Found as
-    // a version-5 file; remade as version 8, whose cull words hold the cluster's box on the grid,
+    // a version-5 file; remade as version 9 (version 8's cull words hold the cluster's box on the grid),
     // by fuzz/widen_cluster_code.py from the seed tetra_and_triangle.vgeo: the same defect.)
     (
         "load_vgeo",

@@ -27,10 +27,11 @@ struct ClusterData {
     uint vertex_word;    // first word of the vertex bit stream
     uint triangle_word;  // first word of the triangle code (tricode.rs)
     uint vertex_bits;
-    uint wx;             // bit widths: position x, y, z, normal (per component), uv (per
+    uint wx;             // bit widths: position x, y, z, normal x, normal y, uv (per
     uint wy;             // component), material
     uint wz;
-    uint wn;
+    uint wnx;
+    uint wny;
     uint wu;
     uint wm;
     uvec3 position_min;
@@ -72,7 +73,9 @@ ClusterData cluster_data(MeshGpu mesh, Cluster c) {
     uint px = pool[c.word];
     d.position_min = uvec3(px & ((1u << CLUSTER_COORD_BITS) - 1u), pool[c.word + 1u],
         pool[c.word + 2u]);
-    d.triangle_head = px >> CLUSTER_COORD_BITS;
+    // Above them the triangle code's header, then the normals' y components' bit width.
+    d.triangle_head = (px >> CLUSTER_COORD_BITS) & ((1u << TRIANGLE_HEAD_BITS) - 1u);
+    d.wny = px >> (CLUSTER_COORD_BITS + TRIANGLE_HEAD_BITS);
     uint at = c.word + CLUSTER_CULL_WORDS;
     uint w = pool[at];
     d.normal_min = pool[at + 1u];
@@ -90,10 +93,10 @@ ClusterData cluster_data(MeshGpu mesh, Cluster c) {
     d.wx = w & 31u;
     d.wy = (w >> 5) & 31u;
     d.wz = (w >> 10) & 31u;
-    d.wn = (w >> 15) & 31u;
+    d.wnx = (w >> 15) & 31u;
     d.wu = (w >> 20) & 31u;
     d.wm = (w >> 25) & 31u;
-    d.vertex_bits = d.wx + d.wy + d.wz + 2u * d.wn + 2u * d.wu + d.wm;
+    d.vertex_bits = d.wx + d.wy + d.wz + d.wnx + d.wny + 2u * d.wu + d.wm;
     d.vertex_word = h;
     d.triangle_word = h + (cluster_vertex_count(c) * d.vertex_bits + 31u) / 32u;
     return d;
@@ -116,16 +119,16 @@ PackedVertex cluster_vertex(ClusterData d, uint i) {
     pv.position.y = d.position_min.y + (uint(p >> d.wx) & low_mask(d.wy));
     pv.position.z = d.position_min.z + (uint(p >> (d.wx + d.wy)) & low_mask(d.wz));
 #endif
-    uint n = pool_field(d.vertex_word, bit + d.wx + d.wy + d.wz, 2u * d.wn);
-    uint nx = (d.normal_min + (n & low_mask(d.wn))) & 0xffffu;
-    uint ny = ((d.normal_min >> 16) + (n >> d.wn)) & 0xffffu;
+    uint n = pool_field(d.vertex_word, bit + d.wx + d.wy + d.wz, d.wnx + d.wny);
+    uint nx = (d.normal_min + (n & low_mask(d.wnx))) & 0xffffu;
+    uint ny = ((d.normal_min >> 16) + (n >> d.wnx)) & 0xffffu;
     pv.normal = nx | (ny << 16);
     return pv;
 }
 
 // Bit offset of the UV fields of the cluster's local vertex `i`.
 uint cluster_uv_bit(ClusterData d, uint i) {
-    return i * d.vertex_bits + d.wx + d.wy + d.wz + 2u * d.wn;
+    return i * d.vertex_bits + d.wx + d.wy + d.wz + d.wnx + d.wny;
 }
 
 // The packed UV (2 x 16 bits) of the cluster's local vertex `i` (meshes with MESH_STREAM_UVS).

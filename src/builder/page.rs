@@ -18,13 +18,15 @@
 //!   and its extents (2 words, [`join_box`]), which the GPU turns into its bounds as it decodes a
 //!   vertex ([`super::quantize::grid_corner`]); `vertex_count | triangle_count << 8 | level << 16
 //!   | size_code << 24`; its group; its creator group), then the rest of its code: the bit widths
-//!   `x | y << 5 | z << 10 | normal << 15 | uv << 20 | material << 25`, the smallest octahedral
-//!   normal components (two i16), the smallest UV components (two u16, meshes with UVs) and the
-//!   smallest material (meshes with a material stream);
-//! - its vertices, each `vertex_bits` bits (the widths summed, normal and UV components twice)
+//!   `x | y << 5 | z << 10 | normal x << 15 | uv << 20 | material << 25` (the normals' y
+//!   components' width rides in the smallest x coordinate's high bits, above the triangle code's
+//!   header: a normal's two components have a width each since format 9), the smallest
+//!   octahedral normal components (two i16), the smallest UV components (two u16, meshes with
+//!   UVs) and the smallest material (meshes with a material stream);
+//! - its vertices, each `vertex_bits` bits (the widths summed, UV components twice)
 //!   of offsets from those minimums, as one little-endian bit stream (vertex `i` at bit
 //!   `i * vertex_bits`; fields x, y, z, normal x, normal y, u, v, material);
-//! - its triangles in the max-delta code of [`super::tricode`] (about 14 bits a triangle), after
+//! - its triangles in the max-delta code of [`super::tricode`] (about 11 bits a triangle), after
 //!   the builder's canonical triangle order.
 //!
 //! After the last cluster a page has one spare zero word, so that a reader may always fetch the
@@ -89,13 +91,14 @@ pub fn header_words(has_uvs: bool, has_materials: bool) -> u32 {
 }
 
 /// A cluster's cull words ([`CULL_WORDS`]), from its code and record: its box on the mesh's grid
-/// (the smallest coordinates, x's high bits the triangle code's header `tri_head`, then the
-/// extents, [`join_box`]), `vertex_count | triangle_count << 8 | level << 16 | size_code << 24`
+/// (the smallest coordinates, x's high bits the triangle code's header `tri_head` and the
+/// normals' y width, then the extents, [`join_box`]), `vertex_count | triangle_count << 8 | level << 16 | size_code << 24`
 /// (the level has 8 bits: [`crate::shared::MAX_CLUSTER_LEVEL`], which the builder and the
 /// loader's checks keep), group, creator. The record's bounds are that box's corners
 /// ([`super::quantize::grid_corner`]; [`decode_page`] checks it).
 pub fn cull_words(c: &Cluster, code: &ClusterCode, tri_head: u32) -> [u32; CULL_WORDS as usize] {
-    let b = join_box(code.position_min, code.position_extent, tri_head);
+    let head = tri_head | code.normal_y_width << crate::shared::TRIANGLE_HEAD_BITS;
+    let b = join_box(code.position_min, code.position_extent, head);
     [
         b[0],
         b[1],
@@ -122,22 +125,27 @@ pub struct ClusterCode {
     pub position_min: [u32; 3],
     /// Largest minus smallest grid coordinate per axis (the box the cull reads).
     pub position_extent: [u32; 3],
+    /// Bit widths `x | y << 5 | z << 10 | normal x << 15 | uv << 20 | material << 25`.
     pub widths: u32,
+    /// Bit width of the normals' y components (stored above the triangle code's header in the
+    /// cull words' smallest x coordinate, [`join_box`]).
+    pub normal_y_width: u32,
     pub normal_min: u32,
     pub uv_min: u32,
     pub material_min: u32,
 }
 
 impl ClusterCode {
-    /// Bit widths: x, y, z, normal (per component), uv (per component), material.
-    pub fn field_widths(&self) -> [u32; 6] {
-        std::array::from_fn(|k| (self.widths >> (5 * k)) & 31)
+    /// Bit widths: x, y, z, normal x, normal y, uv (per component), material.
+    pub fn field_widths(&self) -> [u32; 7] {
+        let w = |k: u32| (self.widths >> (5 * k)) & 31;
+        [w(0), w(1), w(2), w(3), self.normal_y_width, w(4), w(5)]
     }
 
     /// Bits per vertex.
     pub fn vertex_bits(&self) -> u32 {
-        let [x, y, z, n, uv, m] = self.field_widths();
-        x + y + z + 2 * n + 2 * uv + m
+        let [x, y, z, nx, ny, uv, m] = self.field_widths();
+        x + y + z + nx + ny + 2 * uv + m
     }
 
     /// The code of a cluster's vertices (with their materials; `has_uvs`, `has_materials` say
@@ -170,7 +178,7 @@ impl ClusterCode {
         if vertices.is_empty() {
             return Self::default();
         }
-        let nw = width((nhi[0] - nlo[0]).max(nhi[1] - nlo[1]) as u32);
+        let nw = [0, 1].map(|k| width((nhi[k] - nlo[k]) as u32));
         let uw = if has_uvs {
             width((uhi[0] - ulo[0]).max(uhi[1] - ulo[1]))
         } else {
@@ -181,7 +189,7 @@ impl ClusterCode {
             width(hi[0] - lo[0]),
             width(hi[1] - lo[1]),
             width(hi[2] - lo[2]),
-            nw,
+            nw[0],
             uw,
             mw,
         ]
@@ -192,6 +200,7 @@ impl ClusterCode {
             position_min: lo,
             position_extent: std::array::from_fn(|k| hi[k] - lo[k]),
             widths,
+            normal_y_width: nw[1],
             normal_min: (nlo[0] as u16 as u32) | (nlo[1] as u16 as u32) << 16,
             uv_min: if has_uvs { ulo[0] | ulo[1] << 16 } else { 0 },
             material_min: if has_materials { mlo } else { 0 },
@@ -306,7 +315,7 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
     if has_mats {
         out.push(code.material_min);
     }
-    let [wx, wy, wz, wn, wu, wm] = code.field_widths();
+    let [wx, wy, wz, wnx, wny, wu, wm] = code.field_widths();
     let start = out.len();
     let vertex_words = (verts.len() * code.vertex_bits() as usize).div_ceil(32);
     let mut w = BitWriter { out, start, bit: 0 };
@@ -317,8 +326,8 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
         w.put(p[1] - code.position_min[1], wy);
         w.put(p[2] - code.position_min[2], wz);
         let n = normal_parts(v.normal);
-        w.put((n[0] - nmin[0]) as u32, wn);
-        w.put((n[1] - nmin[1]) as u32, wn);
+        w.put((n[0] - nmin[0]) as u32, wnx);
+        w.put((n[1] - nmin[1]) as u32, wny);
         w.put((v.uv & 0xffff) - (code.uv_min & 0xffff), wu);
         w.put((v.uv >> 16) - (code.uv_min >> 16), wu);
         w.put(*mat as u32 - code.material_min, wm);
@@ -328,7 +337,8 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
 }
 
 /// A cluster's box on the grid as the first five cull words: the smallest coordinates (x's spare
-/// high bits, above [`crate::shared::CLUSTER_COORD_BITS`], the triangle code's header), then the
+/// high bits, above [`crate::shared::CLUSTER_COORD_BITS`], `head`: the triangle code's header in
+/// [`crate::shared::TRIANGLE_HEAD_BITS`], the normals' y width above), then the
 /// three extents of [`crate::shared::CLUSTER_COORD_BITS`] bits each in two words (x in bits 0-20
 /// of the first, y in its bits 21-31 and bits 0-9 of the second, z in bits 10-30 of the second;
 /// `common/cluster.glsl` reads them).
@@ -343,7 +353,7 @@ fn join_box(min: [u32; 3], extent: [u32; 3], head: u32) -> [u32; 5] {
     ]
 }
 
-/// The inverse of [`join_box`]: smallest coordinates, extents, triangle header (high bits of y
+/// The inverse of [`join_box`]: smallest coordinates, extents, `head` (high bits of y
 /// and z and of the extents' last word are left for the checks to refuse).
 fn split_box(words: &[u32]) -> ([u32; 3], [u32; 3], u32) {
     let b = crate::shared::CLUSTER_COORD_BITS;
@@ -414,7 +424,7 @@ pub fn page_bytes_breakdown(m: &BuiltMesh) -> PageBytes {
         let verts = cluster_vertices(m, c);
         let code = ClusterCode::of(&verts, has_uvs, has_mats);
         let n = verts.len() as u64;
-        let [x, y, z, nw, uw, mw] = code.field_widths().map(u64::from);
+        let [x, y, z, nxw, nyw, uw, mw] = code.field_widths().map(u64::from);
         b.headers += 4 * header_words(has_uvs, has_mats) as u64;
         b.vertices += 4 * (n * code.vertex_bits() as u64).div_ceil(32);
         b.triangles +=
@@ -423,7 +433,7 @@ pub fn page_bytes_breakdown(m: &BuiltMesh) -> PageBytes {
         b.stored_vertices += n;
         b.stored_triangles += c.triangle_count() as u64;
         b.position_bits += n * (x + y + z);
-        b.normal_bits += n * 2 * nw;
+        b.normal_bits += n * (nxw + nyw);
         b.uv_bits += n * 2 * uw;
         b.material_bits += n * mw;
     }
@@ -504,11 +514,14 @@ pub fn decode_page(
             .get(at..at + hw)
             .ok_or_else(|| bad("header past the page's end".into()))?;
         let (cull, head) = head.split_at(CULL_WORDS as usize);
-        let (position_min, position_extent, tri_head) = split_box(cull);
+        let (position_min, position_extent, box_head) = split_box(cull);
+        let tri_bits = crate::shared::TRIANGLE_HEAD_BITS;
+        let tri_head = box_head & ((1 << tri_bits) - 1);
         let mut code = ClusterCode {
             position_min,
             position_extent,
             widths: head[0],
+            normal_y_width: box_head >> tri_bits,
             normal_min: head[1],
             uv_min: 0,
             material_min: 0,
@@ -546,9 +559,10 @@ pub fn decode_page(
         if has_materials {
             code.material_min = head[h];
         }
-        let [wx, wy, wz, wn, wu, wm] = code.field_widths();
+        let [wx, wy, wz, wnx, wny, wu, wm] = code.field_widths();
         if code.widths >> 30 != 0
-            || wn > 16
+            || wnx > 16
+            || wny > 16
             || wu > 16
             || wm > 16
             || (!has_uvs && (wu != 0 || code.uv_min != 0))
@@ -587,8 +601,8 @@ pub fn decode_page(
                 p[a] = v as u32;
             }
             let n = [
-                (nmin[0] + get(wn) as i32) as u16 as u32,
-                (nmin[1] + get(wn) as i32) as u16 as u32,
+                (nmin[0] + get(wnx) as i32) as u16 as u32,
+                (nmin[1] + get(wny) as i32) as u16 as u32,
             ];
             let u = (code.uv_min & 0xffff) + get(wu);
             let v = (code.uv_min >> 16) + get(wu);
@@ -1045,13 +1059,13 @@ mod tests {
         ];
         let c = ClusterCode::of(&verts, true, true);
         assert_eq!(c.position_min, [10, 5, (1 << POSITION_BITS) - 1]);
-        // x spans 3 (2 bits), y and z nothing, normals 65534 (16 bits), UVs 8 (4 bits),
-        // materials 2 (2 bits).
-        assert_eq!(c.field_widths(), [2, 0, 0, 16, 4, 2]);
-        assert_eq!(c.vertex_bits(), 2 + 32 + 8 + 2);
+        // x spans 3 (2 bits), y and z nothing, normal x 65534 (16 bits), normal y nothing,
+        // UVs 8 (4 bits), materials 2 (2 bits).
+        assert_eq!(c.field_widths(), [2, 0, 0, 16, 0, 4, 2]);
+        assert_eq!(c.vertex_bits(), 2 + 16 + 8 + 2);
         assert_eq!(normal_parts(c.normal_min), [-32767, 3]);
         assert_eq!((c.uv_min, c.material_min), (0x0001_0002, 4));
         let plain = ClusterCode::of(&verts, false, false);
-        assert_eq!(plain.field_widths()[4..], [0, 0]);
+        assert_eq!(plain.field_widths()[5..], [0, 0]);
     }
 }
