@@ -307,6 +307,10 @@ const _: () = assert!(
     WALK_CLUSTERS <= TINY_CUT_CLUSTERS && (WALK_CLUSTERS + 1) * WALK_CLUSTERS <= TINY_CUT_ENTRIES
 );
 const _: () = assert!(2 * HZB_GROUP == 1 << (HZB_HEAD_LEVELS - 1));
+// Above a cluster's smallest x coordinate: the triangle code's header (the corner offsets' width,
+// at most 8) and the normals' y width (at most 16: 5 bits).
+const _: () =
+    assert!(8 < 1 << TRIANGLE_HEAD_BITS && CLUSTER_COORD_BITS + TRIANGLE_HEAD_BITS + 5 <= 32);
 
 /// Per-frame uniforms of the classic (brute) path. All positions are camera-relative.
 #[repr(C)]

@@ -997,6 +997,25 @@ fn vgeo_files_are_read_page_by_page_and_each_page_is_checked() {
             Err(FormatError::Version(x)) if x == old
         ));
     }
+    // Format 9: a cluster's normals' y width rides above the triangle code's header in its
+    // smallest x coordinate; one over 16 bits is refused with the other widths (checksums
+    // fixed so that the check is reached), without a panic.
+    {
+        std::fs::write(&path, &bytes).unwrap();
+        let e = *VgeoFile::open(&path).expect("opens").page_entry(0).unwrap();
+        let c = built.clusters.iter().find(|c| c.page == 0).expect("page 0");
+        let at = (e.offset + 4 * c.data_offset as u64) as usize;
+        let shift = vgeo::shared::CLUSTER_COORD_BITS + vgeo::shared::TRIANGLE_HEAD_BITS;
+        let word = u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+        let mut v = bytes.clone();
+        v[at..at + 4].copy_from_slice(&(word & !(127 << shift) | 17 << shift).to_le_bytes());
+        vgeo::format::fix_checksums(&mut v);
+        let err = load(&v).expect_err("a normal width of 17 bits");
+        assert!(
+            err.to_string().contains("bad field widths") && err.to_string().contains("y width 17"),
+            "{err}"
+        );
+    }
     // Truncated: an error for open and load alike.
     for len in [0, 7, 31, 100, bytes.len() / 2, bytes.len() - 1] {
         std::fs::write(&path, &bytes[..len]).unwrap();

@@ -2,10 +2,10 @@
 // (ClusterLocGpu: page and word) gives where its data starts in the pool, and its first
 // CLUSTER_CULL_WORDS words are what the passes need of it. Their layout, read only here and in
 // raster.glsl's cluster_data: words 0-2 its smallest grid coordinates (CLUSTER_COORD_BITS each;
-// x's high bits the triangle code's header and the normals' y width), 3-4 the extents (x in bits 0-20 of word 3, y in its
-// bits 21-31 and bits 0-9 of word 4, z in bits 10-30 of word 4), 5 `vertex_count | triangle_count
-// << 8 | level << 16 | size_code << 24` (8 bits each; the size code of its triangles:
-// src/builder/size.rs), 6 its group, 7 its creator group. Its LOD pairs are its groups' (cull.glsl). The cull writes
+// x's high bits the triangle code's header and the normals' y width), 3-4 the extents (x in bits
+// 0-20 of word 3, y in its bits 21-31 and bits 0-9 of word 4, z in bits 10-30 of word 4), 5
+// `vertex_count | triangle_count << 8 | level << 16 | size_code << 24` (8 bits each; the size
+// code of its triangles: src/builder/size.rs), 6 its group, 7 its creator group. Its LOD pairs are its groups' (cull.glsl). The cull writes
 // that pool word into the visible list (`uvec2(instance, word)`), so the passes that read a
 // visible cluster (rasterizers, material passes, debug views) go straight to its data with
 // `cluster_at`, without the locator and the page table: a chain of dependent reads shorter by two

@@ -69,7 +69,7 @@ uint64_t pool_bits64(uint word0, uint bit) {
 // The cluster's data, from its page's slot (the page must be resident).
 ClusterData cluster_data(MeshGpu mesh, Cluster c) {
     ClusterData d;
-    // The smallest coordinates (the first cull words), x's high bits the triangle code's header.
+    // The smallest coordinates (the first cull words); x's high bits hold more (below).
     uint px = pool[c.word];
     d.position_min = uvec3(px & ((1u << CLUSTER_COORD_BITS) - 1u), pool[c.word + 1u],
         pool[c.word + 2u]);

@@ -14,7 +14,8 @@
 //!
 //! - a header of [`header_words`] u32 words: first what culling reads ([`CULL_WORDS`]: the
 //!   cluster's box on the mesh's grid, its smallest coordinates (3 words; x's bits above
-//!   [`crate::shared::CLUSTER_COORD_BITS`] hold the triangle code's header, [`super::tricode`])
+//!   [`crate::shared::CLUSTER_COORD_BITS`] hold the triangle code's header, [`super::tricode`],
+//!   and above it the normals' y width)
 //!   and its extents (2 words, [`join_box`]), which the GPU turns into its bounds as it decodes a
 //!   vertex ([`super::quantize::grid_corner`]); `vertex_count | triangle_count << 8 | level << 16
 //!   | size_code << 24`; its group; its creator group), then the rest of its code: the bit widths
@@ -81,8 +82,8 @@ pub struct Page {
 }
 const _: () = assert!(size_of::<Page>() == 32);
 
-/// Words of a cluster's header that culling reads: bounds (6), counts, level and size code,
-/// group, creator.
+/// Words of a cluster's header that culling reads: its box on the grid (5), counts, level and
+/// size code, group, creator.
 pub const CULL_WORDS: u32 = crate::shared::CLUSTER_CULL_WORDS;
 
 /// Words of a cluster's header in an encoded page.
@@ -306,6 +307,8 @@ fn encode_cluster(m: &BuiltMesh, c: &Cluster, out: &mut Vec<u32>) {
     let code = ClusterCode::of(&verts, has_uvs, has_mats);
     let (tri_head, tri_words) =
         super::tricode::encode(&m.cluster_local_triangles(c), c.vertex_count());
+    // (The loader refuses other values; `shared.rs` asserts that these fit the spare bits.)
+    debug_assert!(tri_head <= 8 && code.normal_y_width <= 16);
     out.extend_from_slice(&cull_words(c, &code, tri_head));
     out.push(code.widths);
     out.push(code.normal_min);
@@ -568,7 +571,10 @@ pub fn decode_page(
             || (!has_uvs && (wu != 0 || code.uv_min != 0))
             || (!has_materials && (wm != 0 || code.material_min != 0))
         {
-            return Err(bad(format!("bad field widths {:#x}", code.widths)));
+            return Err(bad(format!(
+                "bad field widths {:#x} (normals' y width {})",
+                code.widths, code.normal_y_width
+            )));
         }
         let (vc, tc) = (c.vertex_count(), c.triangle_count());
         let vbits = code.vertex_bits() as usize;

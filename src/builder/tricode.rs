@@ -10,14 +10,16 @@
 //! - its two other corners as `m - 1 - corner`, each in `w` bits (`w` per cluster: the fewest that
 //!   hold every such offset, at least 1),
 //!
-//! 12-15 bits a triangle instead of 3 x 7 for plain packed indices. Any triangle is decoded
+//! about 11 bits a triangle on the scans (`w` = 4 in the band order of [`stored_order`]; 12-15
+//! with `w` = 5-6 before it) instead of 3 x 7 for plain packed indices. Any triangle is decoded
 //! without the ones before it: the `Δ`s sit in one word per block of 12 triangles with the
 //! block's base, and a triangle's `m` is that base plus a population count of the `Δ` bits up to
 //! it.
 //!
-//! Layout: a header `w`, which the page stores in the spare high bits of the cluster's smallest
-//! grid coordinates ([`crate::shared::CLUSTER_COORD_BITS`]), so that a reader has it with the rest
-//! of the cluster's code; then u32 words, little-endian:
+//! Layout: a header `w`, which the page stores in the low [`crate::shared::TRIANGLE_HEAD_BITS`] of
+//! the spare high bits of the cluster's smallest x grid coordinate (above
+//! [`crate::shared::CLUSTER_COORD_BITS`]), so that a reader has it with the rest of the cluster's
+//! code; then u32 words, little-endian:
 //! - one word per block of 12 triangles: their 2-bit `Δ`s (triangle `t` at bit `2 (t % 12)`) and,
 //!   in bits 24-31, the block's base, `m + 1` at the end of the block before (0 for the first);
 //! - the corner offsets: triangle `t`'s two `w`-bit fields at bit `2 w t` of one bit stream.
