@@ -84,21 +84,29 @@ pub fn stored_order(
     vertex_count: usize,
     rotatable: &dyn Fn(&[u32; 3]) -> bool,
 ) -> (Vec<u32>, Vec<[u32; 3]>) {
-    let numbered = |order: &[[u32; 3]]| -> (Vec<u32>, Vec<[u32; 3]>, usize) {
+    // An order's local vertices (first use) and its triangles in those numbers.
+    let numbered = |order: &[[u32; 3]]| -> (Vec<u32>, Vec<[u32; 3]>) {
         let (local, idx) = super::simplify::compact(order, vertex_count);
-        let mut lt: Vec<[u32; 3]> = idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        (
+            local,
+            idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+        )
+    };
+    // ... put in canonical order, with its code's words.
+    let coded = |(local, mut lt): (Vec<u32>, Vec<[u32; 3]>)| {
         canonical_order(&mut lt, &|t| rotatable(&t.map(|l| local[l as usize])));
         let words = encoded_words(&lt, local.len() as u32);
         (local, lt, words)
     };
-    let mut best = numbered(tris);
-    // Band orders, on the given order's local numbering.
-    let (local, idx) = super::simplify::compact(tris, vertex_count);
-    let n = local.len();
+    // The given order; the band orders number its local vertices (`local_tris`: its triangles
+    // in the given order, in those numbers).
+    let given = numbered(tris);
+    let local_tris = given.1.clone();
+    let mut best = coded(given);
+    let n = best.0.len();
     if n < 2 {
         return (best.0, best.1);
     }
-    let local_tris: Vec<[u32; 3]> = idx.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
     let mut adj: Vec<Vec<u32>> = vec![Vec::new(); n];
     for t in &local_tris {
         for k in 0..3 {
@@ -175,7 +183,7 @@ pub fn stored_order(
             .collect();
         order.sort_unstable();
         let permuted: Vec<[u32; 3]> = order.iter().map(|&(_, _, i)| tris[i]).collect();
-        let c = numbered(&permuted);
+        let c = coded(numbered(&permuted));
         if c.2 < best.2 {
             best = c;
         }
@@ -346,6 +354,15 @@ mod tests {
             .collect()
     }
 
+    /// A triangle as its smallest rotation: equal for two triangles with the same corners in the
+    /// same cyclic order (winding).
+    fn cyc(t: [u32; 3]) -> [u32; 3] {
+        (0..3)
+            .map(|r| [t[r], t[(r + 1) % 3], t[(r + 2) % 3]])
+            .min()
+            .unwrap_or(t)
+    }
+
     /// A grid patch of `w` x `h` quads (two triangles each, counter-clockwise), vertex ids
     /// `base + x + y (w + 1)`, in a scrambled order (a fixed permutation).
     fn scrambled_patch(w: u32, h: u32, base: u32) -> Vec<[u32; 3]> {
@@ -375,7 +392,6 @@ mod tests {
         }] {
             let vertex_count = 100_000;
             let (local, lt) = stored_order(&tris, vertex_count, &|_| true);
-            let cyc = |t: [u32; 3]| (0..3).map(|r| [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]).min();
             let mut a: Vec<_> = tris.iter().map(|&t| cyc(t)).collect();
             let mut b: Vec<_> = lt
                 .iter()
@@ -445,7 +461,6 @@ mod tests {
             .collect();
         let before = l.clone();
         canonical_order(&mut l, &|_| true);
-        let cyc = |t: [u32; 3]| (0..3).map(|r| [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]).min();
         let mut a: Vec<_> = before.iter().map(|&t| cyc(t)).collect();
         let mut b: Vec<_> = l.iter().map(|&t| cyc(t)).collect();
         a.sort();
