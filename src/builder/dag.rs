@@ -1064,6 +1064,47 @@ fn build_inner(
     opts: &BuildOptions,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<BuiltMesh, BuildError> {
+    // A step ratio other than the default takes the default's root chain: its source comes from
+    // the levels at the default ratio (docs/architecture.md, "The root chain at any ratio").
+    let default_ratio = BuildOptions::default().simplify_ratio;
+    let preset = if opts.simplify_ratio != default_ratio {
+        let shadow = BuildOptions {
+            simplify_ratio: default_ratio,
+            ..opts.clone()
+        };
+        progress(&format!(
+            "{}: the root chain's source at step ratio {default_ratio}",
+            mesh.name
+        ));
+        match build_levels(mesh, &shadow, &|_| {}, None)? {
+            Built::Source(s) => s,
+            Built::Mesh(_) => None,
+        }
+    } else {
+        None
+    };
+    match build_levels(mesh, opts, progress, Some(preset))? {
+        Built::Mesh(m) => Ok(*m),
+        Built::Source(_) => unreachable!("a build with a chain source given makes the mesh"),
+    }
+}
+
+/// What [`build_levels`] made: the mesh, or (asked for no mesh) the root chain's source.
+enum Built {
+    Mesh(Box<BuiltMesh>),
+    Source(Option<ChainSource>),
+}
+
+/// The build; `preset`: `Some` builds the mesh, with that root chain source when it holds one;
+/// `None` stops at the root chain's source and returns it (none when the mesh has no level of
+/// at most [`CHAIN_SOURCE_TRIANGLES`] before its root).
+fn build_levels(
+    mesh: &Mesh,
+    opts: &BuildOptions,
+    progress: &(dyn Fn(&str) + Sync),
+    preset: Option<Option<ChainSource>>,
+) -> Result<Built, BuildError> {
+    let source_only = preset.is_none();
     let prep = prepare(mesh, opts)?;
     let Prepared {
         vertices,
@@ -1241,7 +1282,7 @@ fn build_inner(
 
     let mut groups: Vec<WGroup> = Vec::new();
     let mut working: Vec<u32> = (0..clusters.len() as u32).collect();
-    let mut chain_source: Option<ChainSource> = None;
+    let mut chain_source: Option<ChainSource> = preset.flatten();
     let mut levels = vec![level_stats(0, &working, &clusters, 0, 0, 0)];
     let mut widened = Vec::new();
     let mut fallback_groups = 0;
@@ -1334,11 +1375,21 @@ fn build_inner(
         // The first level of at most CHAIN_SOURCE_TRIANGLES: the root chain's source.
         if chain_source.is_none() {
             chain_source = ChainSource::of(&working, &clusters, iteration);
+            if source_only && chain_source.is_some() {
+                return Ok(Built::Source(chain_source));
+            }
         }
+        let level_tris = triangle_count(&working, &clusters);
         let ctx = GroupCtx {
             // A level of one group (the whole mesh) simplifies the source too, as the root chain,
-            // when the source is coarser than the input (a small mesh keeps the DAG's step).
-            source: chain_source.as_ref().filter(|s| single && !s.is_input),
+            // when the source is coarser than the input (a small mesh keeps the DAG's step) and
+            // not far coarser than the DAG's own step would make (a source given from the default
+            // ratio: at most half of that, so that no level drops much more than a step).
+            source: chain_source.as_ref().filter(|s| {
+                single
+                    && !s.is_input
+                    && s.tris.len() as f32 >= 0.5 * opts.simplify_ratio * level_tris as f32
+            }),
             parter,
             clusters: &clusters,
             positions: &positions,
@@ -1400,6 +1451,9 @@ fn build_inner(
     let shared = Edges(Vec::new());
     if chain_source.is_none() {
         chain_source = ChainSource::of(&working, &clusters, iteration);
+    }
+    if source_only {
+        return Ok(Built::Source(chain_source));
     }
     while (opts.root_triangles as usize) > 0
         && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
@@ -1481,7 +1535,7 @@ fn build_inner(
         &sizes,
         true,
     );
-    Ok(built)
+    Ok(Built::Mesh(Box::new(built)))
 }
 
 /// Per key (a triangle's point triple, rotated to start at its smallest point id, all below
@@ -1925,7 +1979,9 @@ const CHAIN_SOURCE_TRIANGLES: usize = 2048;
 /// [`CHAIN_SOURCE_TRIANGLES`] triangles, and its position error. Each chain step simplifies it
 /// (not the chain's last cluster), so a step's position error is the source's plus that one
 /// simplification's, not the sum of every step's along the chain: the sum grew with the number
-/// of steps and made finer steps draw more triangles at the same error (session 33).
+/// of steps and made finer steps draw more triangles at the same error (session 33). A build at
+/// a step ratio other than the default takes the default's source (`build_inner`), so that its
+/// chain is the default's (session 36).
 struct ChainSource {
     tris: Vec<[u32; 3]>,
     pos_error: f32,
