@@ -1283,6 +1283,8 @@ fn build_levels(
     let mut groups: Vec<WGroup> = Vec::new();
     let mut working: Vec<u32> = (0..clusters.len() as u32).collect();
     let mut chain_source: Option<ChainSource> = preset.flatten();
+    // The level of `levels` that is the source (without a preset).
+    let mut source_level = 0;
     let mut levels = vec![level_stats(0, &working, &clusters, 0, 0, 0)];
     let mut widened = Vec::new();
     let mut fallback_groups = 0;
@@ -1375,9 +1377,7 @@ fn build_levels(
         // The first level of at most CHAIN_SOURCE_TRIANGLES: the root chain's source.
         if chain_source.is_none() {
             chain_source = ChainSource::of(&working, &clusters, iteration);
-            if source_only && chain_source.is_some() {
-                return Ok(Built::Source(chain_source));
-            }
+            source_level = levels.len() - 1;
         }
         let level_tris = triangle_count(&working, &clusters);
         let ctx = GroupCtx {
@@ -1451,9 +1451,7 @@ fn build_levels(
     let shared = Edges(Vec::new());
     if chain_source.is_none() {
         chain_source = ChainSource::of(&working, &clusters, iteration);
-    }
-    if source_only {
-        return Ok(Built::Source(chain_source));
+        source_level = levels.len() - 1;
     }
     while (opts.root_triangles as usize) > 0
         && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
@@ -1497,6 +1495,13 @@ fn build_levels(
         ));
         levels.push(st);
         iteration += 1;
+    }
+    if source_only {
+        // The levels from the source down: the chain another ratio steps onto.
+        return Ok(Built::Source(chain_source.map(|mut s| {
+            s.steps = levels[source_level..].iter().map(|l| l.triangles).collect();
+            s
+        })));
     }
     let root = working[0];
     // The root's pseudo-group: parent error infinite.
@@ -1731,7 +1736,7 @@ impl GroupCtx<'_> {
         // whole mesh at a finer level) the target is CHAIN_RATIO of them.
         let n = triangle_count(members, self.clusters);
         let (tris, target): (Vec<[u32; 3]>, usize) = match source {
-            Some(src) => (src.tris.clone(), ((n as f32 * CHAIN_RATIO) as usize).max(1)),
+            Some(src) => (src.tris.clone(), src.target(n)),
             None => (
                 triangles_of(members, self.clusters),
                 ((n as f32 * self.opts.simplify_ratio) as usize).max(1),
@@ -1987,9 +1992,33 @@ struct ChainSource {
     pos_error: f32,
     /// Whether the source is the mesh's input (level 0).
     is_input: bool,
+    /// Given from the default ratio: the triangles of that build's levels from the source down
+    /// (the first is the source's); empty for the build's own source.
+    steps: Vec<usize>,
 }
 
 impl ChainSource {
+    /// The triangle target of a level made from the source after a level of `n` triangles:
+    /// CHAIN_RATIO of them; with `steps`, the next of them that is at most 0.85 `n` (a step
+    /// must remove 15 %, `simplify_from`): its target is CHAIN_RATIO of the one before it (the
+    /// source itself when it is the first), so that simplifying the source to it makes the very
+    /// level the default build made, and the levels after it follow that build's.
+    fn target(&self, n: usize) -> usize {
+        let step = |m: usize| ((m as f32 * CHAIN_RATIO) as usize).max(1);
+        if self.steps.is_empty() {
+            return step(n);
+        }
+        match self
+            .steps
+            .iter()
+            .take_while(|&&c| c as f32 > 0.85 * n as f32)
+            .last()
+        {
+            Some(&c) => step(c),
+            None => self.tris.len(),
+        }
+    }
+
     /// The source, when the level `working` (the whole mesh) has at most
     /// [`CHAIN_SOURCE_TRIANGLES`] triangles.
     fn of(working: &[u32], clusters: &[WCluster], level: u32) -> Option<Self> {
@@ -1997,6 +2026,7 @@ impl ChainSource {
             tris: triangles_of(working, clusters),
             pos_error: max_pos_error(working, clusters),
             is_input: level == 0,
+            steps: Vec::new(),
         })
     }
 }
