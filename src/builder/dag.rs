@@ -1064,16 +1064,15 @@ fn build_inner(
     opts: &BuildOptions,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<BuiltMesh, BuildError> {
-    // A step ratio other than the default takes the default's root chain: its source comes from
-    // the levels at the default ratio (docs/architecture.md, "The root chain at any ratio").
-    let default_ratio = BuildOptions::default().simplify_ratio;
-    let preset = if opts.simplify_ratio != default_ratio {
+    // A step ratio other than CHAIN_STEP_RATIO takes that ratio's root chain: its source comes
+    // from the levels at that ratio (docs/architecture.md, "The root chain at any ratio").
+    let preset = if opts.simplify_ratio != CHAIN_STEP_RATIO {
         let shadow = BuildOptions {
-            simplify_ratio: default_ratio,
+            simplify_ratio: CHAIN_STEP_RATIO,
             ..opts.clone()
         };
         progress(&format!(
-            "{}: the root chain's source at step ratio {default_ratio}",
+            "{}: the root chain's source at step ratio {CHAIN_STEP_RATIO}",
             mesh.name
         ));
         match build_levels(mesh, &shadow, &|_| {}, None)? {
@@ -1979,6 +1978,9 @@ impl GroupCtx<'_> {
 const CHAIN_RATIO: f32 = 0.7;
 /// The root chain simplifies the first level of at most this many triangles ([`ChainSource`]).
 const CHAIN_SOURCE_TRIANGLES: usize = 2048;
+/// The step ratio whose levels give the root chain its source, whatever the build's own ratio
+/// (docs/architecture.md, "The root chain at any ratio").
+const CHAIN_STEP_RATIO: f32 = 0.5;
 
 /// The root chain's source: the whole mesh at the first level of at most
 /// [`CHAIN_SOURCE_TRIANGLES`] triangles, and its position error. Each chain step simplifies it
