@@ -168,31 +168,38 @@ fn whole_mesh_levels_step_from_the_source_of_a_large_mesh_only() {
 #[test]
 fn another_step_ratio_keeps_the_default_root_chain() {
     let (mesh, _) = vgeo::mesh::load_mesh(&common::assets().join("bunny.ply")).expect("bunny");
-    let default = builder::build(&mesh, &BuildOptions::default()).expect("builds");
+    same_root_chain(&mesh, &[(0.35, 0), (0.28, 0), (0.25, 1)]);
+    // A source level whose error is its coverage (a plane and a coarse sphere): the levels made
+    // from the given source keep that error.
+    let mut m = (Vec::new(), Vec::new());
+    append(&mut m, grid(80, 50, [0.0; 3], 0.1));
+    append(&mut m, sphere(10, 6, [2.0, 1.0, 0.0], 0.7));
+    same_root_chain(&mesh_from("plane and sphere", m.0, m.1), &[(0.35, 0)]);
+}
+
+/// Builds `mesh` at the default ratio and at each `(ratio, skip)`: the levels from the default's
+/// root chain source down (`skip` of them left out at the top) are the same at that ratio.
+fn same_root_chain(mesh: &Mesh, ratios: &[(f32, usize)]) {
+    let name = &mesh.name;
+    let default = builder::build(mesh, &BuildOptions::default()).expect("builds");
     let a = &default.stats.levels;
     let source = a
         .iter()
         .position(|l| l.triangles <= 2048)
         .expect("a level of at most 2048");
-    assert!(source > 0 && a[source].triangles > 1024, "{a:?}");
-    for (ratio, same) in [
-        (0.35, a.len() - source),
-        (0.28, a.len() - source),
-        (0.25, a.len() - source - 1),
-    ] {
+    assert!(source > 0 && a[source].triangles > 1024, "{name}: {a:?}");
+    assert!(a.len() - source >= 9, "{name}: {a:?}");
+    for &(ratio, skip) in ratios {
+        let same = a.len() - source - skip;
         let opts = BuildOptions {
             simplify_ratio: ratio,
             ..BuildOptions::default()
         };
-        let other = builder::build(&mesh, &opts).expect("builds");
+        let other = builder::build(mesh, &opts).expect("builds");
         let report = builder::verify(&other, &VerifyOptions::default());
-        assert!(report.ok(), "verify at {ratio}:\n{report}");
+        assert!(report.ok(), "{name}: verify at {ratio}:\n{report}");
         let b = &other.stats.levels;
-        assert!(same >= 8, "{a:?}");
-        assert!(
-            b.len() > same && b.len() < a.len(),
-            "fewer levels at {ratio}: {b:?}"
-        );
+        assert!(b.len() > same, "{name} at {ratio}: {b:?}");
         // The levels before differ (the DAG's own steps).
         assert_ne!(a[1].triangles, b[1].triangles);
         for k in 0..same {
@@ -208,6 +215,46 @@ fn another_step_ratio_keeps_the_default_root_chain() {
             );
             assert_eq!(ma.positions, mb.positions, "level {ka} at {ratio}");
             assert_eq!(ma.indices, mb.indices, "level {ka} at {ratio}");
+        }
+    }
+}
+
+/// At a step ratio above the chain's (0.7), a level of one group made after a level of at most
+/// 2048 triangles steps by at most 0.75: a mesh that is its own chain source (at most 2048
+/// triangles) keeps its own chain, and a given source whose next levels at 0.5 were not made from
+/// it (clusters of 32 triangles: 0.5's source level has several groups) is not stepped onto
+/// those levels (both once asked for more triangles than the level had and fell back to gentler
+/// steps).
+#[test]
+fn a_coarse_step_ratio_keeps_chain_steps() {
+    let mut small = (Vec::new(), Vec::new());
+    append(&mut small, grid(30, 20, [0.0; 3], 0.1));
+    append(&mut small, sphere(16, 10, [2.0, 1.0, 0.0], 0.7));
+    let small = mesh_from("plane and sphere", small.0, small.1);
+    let (bunny, _) = vgeo::mesh::load_mesh(&common::assets().join("bunny.ply")).expect("bunny");
+    for (mesh, max_cluster_triangles) in [(&small, 128), (&bunny, 32)] {
+        let opts = BuildOptions {
+            simplify_ratio: 0.7,
+            max_cluster_triangles,
+            ..BuildOptions::default()
+        };
+        let b = builder::build(mesh, &opts).expect("builds");
+        let report = builder::verify(&b, &VerifyOptions::default());
+        assert!(report.ok(), "{}: verify:\n{report}", mesh.name);
+        let l = &b.stats.levels;
+        let steps: Vec<_> = l
+            .windows(2)
+            .filter(|w| w[1].groups == 1 && w[0].triangles <= 2048)
+            .collect();
+        assert!(steps.len() >= 6, "{}: {l:?}", mesh.name);
+        for w in steps {
+            assert!(
+                w[1].triangles as f32 <= 0.75 * w[0].triangles as f32,
+                "{}: {} -> {}: {l:?}",
+                mesh.name,
+                w[0].triangles,
+                w[1].triangles
+            );
         }
     }
 }

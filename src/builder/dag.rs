@@ -142,6 +142,8 @@ struct Outcome {
     coverage: f32,
     sphere: Sphere,
     fallback: bool,
+    /// Made from the root chain's source ([`ChainSource`]), not from the members.
+    from_source: bool,
 }
 
 /// Records a simplified group: its members point to it, its parts become clusters of the next
@@ -1064,8 +1066,9 @@ fn build_inner(
     opts: &BuildOptions,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<BuiltMesh, BuildError> {
-    // A step ratio other than CHAIN_STEP_RATIO takes that ratio's root chain: its source comes
-    // from the levels at that ratio (docs/architecture.md, "The root chain at any ratio").
+    // A step ratio other than CHAIN_STEP_RATIO takes that ratio's root chain: its source, and the
+    // sizes of the levels made from it, come from a build at CHAIN_STEP_RATIO that makes no pages
+    // (docs/architecture.md, "The root chain at any ratio").
     let preset = if opts.simplify_ratio != CHAIN_STEP_RATIO {
         let shadow = BuildOptions {
             simplify_ratio: CHAIN_STEP_RATIO,
@@ -1075,9 +1078,21 @@ fn build_inner(
             "{}: the root chain's source at step ratio {CHAIN_STEP_RATIO}",
             mesh.name
         ));
-        match build_levels(mesh, &shadow, &|_| {}, None)? {
-            Built::Source(s) => s,
-            Built::Mesh(_) => None,
+        // Should the levels at that ratio fail (a group stuck where the build's own ratio is
+        // not), the build makes its own chain, as before session 36.
+        match build_levels(mesh, &shadow, &|_| {}, None) {
+            // A mesh of at most CHAIN_SOURCE_TRIANGLES is its own source at every ratio (its
+            // whole-mesh levels keep the DAG's step): nothing to take.
+            Ok(Built::Source(s)) => s.filter(|s| !s.is_input),
+            Ok(Built::Mesh(_)) => None,
+            Err(e) => {
+                progress(&format!(
+                    "{}: no root chain source at step ratio {CHAIN_STEP_RATIO} ({e}): the \
+                     build's own",
+                    mesh.name
+                ));
+                None
+            }
         }
     } else {
         None
@@ -1095,8 +1110,9 @@ enum Built {
 }
 
 /// The build; `preset`: `Some` builds the mesh, with that root chain source when it holds one;
-/// `None` stops at the root chain's source and returns it (none when the mesh has no level of
-/// at most [`CHAIN_SOURCE_TRIANGLES`] before its root).
+/// `None` builds every level, the root chain's too, but no pages, and returns the root chain's
+/// source with [`ChainSource::steps`] (none when the mesh has no level of at most
+/// [`CHAIN_SOURCE_TRIANGLES`] triangles).
 fn build_levels(
     mesh: &Mesh,
     opts: &BuildOptions,
@@ -1282,8 +1298,10 @@ fn build_levels(
     let mut groups: Vec<WGroup> = Vec::new();
     let mut working: Vec<u32> = (0..clusters.len() as u32).collect();
     let mut chain_source: Option<ChainSource> = preset.flatten();
-    // The level of `levels` that is the source (without a preset).
-    let mut source_level = 0;
+    // Without a preset: the triangles of the source's level and of each level made from the
+    // source after it, while they are (`ChainSource::steps`); `None` before the source.
+    let mut steps: Option<Vec<usize>> = None;
+    let mut steps_open = true;
     let mut levels = vec![level_stats(0, &working, &clusters, 0, 0, 0)];
     let mut widened = Vec::new();
     let mut fallback_groups = 0;
@@ -1376,7 +1394,9 @@ fn build_levels(
         // The first level of at most CHAIN_SOURCE_TRIANGLES: the root chain's source.
         if chain_source.is_none() {
             chain_source = ChainSource::of(&working, &clusters, iteration);
-            source_level = levels.len() - 1;
+            if chain_source.is_some() {
+                steps = Some(vec![triangle_count(&working, &clusters)]);
+            }
         }
         let level_tris = triangle_count(&working, &clusters);
         let ctx = GroupCtx {
@@ -1406,6 +1426,9 @@ fn build_levels(
             .par_iter()
             .map(|g| ctx.simplify_group(g))
             .collect();
+        let from_source = outcomes
+            .iter()
+            .all(|o| o.as_ref().is_some_and(|o| o.from_source));
         let mut next = Vec::new();
         let mut progressed = false;
         let mut stuck_groups = 0;
@@ -1440,6 +1463,7 @@ fn build_levels(
             "{}: level {level}: {} clusters, {} triangles ({} groups, {} stuck)",
             mesh.name, st.clusters, st.triangles, ngroups, stuck_groups
         ));
+        record_step(&mut steps, &mut steps_open, from_source, st.triangles);
         levels.push(st);
         working = next;
         iteration += 1;
@@ -1450,7 +1474,9 @@ fn build_levels(
     let shared = Edges(Vec::new());
     if chain_source.is_none() {
         chain_source = ChainSource::of(&working, &clusters, iteration);
-        source_level = levels.len() - 1;
+        if chain_source.is_some() {
+            steps = Some(vec![triangle_count(&working, &clusters)]);
+        }
     }
     while (opts.root_triangles as usize) > 0
         && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
@@ -1483,6 +1509,7 @@ fn build_levels(
             break;
         }
         fallback_groups += out.fallback as usize;
+        let from_source = out.from_source;
         let level = iteration + 1;
         working = commit_group(&mut clusters, &mut groups, vec![top], out, iteration);
         let prev = levels.last().map_or(0, |l| l.triangles);
@@ -1492,13 +1519,14 @@ fn build_levels(
             "{}: level {level}: root chain, {} triangles",
             mesh.name, st.triangles
         ));
+        record_step(&mut steps, &mut steps_open, from_source, st.triangles);
         levels.push(st);
         iteration += 1;
     }
     if source_only {
-        // The levels from the source down: the chain another ratio steps onto.
+        // The source's level and those made from it: the chain another ratio steps onto.
         return Ok(Built::Source(chain_source.map(|mut s| {
-            s.steps = levels[source_level..].iter().map(|l| l.triangles).collect();
+            s.steps = steps.unwrap_or_default();
             s
         })));
     }
@@ -1540,6 +1568,23 @@ fn build_levels(
         true,
     );
     Ok(Built::Mesh(Box::new(built)))
+}
+
+/// Records a new level of `triangles` in the root chain's `steps` (see [`build_levels`]) while
+/// every level after the source's was made from the source.
+fn record_step(
+    steps: &mut Option<Vec<usize>>,
+    open: &mut bool,
+    from_source: bool,
+    triangles: usize,
+) {
+    if let Some(v) = steps.as_mut().filter(|_| *open) {
+        if from_source {
+            v.push(triangles);
+        } else {
+            *open = false;
+        }
+    }
 }
 
 /// Per key (a triangle's point triple, rotated to start at its smallest point id, all below
@@ -1612,8 +1657,13 @@ fn triangles_of(ids: &[u32], clusters: &[WCluster]) -> Vec<[u32; 3]> {
 
 /// The largest position error of clusters `ids`.
 fn max_pos_error(ids: &[u32], clusters: &[WCluster]) -> f32 {
+    ids_max(ids, clusters, |c| c.pos_error)
+}
+
+/// The largest `f` of clusters `ids` (0 for none).
+fn ids_max(ids: &[u32], clusters: &[WCluster], f: impl Fn(&WCluster) -> f32) -> f32 {
     ids.iter()
-        .map(|&c| clusters[c as usize].pos_error)
+        .map(|&c| f(&clusters[c as usize]))
         .fold(0.0, f32::max)
 }
 
@@ -1646,7 +1696,8 @@ fn level_stats(
 
 struct GroupCtx<'a> {
     /// The root chain's source ([`ChainSource`]): a chain step, and a whole-mesh level of a mesh
-    /// whose source is not its input, simplifies it, not its members.
+    /// whose source is not its input (and not far coarser than the DAG's own step would make,
+    /// `build_levels`), simplifies it, not its members.
     source: Option<&'a ChainSource>,
     parter: Parter<'a>,
     clusters: &'a [WCluster],
@@ -1732,7 +1783,8 @@ impl GroupCtx<'_> {
 
     fn simplify_from(&self, members: &[u32], source: Option<&ChainSource>) -> Option<Outcome> {
         // `n`: the members' triangles, which a result must have fewer of; from a source (the
-        // whole mesh at a finer level) the target is CHAIN_RATIO of them.
+        // whole mesh, at a finer level or given from CHAIN_STEP_RATIO's levels) the target is
+        // `ChainSource::target`: CHAIN_RATIO of them, or the next of the given levels.
         let n = triangle_count(members, self.clusters);
         let (tris, target): (Vec<[u32; 3]>, usize) = match source {
             Some(src) => (src.tris.clone(), src.target(n)),
@@ -1945,11 +1997,18 @@ impl GroupCtx<'_> {
             None => max_pos_error(members, self.clusters),
         };
         let (error, pos_error) = group_error(e.0, e.1, members_pos, members_max, self.min_error);
+        // A level made from the source is at least the source's level in error and coverage (a
+        // source given from CHAIN_STEP_RATIO's levels: the errors there; made from the build's
+        // own source level, its members, these change nothing).
+        let (error, members_coverage) = match source {
+            Some(src) => (error.max(src.error), src.coverage),
+            None => (error, 0.0),
+        };
         // The coverage part: not summed (see group_error), the members' at least.
         let coverage = members
             .iter()
             .map(|&m| self.clusters[m as usize].coverage)
-            .fold(e.1, f32::max)
+            .fold(e.1.max(members_coverage), f32::max)
             .min(error);
         let parts = self
             .parter
@@ -1968,6 +2027,7 @@ impl GroupCtx<'_> {
             coverage,
             sphere,
             fallback,
+            from_source: source.is_some(),
         })
     }
 }
@@ -1987,15 +2047,20 @@ const CHAIN_STEP_RATIO: f32 = 0.5;
 /// (not the chain's last cluster), so a step's position error is the source's plus that one
 /// simplification's, not the sum of every step's along the chain: the sum grew with the number
 /// of steps and made finer steps draw more triangles at the same error (session 33). A build at
-/// a step ratio other than the default takes the default's source (`build_inner`), so that its
-/// chain is the default's (session 36).
+/// a step ratio other than [`CHAIN_STEP_RATIO`] takes the source of a build at that ratio
+/// (`build_inner`), so that its chain is that build's (session 36).
 struct ChainSource {
     tris: Vec<[u32; 3]>,
     pos_error: f32,
+    /// The source level's largest error and coverage error (its clusters' `self_error` and
+    /// `coverage`): a level made from the source has at least these.
+    error: f32,
+    coverage: f32,
     /// Whether the source is the mesh's input (level 0).
     is_input: bool,
-    /// Given from the default ratio: the triangles of that build's levels from the source down
-    /// (the first is the source's); empty for the build's own source.
+    /// Given from [`CHAIN_STEP_RATIO`]'s levels: the triangles of the source's level and of each
+    /// level after it that was made from the source, while they were; empty for the build's own
+    /// source.
     steps: Vec<usize>,
 }
 
@@ -2004,20 +2069,14 @@ impl ChainSource {
     /// CHAIN_RATIO of them; with `steps`, the next of them that is at most 0.85 `n` (a step
     /// must remove 15 %, `simplify_from`): its target is CHAIN_RATIO of the one before it (the
     /// source itself when it is the first), so that simplifying the source to it makes the very
-    /// level the default build made, and the levels after it follow that build's.
+    /// level that build made (the same source and target), and the levels after it follow that
+    /// build's as far as `steps` goes; past them, CHAIN_RATIO of `n`.
     fn target(&self, n: usize) -> usize {
         let step = |m: usize| ((m as f32 * CHAIN_RATIO) as usize).max(1);
-        if self.steps.is_empty() {
-            return step(n);
-        }
-        match self
-            .steps
-            .iter()
-            .take_while(|&&c| c as f32 > 0.85 * n as f32)
-            .last()
-        {
-            Some(&c) => step(c),
-            None => self.tris.len(),
+        match self.steps.iter().position(|&c| c as f32 <= 0.85 * n as f32) {
+            Some(0) => self.tris.len(),
+            Some(k) => step(self.steps[k - 1]),
+            None => step(n),
         }
     }
 
@@ -2027,6 +2086,8 @@ impl ChainSource {
         (triangle_count(working, clusters) <= CHAIN_SOURCE_TRIANGLES).then(|| ChainSource {
             tris: triangles_of(working, clusters),
             pos_error: max_pos_error(working, clusters),
+            error: ids_max(working, clusters, |c| c.self_error),
+            coverage: ids_max(working, clusters, |c| c.coverage),
             is_input: level == 0,
             steps: Vec::new(),
         })
