@@ -112,6 +112,7 @@ const MULTI: u32 = u32::MAX - 1;
 const LEVEL0_CHUNK: usize = 4096;
 
 /// Working cluster during the build.
+#[derive(Clone)]
 struct WCluster {
     tris: Vec<[u32; 3]>,
     self_error: f32,
@@ -1066,60 +1067,6 @@ fn build_inner(
     opts: &BuildOptions,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<BuiltMesh, BuildError> {
-    // A step ratio other than CHAIN_STEP_RATIO takes that ratio's root chain: its source, and the
-    // sizes of the levels made from it, come from a build at CHAIN_STEP_RATIO that makes no pages
-    // (docs/architecture.md, "The root chain at any ratio").
-    let preset = if opts.simplify_ratio != CHAIN_STEP_RATIO {
-        let shadow = BuildOptions {
-            simplify_ratio: CHAIN_STEP_RATIO,
-            ..opts.clone()
-        };
-        progress(&format!(
-            "{}: the root chain's source at step ratio {CHAIN_STEP_RATIO}",
-            mesh.name
-        ));
-        // Should the levels at that ratio fail (a group stuck where the build's own ratio is
-        // not), the build makes its own chain, as before session 36.
-        match build_levels(mesh, &shadow, &|_| {}, None) {
-            // A mesh of at most CHAIN_SOURCE_TRIANGLES is its own source at every ratio (its
-            // whole-mesh levels keep the DAG's step): nothing to take.
-            Ok(Built::Source(s)) => s.filter(|s| !s.is_input),
-            Ok(Built::Mesh(_)) => None,
-            Err(e) => {
-                progress(&format!(
-                    "{}: no root chain source at step ratio {CHAIN_STEP_RATIO} ({e}): the \
-                     build's own",
-                    mesh.name
-                ));
-                None
-            }
-        }
-    } else {
-        None
-    };
-    match build_levels(mesh, opts, progress, Some(preset))? {
-        Built::Mesh(m) => Ok(*m),
-        Built::Source(_) => unreachable!("a build with a chain source given makes the mesh"),
-    }
-}
-
-/// What [`build_levels`] made: the mesh, or (asked for no mesh) the root chain's source.
-enum Built {
-    Mesh(Box<BuiltMesh>),
-    Source(Option<ChainSource>),
-}
-
-/// The build; `preset`: `Some` builds the mesh, with that root chain source when it holds one;
-/// `None` builds every level, the root chain's too, but no pages, and returns the root chain's
-/// source with [`ChainSource::steps`] (none when the mesh has no level of at most
-/// [`CHAIN_SOURCE_TRIANGLES`] triangles).
-fn build_levels(
-    mesh: &Mesh,
-    opts: &BuildOptions,
-    progress: &(dyn Fn(&str) + Sync),
-    preset: Option<Option<ChainSource>>,
-) -> Result<Built, BuildError> {
-    let source_only = preset.is_none();
     let prep = prepare(mesh, opts)?;
     let Prepared {
         vertices,
@@ -1261,7 +1208,7 @@ fn build_levels(
         } else {
             vec![(0..tris.len() as u32).collect()]
         };
-    let mut clusters: Vec<WCluster> = chunks
+    let clusters: Vec<WCluster> = chunks
         .par_iter()
         .map(|chunk| {
             let ct: Vec<[u32; 3]> = chunk.iter().map(|&i| tris[i as usize]).collect();
@@ -1295,9 +1242,145 @@ fn build_levels(
         clusters.len()
     ));
 
+    let lc = LevelCtx {
+        mesh,
+        parter,
+        positions: &positions,
+        attrs,
+        pid: &pid,
+        npid,
+        min_error,
+        level0: &level0,
+    };
+    // A step ratio other than CHAIN_STEP_RATIO takes that ratio's root chain: its source, and the
+    // sizes of the levels made from it, come from the levels at CHAIN_STEP_RATIO, made from the
+    // same level 0 (docs/architecture.md, "The root chain at any ratio").
+    let preset = if opts.simplify_ratio != CHAIN_STEP_RATIO {
+        let shadow = BuildOptions {
+            simplify_ratio: CHAIN_STEP_RATIO,
+            ..opts.clone()
+        };
+        progress(&format!(
+            "{}: the root chain's source at step ratio {CHAIN_STEP_RATIO}",
+            mesh.name
+        ));
+        // Should the levels at that ratio fail (a group stuck where the build's own ratio is
+        // not), the build makes its own chain, as before session 36.
+        match run_levels(&lc, clusters.clone(), &shadow, None, &|_| {}) {
+            // A mesh of at most CHAIN_SOURCE_TRIANGLES is its own source at every ratio (its
+            // whole-mesh levels keep the DAG's step): nothing to take.
+            Ok(l) => l.chain_source.filter(|s| !s.is_input),
+            Err(e) => {
+                progress(&format!(
+                    "{}: no root chain source at step ratio {CHAIN_STEP_RATIO} ({e}): the \
+                     build's own",
+                    mesh.name
+                ));
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let Levels {
+        mut clusters,
+        mut groups,
+        working,
+        levels,
+        widened,
+        fallback_groups,
+        ..
+    } = run_levels(&lc, clusters, opts, preset, progress)?;
+    let root = working[0];
+    // The root's pseudo-group: parent error infinite.
+    let root_sphere = clusters[root as usize].self_sphere;
+    clusters[root as usize].group = groups.len() as u32;
+    groups.push(WGroup {
+        members: vec![root],
+        error: f32::INFINITY,
+        coverage: f32::INFINITY,
+        sphere: root_sphere,
+        iteration: u32::MAX,
+    });
+
+    let stats = BuildStats {
+        input_triangles,
+        degenerate_dropped: dropped,
+        duplicates_dropped: duplicates,
+        level0_triangles,
+        level0_error: trimmed_error,
+        closed_solid: Some(closed_solid),
+        vertices: vertices.len(),
+        levels,
+        widened_iterations: widened,
+        fallback_groups,
+        ..Default::default()
+    };
+    let (mut built, sizes) = assemble(
+        mesh, quant, vertices, vmat, &positions, clusters, groups, stats,
+    );
+    progress("paging");
+    let resident_level = built.fallback_level(opts.fallback_triangles);
+    super::page::paginate_sized(
+        &mut built,
+        super::page::PAGE_BYTES as usize,
+        resident_level,
+        &sizes,
+        true,
+    );
+    Ok(built)
+}
+
+/// The mesh data the levels are made from (shared by the runs at two ratios).
+#[derive(Clone, Copy)]
+struct LevelCtx<'a> {
+    mesh: &'a Mesh,
+    parter: Parter<'a>,
+    positions: &'a [[f32; 3]],
+    attrs: Option<&'a Attributes<'a>>,
+    pid: &'a [u32],
+    npid: usize,
+    min_error: f32,
+    level0: &'a Level0,
+}
+
+/// What [`run_levels`] made.
+struct Levels {
+    clusters: Vec<WCluster>,
+    groups: Vec<WGroup>,
+    /// The root (one cluster).
+    working: Vec<u32>,
+    levels: Vec<LevelStats>,
+    widened: Vec<u32>,
+    fallback_groups: usize,
+    /// The root chain's source; made by this run (no `preset`), with [`ChainSource::steps`].
+    chain_source: Option<ChainSource>,
+}
+
+/// The levels above level 0 (`clusters`) at `opts`' step ratio, to the root: groups simplified
+/// level by level, then the root chain; `preset`: the root chain's source, given from a run at
+/// [`CHAIN_STEP_RATIO`].
+fn run_levels(
+    lc: &LevelCtx,
+    mut clusters: Vec<WCluster>,
+    opts: &BuildOptions,
+    preset: Option<ChainSource>,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Levels, BuildError> {
+    let LevelCtx {
+        mesh,
+        parter,
+        positions,
+        attrs,
+        pid,
+        npid,
+        min_error,
+        level0,
+    } = *lc;
+    let own_source = preset.is_none();
     let mut groups: Vec<WGroup> = Vec::new();
     let mut working: Vec<u32> = (0..clusters.len() as u32).collect();
-    let mut chain_source: Option<ChainSource> = preset.flatten();
+    let mut chain_source: Option<ChainSource> = preset;
     // Without a preset: the triangles of the source's level and of each level made from the
     // source after it, while they are (`ChainSource::steps`); `None` before the source.
     let mut steps: Option<Vec<usize>> = None;
@@ -1394,9 +1477,7 @@ fn build_levels(
         // The first level of at most CHAIN_SOURCE_TRIANGLES: the root chain's source.
         if chain_source.is_none() {
             chain_source = ChainSource::of(&working, &clusters, iteration);
-            if chain_source.is_some() {
-                steps = Some(vec![triangle_count(&working, &clusters)]);
-            }
+            steps = chain_source.as_ref().map(|s| vec![s.tris.len()]);
         }
         let level_tris = triangle_count(&working, &clusters);
         let ctx = GroupCtx {
@@ -1411,15 +1492,15 @@ fn build_levels(
             }),
             parter,
             clusters: &clusters,
-            positions: &positions,
+            positions,
             attrs,
-            pid: &pid,
+            pid,
             owner: &owner,
             opts,
             min_error,
             single,
             speculate: rayon::current_num_threads() / member_groups.len().max(1),
-            level0: &level0,
+            level0,
             shared: &shared,
         };
         let outcomes: Vec<Option<Outcome>> = member_groups
@@ -1474,9 +1555,7 @@ fn build_levels(
     let shared = Edges(Vec::new());
     if chain_source.is_none() {
         chain_source = ChainSource::of(&working, &clusters, iteration);
-        if chain_source.is_some() {
-            steps = Some(vec![triangle_count(&working, &clusters)]);
-        }
+        steps = chain_source.as_ref().map(|s| vec![s.tris.len()]);
     }
     while (opts.root_triangles as usize) > 0
         && clusters[working[0] as usize].tris.len() > opts.root_triangles as usize
@@ -1487,15 +1566,15 @@ fn build_levels(
             source: chain_source.as_ref(),
             parter,
             clusters: &clusters,
-            positions: &positions,
+            positions,
             attrs,
-            pid: &pid,
+            pid,
             owner: &owner,
             opts,
             min_error,
             single: true,
             speculate: rayon::current_num_threads(),
-            level0: &level0,
+            level0,
             shared: &shared,
         };
         let Some(out) = ctx.simplify_group(&[top]) else {
@@ -1523,54 +1602,22 @@ fn build_levels(
         levels.push(st);
         iteration += 1;
     }
-    if source_only {
+    if own_source && let Some(s) = chain_source.as_mut() {
         // The source's level and those made from it: the chain another ratio steps onto.
-        return Ok(Built::Source(chain_source.map(|mut s| {
-            s.steps = steps.unwrap_or_default();
-            s
-        })));
+        s.steps = steps.unwrap_or_default();
     }
-    let root = working[0];
-    // The root's pseudo-group: parent error infinite.
-    let root_sphere = clusters[root as usize].self_sphere;
-    clusters[root as usize].group = groups.len() as u32;
-    groups.push(WGroup {
-        members: vec![root],
-        error: f32::INFINITY,
-        coverage: f32::INFINITY,
-        sphere: root_sphere,
-        iteration: u32::MAX,
-    });
-
-    let stats = BuildStats {
-        input_triangles,
-        degenerate_dropped: dropped,
-        duplicates_dropped: duplicates,
-        level0_triangles,
-        level0_error: trimmed_error,
-        closed_solid: Some(closed_solid),
-        vertices: vertices.len(),
+    Ok(Levels {
+        clusters,
+        groups,
+        working,
         levels,
-        widened_iterations: widened,
+        widened,
         fallback_groups,
-        ..Default::default()
-    };
-    let (mut built, sizes) = assemble(
-        mesh, quant, vertices, vmat, &positions, clusters, groups, stats,
-    );
-    progress("paging");
-    let resident_level = built.fallback_level(opts.fallback_triangles);
-    super::page::paginate_sized(
-        &mut built,
-        super::page::PAGE_BYTES as usize,
-        resident_level,
-        &sizes,
-        true,
-    );
-    Ok(Built::Mesh(Box::new(built)))
+        chain_source,
+    })
 }
 
-/// Records a new level of `triangles` in the root chain's `steps` (see [`build_levels`]) while
+/// Records a new level of `triangles` in the root chain's `steps` (see [`run_levels`]) while
 /// every level after the source's was made from the source.
 fn record_step(
     steps: &mut Option<Vec<usize>>,
@@ -1697,7 +1744,7 @@ fn level_stats(
 struct GroupCtx<'a> {
     /// The root chain's source ([`ChainSource`]): a chain step, and a whole-mesh level of a mesh
     /// whose source is not its input (and not far coarser than the DAG's own step would make,
-    /// `build_levels`), simplifies it, not its members.
+    /// `run_levels`), simplifies it, not its members.
     source: Option<&'a ChainSource>,
     parter: Parter<'a>,
     clusters: &'a [WCluster],

@@ -33,10 +33,11 @@ pub struct BuildArgs {
     /// 0.35: about a quarter fewer bytes, and the levels kept resident above a drawn region weigh
     /// about half of it instead of as much (a cold camera cut holds 1.7x the page bytes it draws
     /// instead of 2.3x). A ratio other than 0.5 keeps 0.5's root chain (the coarse levels small
-    /// instances draw; its source is found by building the levels at 0.5 too, so the build takes
-    /// up to twice as long). At 0.35 on the H100: image error at 1 px within 0.05 dB of 0.5's (the
-    /// smallest instances the same), frame times -4.3 % to +3.5 % on the bench's scenes, 13-23 %
-    /// fewer bytes (docs/architecture.md, "The DAG's step" and "The root chain at any ratio").
+    /// instances draw; its source is found by making the levels at 0.5 too, from the same level
+    /// 0, so the build takes about 1.5x as long). At 0.35 on the H100: image error at 1 px within
+    /// 0.05 dB of 0.5's (the smallest instances the same), frame times -4.3 % to +3.5 % on the
+    /// bench's scenes, 13-23 % fewer bytes (docs/architecture.md, "The DAG's step" and "The root
+    /// chain at any ratio").
     #[arg(long = "ratio", default_value_t = 0.5)]
     pub ratio: f32,
     /// Percentage of input triangles kept at level 0 (UE Nanite's "Keep Triangle Percent").
