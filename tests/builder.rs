@@ -181,7 +181,11 @@ fn another_step_ratio_keeps_the_default_root_chain() {
 /// root chain source down (`skip` of them left out at the top) are the same at that ratio.
 fn same_root_chain(mesh: &Mesh, ratios: &[(f32, usize)]) {
     let name = &mesh.name;
-    let default = builder::build(mesh, &BuildOptions::default()).expect("builds");
+    let chain_ratio = BuildOptions {
+        simplify_ratio: 0.5,
+        ..BuildOptions::default()
+    };
+    let default = builder::build(mesh, &chain_ratio).expect("builds");
     let a = &default.stats.levels;
     let source = a
         .iter()
@@ -217,6 +221,80 @@ fn same_root_chain(mesh: &Mesh, ratios: &[(f32, usize)]) {
             assert_eq!(ma.indices, mb.indices, "level {ka} at {ratio}");
         }
     }
+}
+
+/// The stated precision apart from the build grid (docs/architecture.md, "The stated precision
+/// apart from the build grid"): the bunny's default precision (14 bits: its short edge asks for
+/// 13, the floor is 14) is coarser than the grid the builder welds and simplifies on (16), so
+/// its DAG is the one built at 16 bits (the same levels, clusters, triangles and errors) and only
+/// the stored positions move, each by at most half a step of the stated grid, onto that grid.
+/// Fails when the DAG is built on the stated grid (the errors differ).
+#[test]
+fn a_coarser_stated_precision_keeps_the_dag() {
+    let (mesh, _) = vgeo::mesh::load_mesh(&common::assets().join("bunny.ply")).expect("bunny");
+    let stated = builder::build(&mesh, &BuildOptions::default()).expect("builds");
+    let fine_opts = BuildOptions {
+        position_bits: Some(16),
+        ..BuildOptions::default()
+    };
+    let fine = builder::build(&mesh, &fine_opts).expect("builds");
+    let (qs, qf) = (&stated.quantization, &fine.quantization);
+    assert_eq!((qs.position_bits, qf.position_bits), (14, 16));
+    assert_eq!(qs.origin, qf.origin);
+    let report = builder::verify(&stated, &VerifyOptions::default());
+    assert!(report.ok(), "verify:\n{report}");
+    assert_eq!(stated.stats.levels, fine.stats.levels);
+    assert_eq!(stated.clusters.len(), fine.clusters.len());
+    let mut moved = 0;
+    for (a, b) in stated.clusters.iter().zip(&fine.clusters) {
+        assert_eq!(
+            (
+                a.vertex_count(),
+                a.triangle_count(),
+                a.group,
+                a.creator,
+                a.level
+            ),
+            (
+                b.vertex_count(),
+                b.triangle_count(),
+                b.group,
+                b.creator,
+                b.level
+            )
+        );
+        assert_eq!(
+            (a.self_error, a.parent_error),
+            (b.self_error, b.parent_error)
+        );
+        assert_eq!(
+            stated.cluster_local_triangles(a),
+            fine.cluster_local_triangles(b)
+        );
+        for i in 0..a.vertex_count() {
+            let (va, vb) = (stated.vertex_ref(a, i), fine.vertex_ref(b, i));
+            let c = vgeo::builder::quantize::position_coords(stated.vertices[va as usize].position);
+            assert!(c.iter().all(|&x| x < 1 << 14), "{c:?} off the 14-bit grid");
+            let (pa, pb) = (stated.position(va), fine.position(vb));
+            for k in 0..3 {
+                let d = (pa[k] as f64 - pb[k] as f64).abs();
+                // (The f32 decoding of both adds at most an ulp of the coordinates.)
+                assert!(
+                    d <= 0.5 * qs.step + 1e-6 * qs.step * 16384.0,
+                    "{pa:?} {pb:?}"
+                );
+            }
+            moved += (pa != pb) as usize;
+        }
+    }
+    assert!(moved > 0, "no position moved");
+    let bytes = |m: &BuiltMesh| m.pages.iter().map(|p| p.bytes as u64).sum::<u64>();
+    assert!(
+        bytes(&stated) < bytes(&fine) * 95 / 100,
+        "pages {} against {}",
+        bytes(&stated),
+        bytes(&fine)
+    );
 }
 
 /// At a step ratio above the chain's (0.7), a level of one group made after a level of at most
@@ -366,7 +444,17 @@ fn thin_needles() {
             base + 2,
         ]);
     }
-    build_and_verify(&mesh_from("needles", m.0, m.1));
+    let built = build_and_verify(&mesh_from("needles", m.0, m.1));
+    // The default precision keeps their thickness (0.001 against a length of 50): it follows
+    // the short edges (a tenth of the edges), not the median one (50 here, which asked for a
+    // step of 50/64 and with the floor of 14 bits gave 0.003, flattening every needle).
+    let q = &built.quantization;
+    assert!(
+        q.step < 0.001 / 16.0,
+        "{} bits, a step of {}",
+        q.position_bits,
+        q.step
+    );
 }
 
 /// The SW/HW split's measure (builder::size): the edge-length equivalent of a cluster's triangles,
@@ -377,8 +465,8 @@ fn thin_needles() {
 fn cluster_size_is_the_edge_length_equivalent_of_its_triangles() {
     let step = 2f64.powf(1.0 / 16.0);
     let within = |what: &str, got: f64, want: f64| {
-        // Rounded up by at most 1/16 octave; positions snap to the mesh's grid (a step of
-        // 1/65535 of the extent here), which moves the areas by a few parts in 10^4.
+        // Rounded up by at most 1/16 octave; positions snap to the mesh's grid (a step of at
+        // most 1/16383 of the extent), which moves the areas by a few parts in 10^4.
         assert!(
             got >= want * (1.0 - 1e-3) && got <= want * step * (1.0 + 1e-3),
             "{what}: stored size {got}, measure {want}"
@@ -900,7 +988,9 @@ fn verify_rejects_crack_between_border_points() {
 #[test]
 fn bvh_is_clean() {
     let mut m = (Vec::new(), Vec::new());
-    append(&mut m, grid(120, 80, [0.0; 3], 0.05));
+    // (At the step ratio 0.35, the default since session 37, 120 x 80 made 28 groups, each its
+    // own leaf.)
+    append(&mut m, grid(200, 120, [0.0; 3], 0.05));
     let built =
         builder::build(&mesh_from("bvh", m.0, m.1), &BuildOptions::default()).expect("build");
     let bvh = &built.bvh;

@@ -31,10 +31,18 @@ use vgeo::streaming::{PageSource, StreamOptions, Streamer};
 const W: u32 = 160;
 const H: u32 = 120;
 
-/// Bunny in pages of 16 KiB, so that it has many.
+/// Bunny in pages of 16 KiB, so that it has many. Built at the step ratio 0.5, the default
+/// until session 37: these tests' cameras, budgets and page counts were made for that DAG (at
+/// 0.35 level 0 is a larger share of the pages, so the close view after the camera cut needs more
+/// than 1/8 of them; a view a sixth farther needs no page the path left out). What they test,
+/// the streamer and the cut under partial residency, does not depend on the ratio.
 fn bunny() -> BuiltMesh {
     let (mesh, _) = vgeo::mesh::load_mesh(&shared_assets().join("scanned/bunny.ply")).unwrap();
-    let mut b = build(&mesh, &BuildOptions::default()).unwrap();
+    let opts = BuildOptions {
+        simplify_ratio: 0.5,
+        ..BuildOptions::default()
+    };
+    let mut b = build(&mesh, &opts).unwrap();
     let level = b.fallback_level(2000);
     paginate(&mut b, 16384, level);
     b

@@ -195,11 +195,16 @@ struct Prepared {
     tris: Vec<[u32; 3]>,
     dropped: usize,
     duplicates: usize,
+    /// The grid the DAG is built on (welding and simplification).
     quant: super::Quantization,
+    /// The grid the pages store (the mesh's stated precision): `quant` or a coarser one over the
+    /// same box ([`snap_to_stored_grid`]).
+    stored_quant: super::Quantization,
 }
 
-/// The median edge length of (up to 2^16 evenly spaced) input triangles; 0 for none.
-fn median_edge(mesh: &Mesh) -> f64 {
+/// Edge lengths of (up to 2^16 evenly spaced) input triangles: the median (0 for none) and the
+/// [`super::quantize::SHORT_EDGE_QUANTILE`] quantile of the edges longer than 0 (0 for none).
+fn edge_lengths(mesh: &Mesh) -> (f64, f64) {
     let tris = mesh.indices.len() / 3;
     let stride = (tris >> 16).max(1);
     let p = |i: u32| mesh.positions[i as usize].map(|x| x as f64);
@@ -226,9 +231,19 @@ fn median_edge(mesh: &Mesh) -> f64 {
         });
     let finite = squares.iter().filter(|&&s| s != u64::MAX).count();
     if finite == 0 {
-        return 0.0;
+        return (0.0, 0.0);
     }
-    f64::from_bits(*squares.select_nth_unstable(finite / 2).1).sqrt()
+    let median = f64::from_bits(*squares.select_nth_unstable(finite / 2).1).sqrt();
+    // The selection left the smaller squares before the median: the zeros first among them.
+    let below = &mut squares[..finite / 2];
+    let zeros = below.iter().filter(|&&s| s == 0).count();
+    let at = zeros + ((finite - zeros) as f64 * super::quantize::SHORT_EDGE_QUANTILE) as usize;
+    let short = if at < below.len() {
+        f64::from_bits(*below.select_nth_unstable(at).1).sqrt()
+    } else {
+        median
+    };
+    (median, short)
 }
 
 fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
@@ -272,10 +287,17 @@ fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
     let extent = (0..3)
         .map(|k| hi[k] as f64 - lo[k] as f64)
         .fold(0.0f64, f64::max);
-    let position_bits = opts
+    // The stated precision (what the pages store), and the grid the DAG is built on: the
+    // finer of it and the build grid (`quantize::build_position_bits`), so that a coarser
+    // stated precision leaves the DAG as it is and only moves the stored positions.
+    let (median, short) = edge_lengths(mesh);
+    let stored_bits = opts
         .position_bits
-        .unwrap_or_else(|| super::quantize::auto_position_bits(extent, median_edge(mesh)));
-    let quant = make_quantization(lo, hi, uv_lo, uv_hi, position_bits, opts.normal_bits);
+        .unwrap_or_else(|| super::quantize::auto_position_bits(extent, short))
+        .clamp(1, super::quantize::POSITION_BITS);
+    let build_bits = super::quantize::build_position_bits(extent, median).max(stored_bits);
+    let quant = make_quantization(lo, hi, uv_lo, uv_hi, build_bits, opts.normal_bits);
+    let stored_quant = make_quantization(lo, hi, uv_lo, uv_hi, stored_bits, opts.normal_bits);
     let nv = mesh.positions.len();
     let mut key_to_vertex: HashMap<(PackedVertex, u16), u32, FxBuild> =
         HashMap::with_capacity_and_hasher(nv, FxBuild::default());
@@ -405,6 +427,7 @@ fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
         dropped,
         duplicates,
         quant,
+        stored_quant,
     })
 }
 
@@ -1078,6 +1101,7 @@ fn build_inner(
         dropped,
         duplicates,
         quant,
+        stored_quant,
     } = prep;
     let input_triangles = mesh.triangle_count();
     if tris.is_empty() {
@@ -1317,7 +1341,15 @@ fn build_inner(
         ..Default::default()
     };
     let (mut built, sizes) = assemble(
-        mesh, quant, vertices, vmat, &positions, clusters, groups, stats,
+        mesh,
+        quant,
+        stored_quant,
+        vertices,
+        vmat,
+        &positions,
+        clusters,
+        groups,
+        stats,
     );
     progress("paging");
     let resident_level = built.fallback_level(opts.fallback_triangles);
@@ -2163,17 +2195,50 @@ fn grid_box(
     )
 }
 
+/// Moves `vertices` from the build grid `from` to the stored grid `to` (the same box, at most as
+/// many bits per axis): each coordinate to the nearest of `to`'s (exact integer arithmetic; with
+/// both grids' step counts odd there are no ties), so a position moves by at most half a step of
+/// `to`. Equal codes stay equal, so a vertex clusters share stays shared (the cut stays
+/// crack-free), and the DAG built on `from` is kept. Returns the moved positions, decoded (`None`
+/// when the grids are the same).
+fn snap_to_stored_grid(
+    from: &super::Quantization,
+    to: &super::Quantization,
+    vertices: &mut [PackedVertex],
+) -> Option<Vec<[f32; 3]>> {
+    if to.position_bits >= from.position_bits {
+        return None;
+    }
+    let n = (1u64 << from.position_bits) - 1;
+    let m = (1u64 << to.position_bits) - 1;
+    vertices.par_iter_mut().for_each(|v| {
+        let c = super::quantize::position_coords(v.position);
+        v.position = super::quantize::pack_coords(c.map(|x| ((x as u64 * m + n / 2) / n) as u32));
+    });
+    Some(
+        vertices
+            .par_iter()
+            .map(|v| super::quantize::decode_position(to, v.position))
+            .collect(),
+    )
+}
+
 #[allow(clippy::too_many_arguments)]
 fn assemble(
     mesh: &Mesh,
+    build_quant: super::Quantization,
     quant: super::Quantization,
-    vertices: Vec<PackedVertex>,
+    mut vertices: Vec<PackedVertex>,
     vmat: Vec<u16>,
     positions: &[[f32; 3]],
     wclusters: Vec<WCluster>,
     wgroups: Vec<WGroup>,
     mut stats: BuildStats,
 ) -> (BuiltMesh, Vec<usize>) {
+    // From here on the mesh is at its stated precision: bounds, boxes and pages come from the
+    // stored positions.
+    let stored_positions = snap_to_stored_grid(&build_quant, &quant, &mut vertices);
+    let positions = stored_positions.as_deref().unwrap_or(positions);
     // Group bounds, then the BVH, which fixes the order of the groups (each leaf's groups
     // contiguous); clusters are stored by member group so that a group's members are contiguous.
     let pre: Vec<Group> = wgroups
@@ -2335,20 +2400,24 @@ fn assemble(
 
 #[cfg(test)]
 mod tests {
-    use super::{Edges, Level0, first_occurrences, group_error, median_edge, undirected};
+    use super::{Edges, Level0, edge_lengths, first_occurrences, group_error, undirected};
 
-    /// The median edge (selected among squared lengths by their bits) against the median of
-    /// the lengths themselves, on edges of many lengths, equal ones, zero-length ones and
-    /// non-finite ones (which are left out), with an odd and an even count, and on a mesh big
-    /// enough to be sampled.
+    /// The median edge and the short edge (selected among squared lengths by their bits)
+    /// against the median and the quantile of the lengths themselves (the quantile among those
+    /// longer than 0), on edges of many lengths, equal ones, zero-length ones and non-finite
+    /// ones (which are left out), with an odd and an even count, and on a mesh big enough to be
+    /// sampled.
     #[test]
-    fn median_edge_is_the_median_of_the_lengths() {
+    fn edge_lengths_are_the_median_and_the_quantile() {
         let mut rng = crate::builder::verify::Rng(11);
         let mut next = || (rng.next() % 1000) as f32 * 0.37 - 150.0;
         let mut positions: Vec<[f32; 3]> = (0..300).map(|_| [next(), next(), next()]).collect();
         positions[7] = [f32::NAN, 0.0, 0.0];
         positions[11] = [f32::INFINITY, 1.0, 0.0];
         positions[12] = positions[13];
+        // (Zero-length edges: triangles 1 and 2 start at points 22 and 29, 44 and 51.)
+        positions[29] = positions[22];
+        positions[51] = positions[44];
         // (140 K triangles: every second one is sampled.)
         for tris in [301usize, 300, 140_001] {
             let indices: Vec<u32> = (0..3 * tris as u32)
@@ -2377,11 +2446,15 @@ mod tests {
                 .collect();
             let mid = lens.len() / 2;
             let want = *lens.select_nth_unstable_by(mid, f64::total_cmp).1;
-            assert_eq!(
-                median_edge(&mesh).to_bits(),
-                want.to_bits(),
-                "{tris} triangles"
-            );
+            let mut nonzero: Vec<f64> = lens.iter().copied().filter(|&l| l > 0.0).collect();
+            let zeros = lens.len() - nonzero.len();
+            assert!(zeros > 0, "{tris} triangles: the case of zero-length edges");
+            let at =
+                (nonzero.len() as f64 * crate::builder::quantize::SHORT_EDGE_QUANTILE) as usize;
+            let short = *nonzero.select_nth_unstable_by(at, f64::total_cmp).1;
+            let (median, got_short) = edge_lengths(&mesh);
+            assert_eq!(median.to_bits(), want.to_bits(), "{tris} triangles");
+            assert_eq!(got_short.to_bits(), short.to_bits(), "{tris} triangles");
         }
     }
 

@@ -63,7 +63,8 @@ pub struct BuildOptions {
     pub group_min: u32,
     /// Largest group size (clusters); exceeded only when the build is stuck and regroups wider.
     pub group_max: u32,
-    /// Target triangle ratio of one simplification step (0.5: half).
+    /// Target triangle ratio of one simplification step (default 0.35; the root chain is 0.5's
+    /// at any ratio, docs/architecture.md "The root chain at any ratio").
     pub simplify_ratio: f32,
     /// UE Nanite's "Keep Triangle Percent": percentage of the input triangles kept at level 0
     /// (100: all); below 100 the input is simplified first and that becomes the finest level.
@@ -89,9 +90,11 @@ pub struct BuildOptions {
     pub threads: Option<usize>,
     /// Graph partitioner for clusters and groups.
     pub partitioner: Partitioner,
-    /// Bits per position axis of the mesh's grid (its stated precision: the step is the largest
-    /// extent over `2^bits - 1`), 1..=21; `None`: [`quantize::auto_position_bits`] (at least
-    /// 16, finer when the median edge needs it).
+    /// Bits per position axis of the grid the pages store (the mesh's stated precision: the step
+    /// is the largest extent over `2^bits - 1`), 1..=21; `None`: [`quantize::auto_position_bits`]
+    /// (at least 14, finer when the short edges need it). The DAG is built on a grid of at least
+    /// [`quantize::build_position_bits`] whatever this says; a coarser stated grid moves only the
+    /// stored positions.
     pub position_bits: Option<u32>,
     /// Bits per octahedral normal component, 2..=16.
     pub normal_bits: u32,
@@ -123,7 +126,7 @@ impl Default for BuildOptions {
             max_cluster_triangles: 128,
             group_min: 8,
             group_max: 32,
-            simplify_ratio: 0.5,
+            simplify_ratio: 0.35,
             keep_percent: 100.0,
             trim_error: 0.0,
             fallback_triangles: 2000,

@@ -11,24 +11,53 @@ use super::Quantization;
 /// Most bits per position axis (the packed code holds 3 x 21 bits).
 pub const POSITION_BITS: u32 = crate::shared::CLUSTER_COORD_BITS;
 const POSITION_MAX: u64 = (1 << POSITION_BITS) - 1;
-/// Fewest bits per position axis [`auto_position_bits`] chooses.
-pub const AUTO_POSITION_BITS_MIN: u32 = 16;
-/// [`auto_position_bits`]: grid steps per median input edge, at least.
-pub const AUTO_STEPS_PER_EDGE: f64 = 64.0;
+/// Fewest bits per position axis [`auto_position_bits`] chooses: a step of at most 1/16383 of
+/// the mesh's largest extent, for meshes of few large triangles.
+pub const AUTO_POSITION_BITS_MIN: u32 = 14;
+/// [`auto_position_bits`]: grid steps per short input edge, at least.
+pub const AUTO_STEPS_PER_SHORT_EDGE: f64 = 32.0;
+/// The short edge of [`auto_position_bits`]: this quantile of the input's edge lengths (those
+/// longer than 0).
+pub const SHORT_EDGE_QUANTILE: f64 = 0.1;
+/// Fewest bits per position axis of the grid the DAG is built on ([`build_position_bits`]).
+pub const BUILD_POSITION_BITS_MIN: u32 = 16;
+/// [`build_position_bits`]: grid steps per median input edge, at least.
+pub const BUILD_STEPS_PER_EDGE: f64 = 64.0;
 /// Most bits per normal component.
 pub const NORMAL_BITS: u32 = 16;
 /// Default normal bits per component (see docs/architecture.md, "Compact pages").
 pub const DEFAULT_NORMAL_BITS: u32 = 12;
 
-/// The grid bits per axis a mesh of largest extent `extent` and median edge length `median_edge`
-/// needs: at least [`AUTO_POSITION_BITS_MIN`], and a step of at most 1/[`AUTO_STEPS_PER_EDGE`] of
-/// the median edge (so that its typical triangle keeps its shape), at most [`POSITION_BITS`].
-pub fn auto_position_bits(extent: f64, median_edge: f64) -> u32 {
-    if !(extent > 0.0 && median_edge > 0.0 && extent.is_finite() && median_edge.is_finite()) {
+/// The grid bits per axis of a mesh of largest extent `extent` whose short edge (the
+/// [`SHORT_EDGE_QUANTILE`] quantile of its edge lengths) is `short_edge`: its default stated
+/// precision. At least [`AUTO_POSITION_BITS_MIN`], and a step of at most
+/// 1/[`AUTO_STEPS_PER_SHORT_EDGE`] of the short edge, so that nine in ten edges are at least
+/// that many steps long and their triangles keep their shape (a thin part, which makes the short
+/// edges, keeps its thickness); at most [`POSITION_BITS`].
+pub fn auto_position_bits(extent: f64, short_edge: f64) -> u32 {
+    edge_bits(extent, short_edge, AUTO_STEPS_PER_SHORT_EDGE)
+        .clamp(AUTO_POSITION_BITS_MIN, POSITION_BITS)
+}
+
+/// The bits per axis of the grid the builder welds and simplifies on when the stated precision
+/// is coarser (the rule the stated precision had before session 37): a step of at most
+/// 1/[`BUILD_STEPS_PER_EDGE`] of the median edge, at least [`BUILD_POSITION_BITS_MIN`] bits. The
+/// DAG of a mesh then does not depend on its stated precision (at or below this): the pages
+/// store its positions moved to the stated grid, by at most half a step of it. (A DAG built on a
+/// coarser grid is another one: its coarse levels, which small instances draw, are another
+/// simplification, and on the turbine blade a worse one; docs/architecture.md, "The stated
+/// precision apart from the build grid".)
+pub fn build_position_bits(extent: f64, median_edge: f64) -> u32 {
+    edge_bits(extent, median_edge, BUILD_STEPS_PER_EDGE)
+        .clamp(BUILD_POSITION_BITS_MIN, POSITION_BITS)
+}
+
+fn edge_bits(extent: f64, edge: f64, steps_per_edge: f64) -> u32 {
+    if !(extent > 0.0 && edge > 0.0 && extent.is_finite() && edge.is_finite()) {
         return POSITION_BITS;
     }
-    let steps = extent / median_edge * AUTO_STEPS_PER_EDGE;
-    (steps.log2().ceil().max(0.0) as u32).clamp(AUTO_POSITION_BITS_MIN, POSITION_BITS)
+    let steps = extent / edge * steps_per_edge;
+    (steps.log2().ceil().max(0.0) as u32).min(POSITION_BITS)
 }
 
 /// The grid for positions in `[lo, hi]` with `position_bits` bits per axis (clamped to

@@ -29,16 +29,18 @@ pub struct BuildArgs {
     /// Largest group size (clusters).
     #[arg(long = "group-max", default_value_t = 32)]
     pub group_max: u32,
-    /// Triangle ratio of one simplification step. For geometry that streams under a budget,
-    /// 0.35: about a quarter fewer bytes, and the levels kept resident above a drawn region weigh
-    /// about half of it instead of as much (a cold camera cut holds 1.7x the page bytes it draws
-    /// instead of 2.3x). A ratio other than 0.5 keeps 0.5's root chain (the coarse levels small
+    /// Triangle ratio of one simplification step. The default 0.35 stores about a quarter fewer
+    /// bytes than 0.5, and the levels kept resident above a drawn region weigh about half of it
+    /// instead of as much (a cold camera cut holds 1.7x the page bytes it draws instead of
+    /// 2.3x); a cut lands further below the threshold, so mid-sized instances draw a few percent
+    /// more triangles. A ratio other than 0.5 keeps 0.5's root chain (the coarse levels small
     /// instances draw; its source is found by making the levels at 0.5 too, from the same level
-    /// 0, so the build takes about 1.5x as long). At 0.35 on the H100: image error at 1 px within
-    /// 0.05 dB of 0.5's (the smallest instances the same), frame times -4.3 % to +3.5 % on the
-    /// bench's scenes, 13-23 % fewer bytes (docs/architecture.md, "The DAG's step" and "The root
-    /// chain at any ratio").
-    #[arg(long = "ratio", default_value_t = 0.5)]
+    /// 0, so the build takes about 1.5x as long as at 0.5). At 0.35 against 0.5 on the H100:
+    /// image error at 1 px within 0.05 dB (the smallest instances the same), frame times -2.3 %
+    /// to +0.4 % on the scans' scenes, up to +2 % on indoor and foliage, 13-23 % fewer bytes
+    /// (docs/architecture.md, "The DAG's step", "The root chain at any ratio" and "The stated
+    /// precision apart from the build grid, and 0.35 as the default").
+    #[arg(long = "ratio", default_value_t = BuildOptions::default().simplify_ratio)]
     pub ratio: f32,
     /// Percentage of input triangles kept at level 0 (UE Nanite's "Keep Triangle Percent").
     #[arg(long = "keep-percent", default_value_t = 100.0)]
@@ -77,9 +79,12 @@ pub struct BuildArgs {
     /// encoding (default: all cores). The output does not depend on it.
     #[arg(long = "threads")]
     pub threads: Option<usize>,
-    /// The mesh's position precision: bits per axis of its grid (1-21; the step is its largest
-    /// extent over 2^BITS - 1). Default: at least 16, finer when a step would exceed 1/64 of the
-    /// median edge. Fewer bits make smaller pages; positions move by at most half a step.
+    /// The mesh's position precision: bits per axis of the grid its pages store (1-21; the step
+    /// is its largest extent over 2^BITS - 1). Default: at least 14, finer when a step would
+    /// exceed 1/32 of its short edges (the shortest tenth). Fewer bits make smaller pages;
+    /// positions move by at most half a step. The DAG is built on a grid of at least 16 bits
+    /// whatever this says (finer when the median edge needs it), so a coarser precision moves the
+    /// stored positions and leaves the levels as they are.
     #[arg(long = "position-bits")]
     pub position_bits: Option<u32>,
     /// Bits per octahedral normal component (2-16). Fewer bits make smaller pages.
