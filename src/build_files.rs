@@ -285,6 +285,12 @@ pub fn describe(m: &BuiltMesh, file_len: usize) -> String {
         file_len,
         crate::format::bytes_per_input_triangle(file_len, m)
     );
+    let q = &m.quantization;
+    let _ = writeln!(
+        o,
+        "precision: {} position bits per axis (a step of {:.3e}), {} normal bits per component",
+        q.position_bits, q.step, q.normal_bits
+    );
     let _ = writeln!(o, "{}", describe_pages(m));
     let _ = writeln!(
         o,

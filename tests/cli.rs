@@ -215,6 +215,11 @@ fn build_verify_and_info_of_a_vgeo_file() {
         "info should say where the page bytes go (spot has UVs): {out}"
     );
     assert!(
+        out.contains("precision: 14 position bits per axis")
+            && out.contains("12 normal bits per component"),
+        "info should state the stated precision (spot: 14 bits by its short edges): {out}"
+    );
+    assert!(
         out.contains("small instances: under 16 px an error counts a share"),
         "info should say how small instances count the errors: {out}"
     );
