@@ -551,7 +551,7 @@ fn parse_args() -> Result<Options> {
             }
             "--help" | "-h" => {
                 println!(
-                    "stream_sizes [--mesh SCAN] [--work DIR] [--out DIR] [--sizes 4,8,16] [--budget-mib 256] [--mib-per-frame 64] [--levels 3] [--copies 4] [--frames 120] [--size 1920x1080] [--ratio 0.5]\n\nStreams scenes of 4, 8, 16 unique meshes (made once in --work) under one budget and plots what stays on the GPU against the scene's size (sizes.md, sizes.json, sizes.svg in --out)."
+                    "stream_sizes [--mesh SCAN] [--work DIR] [--out DIR] [--sizes 4,8,16] [--budget-mib 256] [--mib-per-frame 64] [--levels 3] [--copies 4] [--frames 120] [--size 1920x1080] [--ratio 0.35]\n\nStreams scenes of 4, 8, 16 unique meshes (made once in --work) under one budget and plots what stays on the GPU against the scene's size (sizes.md, sizes.json, sizes.svg in --out)."
                 );
                 std::process::exit(0);
             }

@@ -297,6 +297,45 @@ fn a_coarser_stated_precision_keeps_the_dag() {
     );
 }
 
+/// Two vertices the build grid keeps apart and the stored grid merges (a grid point split into a
+/// copy two build-grid steps away, within half a stored step: near-welded duplicates, as flat
+/// CAD faces have) save a file that loads and verifies. The pages told vertices apart by index,
+/// and the loader, which decodes them by value, refused the file ("page 0: decodes to 441
+/// vertices ..., its record says 442").
+#[test]
+fn vertices_merged_by_the_stored_grid_save_a_file_that_loads() {
+    let (mut p, mut idx) = grid(20, 20, [0.0; 3], 0.05);
+    let v = idx[3 * 100] as usize;
+    p.push([p[v][0] + 3e-5, p[v][1], p[v][2]]);
+    idx[3 * 100] = (p.len() - 1) as u32;
+    let built = builder::build(
+        &mesh_from("split", p.clone(), idx.clone()),
+        &BuildOptions::default(),
+    )
+    .expect("builds");
+    let q = &built.quantization;
+    assert_eq!(
+        q.position_bits, 14,
+        "the stored grid (the DAG's is 16 bits)"
+    );
+    // (One page, whose vertices are the distinct ones: one fewer than at 16 bits, where the
+    // copy is a vertex of its own.)
+    let fine_opts = BuildOptions {
+        position_bits: Some(16),
+        ..BuildOptions::default()
+    };
+    let fine = builder::build(&mesh_from("split", p, idx), &fine_opts).expect("builds");
+    assert_eq!(built.pages.len(), 1);
+    assert_eq!(
+        (built.vertices.len(), fine.vertices.len()),
+        (441, 442),
+        "two vertices merged"
+    );
+    let loaded = vgeo::format::load(&vgeo::format::save(&built)).expect("the saved file loads");
+    let report = builder::verify(&loaded, &VerifyOptions::default());
+    assert!(report.ok(), "verify:\n{report}");
+}
+
 /// At a step ratio above the chain's (0.7), a level of one group made after a level of at most
 /// 2048 triangles steps by at most 0.75: a mesh that is its own chain source (at most 2048
 /// triangles) keeps its own chain, and a given source whose next levels at 0.5 were not made from

@@ -234,16 +234,23 @@ fn edge_lengths(mesh: &Mesh) -> (f64, f64) {
         return (0.0, 0.0);
     }
     let median = f64::from_bits(*squares.select_nth_unstable(finite / 2).1).sqrt();
-    // The selection left the smaller squares before the median: the zeros first among them.
-    let below = &mut squares[..finite / 2];
-    let zeros = below.iter().filter(|&&s| s == 0).count();
+    // The selection left the smaller squares before the median and the larger ones (and the
+    // non-finite, the largest words) after it: the quantile among the lengths above 0 is the
+    // one `zeros` places further in the whole order.
+    let zeros = squares.iter().filter(|&&s| s == 0).count();
+    if zeros == finite {
+        return (median, 0.0);
+    }
     let at = zeros + ((finite - zeros) as f64 * super::quantize::SHORT_EDGE_QUANTILE) as usize;
-    let short = if at < below.len() {
-        f64::from_bits(*below.select_nth_unstable(at).1).sqrt()
+    let half = finite / 2;
+    let short = if at < half {
+        *squares[..half].select_nth_unstable(at).1
+    } else if at == half {
+        squares[half]
     } else {
-        median
+        *squares[half + 1..].select_nth_unstable(at - half - 1).1
     };
-    (median, short)
+    (median, f64::from_bits(short).sqrt())
 }
 
 fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
@@ -1340,6 +1347,11 @@ fn build_inner(
         fallback_groups,
         ..Default::default()
     };
+    // Positions moved to a coarser stored grid may make two vertices equal (near-coincident
+    // ones, which the build grid kept apart): the pages then tell vertices apart by value, as
+    // the loader's decoding does (by index, such a page decoded to fewer vertices than its
+    // record said, and the file was refused).
+    let snapped = stored_quant.position_bits < quant.position_bits;
     let (mut built, sizes) = assemble(
         mesh,
         quant,
@@ -1358,7 +1370,7 @@ fn build_inner(
         super::page::PAGE_BYTES as usize,
         resident_level,
         &sizes,
-        true,
+        !snapped,
     );
     Ok(built)
 }
@@ -2418,8 +2430,19 @@ mod tests {
         // (Zero-length edges: triangles 1 and 2 start at points 22 and 29, 44 and 51.)
         positions[29] = positions[22];
         positions[51] = positions[44];
+        // (240 of the 300 points on one: about 64 % of the edges are zero-length, so the short
+        // edge lies above the median.)
+        let mut collapsed = positions.clone();
+        for q in collapsed.iter_mut().take(240) {
+            *q = [1.0, 2.0, 3.0];
+        }
         // (140 K triangles: every second one is sampled.)
-        for tris in [301usize, 300, 140_001] {
+        for (positions, tris) in [
+            (&positions, 301usize),
+            (&positions, 300),
+            (&positions, 140_001),
+            (&collapsed, 301),
+        ] {
             let indices: Vec<u32> = (0..3 * tris as u32)
                 .map(|i| (i * 7 + i / 3) % 300)
                 .collect();
@@ -2449,6 +2472,9 @@ mod tests {
             let mut nonzero: Vec<f64> = lens.iter().copied().filter(|&l| l > 0.0).collect();
             let zeros = lens.len() - nonzero.len();
             assert!(zeros > 0, "{tris} triangles: the case of zero-length edges");
+            if positions[0] == [1.0, 2.0, 3.0] {
+                assert!(2 * zeros > lens.len(), "the case of a zero median");
+            }
             let at =
                 (nonzero.len() as f64 * crate::builder::quantize::SHORT_EDGE_QUANTILE) as usize;
             let short = *nonzero.select_nth_unstable_by(at, f64::total_cmp).1;
