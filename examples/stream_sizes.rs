@@ -99,9 +99,15 @@ pub struct SizeRecord {
     pub cold_residency_by_mesh: Vec<vgeo::CutResidency>,
 }
 
+/// Mesh `i`'s `.vgeo` file name in `work`: it names the step ratio, so that a work folder made at
+/// another ratio (0.5, the default before session 37) is not taken for this one.
+fn vgeo_name(opts: &Options, i: usize) -> String {
+    format!("m{i}-r{}.vgeo", opts.ratio)
+}
+
 /// Mesh `i`'s `.vgeo` in `work`, made if absent.
 fn unique_mesh(opts: &Options, i: usize) -> Result<PathBuf> {
-    let vgeo = opts.work.join(format!("m{i}.vgeo"));
+    let vgeo = opts.work.join(vgeo_name(opts, i));
     if vgeo.exists() {
         return Ok(vgeo);
     }
@@ -114,7 +120,7 @@ fn unique_mesh(opts: &Options, i: usize) -> Result<PathBuf> {
     };
     let built =
         vgeo::build(&mesh, &build).map_err(|e| anyhow::anyhow!("building mesh {i}: {e}"))?;
-    let tmp = opts.work.join(format!("m{i}.vgeo.part"));
+    let tmp = opts.work.join(format!("{}.part", vgeo_name(opts, i)));
     std::fs::write(&tmp, vgeo::save_vgeo(&built))?;
     std::fs::rename(&tmp, &vgeo)?;
     std::fs::remove_file(&ply)?;
@@ -130,7 +136,8 @@ fn scene_file(
 ) -> Result<PathBuf> {
     let mut s = String::new();
     for i in 0..n {
-        let _ = writeln!(s, "[[mesh]]\nname = \"m{i}\"\npath = \"m{i}.vgeo\"\n");
+        let name = vgeo_name(opts, i);
+        let _ = writeln!(s, "[[mesh]]\nname = \"m{i}\"\npath = \"{name}\"\n");
     }
     let cols = 4usize;
     for i in 0..n {
@@ -211,7 +218,7 @@ fn run_size(
     let file = scene_file(opts, n, spacing, scan)?;
     let streamed = vgeo::StreamedScene::load(&file, &|_| {})?;
     let vgeo_bytes: u64 = (0..n)
-        .map(|i| std::fs::metadata(opts.work.join(format!("m{i}.vgeo"))).map(|m| m.len()))
+        .map(|i| std::fs::metadata(opts.work.join(vgeo_name(opts, i))).map(|m| m.len()))
         .sum::<std::io::Result<u64>>()?;
     let triangles = streamed.scene_triangles();
     let aspect = opts.width as f32 / opts.height as f32;
