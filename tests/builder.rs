@@ -177,15 +177,11 @@ fn another_step_ratio_keeps_the_default_root_chain() {
     same_root_chain(&mesh_from("plane and sphere", m.0, m.1), &[(0.35, 0)]);
 }
 
-/// Builds `mesh` at the default ratio and at each `(ratio, skip)`: the levels from the default's
-/// root chain source down (`skip` of them left out at the top) are the same at that ratio.
+/// Builds `mesh` at the root chain's ratio (0.5) and at each `(ratio, skip)`: the levels from
+/// 0.5's root chain source down (`skip` of them left out at the top) are the same at that ratio.
 fn same_root_chain(mesh: &Mesh, ratios: &[(f32, usize)]) {
     let name = &mesh.name;
-    let chain_ratio = BuildOptions {
-        simplify_ratio: 0.5,
-        ..BuildOptions::default()
-    };
-    let default = builder::build(mesh, &chain_ratio).expect("builds");
+    let default = builder::build(mesh, &common::options_at_ratio(0.5)).expect("builds");
     let a = &default.stats.levels;
     let source = a
         .iter()
@@ -195,11 +191,7 @@ fn same_root_chain(mesh: &Mesh, ratios: &[(f32, usize)]) {
     assert!(a.len() - source >= 9, "{name}: {a:?}");
     for &(ratio, skip) in ratios {
         let same = a.len() - source - skip;
-        let opts = BuildOptions {
-            simplify_ratio: ratio,
-            ..BuildOptions::default()
-        };
-        let other = builder::build(mesh, &opts).expect("builds");
+        let other = builder::build(mesh, &common::options_at_ratio(ratio)).expect("builds");
         let report = builder::verify(&other, &VerifyOptions::default());
         assert!(report.ok(), "{name}: verify at {ratio}:\n{report}");
         let b = &other.stats.levels;

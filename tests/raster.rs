@@ -54,11 +54,7 @@ fn grass() -> &'static BuiltMesh {
         // At the step ratio 0.5, the default until session 37: its level 3 has clusters of over
         // 127 vertices, which the small path's test below needs (at 0.35 its level 3's
         // clusters in view have fewer).
-        let opts = BuildOptions {
-            simplify_ratio: 0.5,
-            ..BuildOptions::default()
-        };
-        vgeo::builder::build(&mesh, &opts).expect("the grass field builds")
+        vgeo::builder::build(&mesh, &common::options_at_ratio(0.5)).expect("the grass field builds")
     })
 }
 

@@ -17,7 +17,7 @@ use std::collections::BTreeSet;
 use common::{assert_no_validation_errors, gpu, shared_assets};
 use glam::{DMat4, DVec3, Vec3};
 use vgeo::builder::page::{close_residency, group_needs, paginate};
-use vgeo::builder::{BuildOptions, BuiltMesh, build};
+use vgeo::builder::{BuiltMesh, build};
 use vgeo::camera::Camera;
 use vgeo::frame::{VgeoFrame, VgeoRenderer};
 use vgeo::passes::debug_view::ViewMode;
@@ -38,11 +38,7 @@ const H: u32 = 120;
 /// the streamer and the cut under partial residency, does not depend on the ratio.
 fn bunny() -> BuiltMesh {
     let (mesh, _) = vgeo::mesh::load_mesh(&shared_assets().join("scanned/bunny.ply")).unwrap();
-    let opts = BuildOptions {
-        simplify_ratio: 0.5,
-        ..BuildOptions::default()
-    };
-    let mut b = build(&mesh, &opts).unwrap();
+    let mut b = build(&mesh, &common::options_at_ratio(0.5)).unwrap();
     let level = b.fallback_level(2000);
     paginate(&mut b, 16384, level);
     b

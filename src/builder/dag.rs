@@ -234,23 +234,15 @@ fn edge_lengths(mesh: &Mesh) -> (f64, f64) {
         return (0.0, 0.0);
     }
     let median = f64::from_bits(*squares.select_nth_unstable(finite / 2).1).sqrt();
-    // The selection left the smaller squares before the median and the larger ones (and the
-    // non-finite, the largest words) after it: the quantile among the lengths above 0 is the
-    // one `zeros` places further in the whole order.
+    // The quantile among the lengths above 0 is the one `zeros` places further in the whole
+    // order (the non-finite, the largest words, come last).
     let zeros = squares.iter().filter(|&&s| s == 0).count();
     if zeros == finite {
         return (median, 0.0);
     }
     let at = zeros + ((finite - zeros) as f64 * super::quantize::SHORT_EDGE_QUANTILE) as usize;
-    let half = finite / 2;
-    let short = if at < half {
-        *squares[..half].select_nth_unstable(at).1
-    } else if at == half {
-        squares[half]
-    } else {
-        *squares[half + 1..].select_nth_unstable(at - half - 1).1
-    };
-    (median, f64::from_bits(short).sqrt())
+    let short = f64::from_bits(*squares.select_nth_unstable(at).1).sqrt();
+    (median, short)
 }
 
 fn prepare(mesh: &Mesh, opts: &BuildOptions) -> Result<Prepared, BuildError> {
@@ -2208,9 +2200,8 @@ fn grid_box(
 }
 
 /// Moves `vertices` from the build grid `from` to the stored grid `to` (the same box, at most as
-/// many bits per axis): each coordinate to the nearest of `to`'s (exact integer arithmetic; with
-/// both grids' step counts odd there are no ties), so a position moves by at most half a step of
-/// `to`. Equal codes stay equal, so a vertex clusters share stays shared (the cut stays
+/// many bits per axis; [`super::quantize::regrid_position`]): a position moves by at most half a
+/// step of `to`. Equal codes stay equal, so a vertex clusters share stays shared (the cut stays
 /// crack-free), and the DAG built on `from` is kept. Returns the moved positions, decoded (`None`
 /// when the grids are the same).
 fn snap_to_stored_grid(
@@ -2221,12 +2212,9 @@ fn snap_to_stored_grid(
     if to.position_bits >= from.position_bits {
         return None;
     }
-    let n = (1u64 << from.position_bits) - 1;
-    let m = (1u64 << to.position_bits) - 1;
-    vertices.par_iter_mut().for_each(|v| {
-        let c = super::quantize::position_coords(v.position);
-        v.position = super::quantize::pack_coords(c.map(|x| ((x as u64 * m + n / 2) / n) as u32));
-    });
+    vertices
+        .par_iter_mut()
+        .for_each(|v| v.position = super::quantize::regrid_position(from, to, v.position));
     Some(
         vertices
             .par_iter()

@@ -114,6 +114,16 @@ pub fn pack_coords(c: [u32; 3]) -> [u32; 2] {
     [code as u32, (code >> 32) as u32]
 }
 
+/// The code on grid `to` of the position with code `code` on grid `from` (the same box, `to` of
+/// at most as many bits per axis): each coordinate to the nearest of `to`'s, in exact integer
+/// arithmetic (both grids' step counts are odd, so there are no ties): at most half a step of
+/// `to` away. Equal codes give equal codes.
+pub fn regrid_position(from: &Quantization, to: &Quantization, code: [u32; 2]) -> [u32; 2] {
+    let n = (1u64 << from.position_bits) - 1;
+    let m = (1u64 << to.position_bits) - 1;
+    pack_coords(position_coords(code).map(|x| ((x as u64 * m + n / 2) / n) as u32))
+}
+
 /// Grid coordinates of a position code.
 pub fn position_coords(code: [u32; 2]) -> [u32; 3] {
     let c = code[0] as u64 | (code[1] as u64) << 32;

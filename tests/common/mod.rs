@@ -8,6 +8,15 @@ use std::path::PathBuf;
 
 use vgeo::gpu::{Context, ContextOptions};
 
+/// Build options at the step ratio `ratio`, the rest the defaults: for tests whose scenarios were
+/// made for another ratio than the default (0.5, the default until session 37).
+pub fn options_at_ratio(ratio: f32) -> vgeo::builder::BuildOptions {
+    vgeo::builder::BuildOptions {
+        simplify_ratio: ratio,
+        ..Default::default()
+    }
+}
+
 /// The shared asset collection: `VGEO_SHARED_ASSETS`, else `../shared/assets` beside the crate (CI's
 /// layout), else `/work/shared/assets`. Panics with a clear message when none exists: tests that
 /// need it must not pass silently without it.
