@@ -11,6 +11,10 @@
 // HZB, walked or pushed if visible), BVH-node items (walked here for small instances, else pushed
 // back: cluster_cull tests them again) and clusters
 // (tested against this frame's HZB, emitted if visible).
+// The `shared` variant (views of WALK_WIDE_INSTANCES to SHARED_RUNS_MAX_INSTANCES instances,
+// chosen by src/passes/instance_cull.rs): the workgroup shares its threads' cluster tests
+// (cull.glsl's shared runs); the plain one has no shared memory but s_cold_cutoff.
+//! variant shared CULL_SHARED_RUNS
 #include "cull_bindings.glsl"
 
 layout(local_size_x = INSTANCE_CULL_WORKGROUP_SIZE) in;
@@ -54,18 +58,58 @@ bool instance_visible(uint i, InstanceVgeo inst, MeshGpu mesh) {
     return true;
 }
 
-// Each work item of a phase is taken in one loop with one call site per kind of work. The
-// driver inlines every call: a site per phase and kind (the local walk and the cut's tests
-// copied into each) made the H100's binary 406 KB of 128 registers, where one site each makes it
-// 130 KB of 96 (stress N=20 0.95 -> 0.90 ms, N=200 -1 %, the same images: bench/results/
-// 2026-11-27-session27, call 1). Main phase: item j is instance j. Post phase: the deferred
-// instances, then the deferred BVH-node items, then the deferred clusters, as one index range.
+// One work item of a phase, with one call site per kind of work. The driver inlines every call:
+// a site per phase and kind (the local walk and the cut's tests copied into each) made the H100's
+// binary 406 KB of 128 registers, where one site each makes it 130 KB of 96 (stress N=20 0.95 ->
+// 0.90 ms, N=200 -1 %, the same images: bench/results/2026-11-27-session27, call 1). Main phase:
+// item j is instance j. Post phase: the deferred instances, then the deferred BVH-node items,
+// then the deferred clusters, as one index range.
+void cull_item(uint j, uint n_inst, uint n_nodes) {
+    uint64_t item;
+    if (j < n_inst) {
+        uint i = pc.phase == 0u ? j : post_instances[j];
+        InstanceVgeo inst = instances[i];
+        MeshGpu mesh = meshes[inst.mesh];
+        if (!instance_visible(i, inst, mesh) || emit_tiny_cut(i, inst, mesh)
+            || emit_root_if_whole_cut(i, inst, mesh)) {
+            return;
+        }
+        item = (uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root);
+    } else if (j < n_inst + n_nodes) {
+        item = post_nodes[j - n_inst];
+    } else {
+        uvec2 e = post_clusters[j - n_inst - n_nodes];
+        InstanceVgeo inst = instances[e.x];
+        MeshGpu mesh = meshes[inst.mesh];
+        uint at = cluster_word(mesh, e.y);
+        vec3 bmin = cluster_bounds_min(mesh, at);
+        vec3 bmax = cluster_bounds_max(mesh, at);
+        if (hzb_occluded(inst, bmin, bmax)) {
+            CULL_STAT(occluded_clusters, 1u)
+            return;
+        }
+        vec3 cc;
+        float cr;
+        box_sphere(inst, bmin, bmax, cc, cr);
+        emit_cluster(e.x, e.y, at, cluster_info(at), cc, cr);
+        return;
+    }
+    InstanceVgeo inst = instances[uint(item >> 32)];
+    walk_or_push_item(item, inst, meshes[inst.mesh]);
+}
+
+// Rounds of a workgroup-uniform loop (a grid-stride loop whose trip count is the workgroup's):
+// in each, every thread takes one item (cull_item); in the shared variant the workgroup then
+// tests and draws the clusters of the runs they left (run_round).
 void main() {
+    uint lid = gl_LocalInvocationID.x;
     uint threads = gl_NumWorkGroups.x * gl_NumWorkGroups.y * INSTANCE_CULL_WORKGROUP_SIZE;
-    uint gid = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * INSTANCE_CULL_WORKGROUP_SIZE
-        + gl_LocalInvocationID.x;
+    uint base = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * INSTANCE_CULL_WORKGROUP_SIZE;
+#ifdef CULL_SHARED_RUNS
+    s_thread_runs[lid] = 0u;
+#endif
     if (pc.phase == 0u && (view.flags & VIEW_FLAG_COLD_FRAME) != 0u) {
-        if (gl_LocalInvocationID.x == 0u) {
+        if (lid == 0u) {
             s_cold_cutoff = counters.cold_cutoff;
         }
         barrier();
@@ -81,37 +125,12 @@ void main() {
         n_clusters = min(main_counters.post_cluster_count, view.visible_capacity);
     }
     uint total = n_inst + n_nodes + n_clusters;
-    for (uint j = gid; j < total; j += threads) {
-        uint64_t item;
-        if (j < n_inst) {
-            uint i = pc.phase == 0u ? j : post_instances[j];
-            InstanceVgeo inst = instances[i];
-            MeshGpu mesh = meshes[inst.mesh];
-            if (!instance_visible(i, inst, mesh) || emit_tiny_cut(i, inst, mesh)
-                || emit_root_if_whole_cut(i, inst, mesh)) {
-                continue;
-            }
-            item = (uint64_t(i) << 32) | uint64_t(mesh.bvh_offset + mesh.bvh_root);
-        } else if (j < n_inst + n_nodes) {
-            item = post_nodes[j - n_inst];
-        } else {
-            uvec2 e = post_clusters[j - n_inst - n_nodes];
-            InstanceVgeo inst = instances[e.x];
-            MeshGpu mesh = meshes[inst.mesh];
-            uint at = cluster_word(mesh, e.y);
-            vec3 bmin = cluster_bounds_min(mesh, at);
-            vec3 bmax = cluster_bounds_max(mesh, at);
-            if (hzb_occluded(inst, bmin, bmax)) {
-                CULL_STAT(occluded_clusters, 1u)
-                continue;
-            }
-            vec3 cc;
-            float cr;
-            box_sphere(inst, bmin, bmax, cc, cr);
-            emit_cluster(e.x, e.y, at, cluster_info(at), cc, cr);
-            continue;
+    for (; base < total; base += threads) {
+        if (base + lid < total) {
+            cull_item(base + lid, n_inst, n_nodes);
         }
-        InstanceVgeo inst = instances[uint(item >> 32)];
-        walk_or_push_item(item, inst, meshes[inst.mesh]);
+#ifdef CULL_SHARED_RUNS
+        run_round();
+#endif
     }
 }

@@ -282,6 +282,13 @@ impl VgeoRenderer {
         Ok(())
     }
 
+    /// Makes `instance_cull` take its `shared` variant (`Some(true)`), its plain one
+    /// (`Some(false)`) or choose by the view's instances (`None`, the default:
+    /// [`crate::passes::instance_cull::shares_runs`]). For tests: both draw the same cut.
+    pub fn set_shared_runs(&mut self, force: Option<bool>) {
+        self.instance_cull.force_shared = force;
+    }
+
     /// The scene's material table (global ids: each mesh's ids offset by the mesh slots before it),
     /// as of construction or the last frame (mesh changes rebuild it before the next frame).
     pub fn scene_materials(&self) -> &SceneMaterials {

@@ -94,6 +94,17 @@ pub const WALK_CLUSTERS: u32 = 16;
 pub const WALK_CLUSTERS_WIDE: u32 = 64;
 /// Instances of a view from which `instance_cull` walks with [`WALK_CLUSTERS_WIDE`].
 pub const WALK_WIDE_INSTANCES: u32 = 4096;
+/// In a view of at least [`WALK_WIDE_INSTANCES`] and fewer than this many instances,
+/// `instance_cull`'s workgroup shares the cluster tests of its threads' small-instance cuts and
+/// local walks (`common/cull.glsl`, shared runs): a pass of a few thousand threads leaves the GPU
+/// mostly idle, and one thread's serial run of up to [`TINY_CUT_CLUSTERS`] tests was its latency.
+/// With more instances every thread has its own and the sharing's barriers cost more than they
+/// save (stress N=100 +11 %, foliage +24 % when every view shared), with fewer there are no table
+/// cuts and the walks are short ([`WALK_CLUSTERS`]).
+pub const SHARED_RUNS_MAX_INSTANCES: u32 = 65536;
+/// Runs (a small-instance cut, or a group a local walk reaches) each `instance_cull` thread can
+/// hand to its workgroup per item; a walk's groups past them go to `cluster_cull`'s queue.
+pub const SHARED_RUNS_PER_THREAD: u32 = 8;
 /// Most clusters of a small instance's cut that `instance_cull` draws from its mesh's table of
 /// cuts ([`crate::builder::cut::TinyCuts`]) in O(1), without a BVH walk.
 pub const TINY_CUT_CLUSTERS: u32 = 64;

@@ -254,33 +254,13 @@ fn frustum_culling_removes_what_is_behind_the_camera() {
 fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
     use vgeo::shared::{WALK_CLUSTERS, WALK_WIDE_INSTANCES};
     let ctx = gpu();
-    let spot = built(&assets().join("spot.obj"));
-    let grass = build(
-        &vgeo::generated_mesh("grass").expect("grass"),
-        &BuildOptions::default(),
-    )
-    .expect("grass builds");
-    assert!(grass.clusters.len() <= WALK_CLUSTERS as usize);
-    assert!(spot.clusters.len() > WALK_CLUSTERS as usize);
-    let meshes = vec![spot, grass];
+    let meshes = spot_and_grass();
+    assert!(meshes[1].clusters.len() <= WALK_CLUSTERS as usize);
+    assert!(meshes[0].clusters.len() > WALK_CLUSTERS as usize);
     let camera = field_camera(DVec3::new(0.0, 1.0, 2.0), DVec3::new(0.0, 0.0, -10.0));
     // 12 x 12 instances (the narrow bound), then 64 x 64 (the wide one).
     for side in [12usize, 64] {
-        let mut placements = Vec::new();
-        for i in 0..side {
-            for j in 0..side {
-                let z = -1.5 * (1.35f64).powf(j as f64 * 12.0 / side as f64);
-                let x = (i as f64 / side as f64 - 0.5) * 2.4 * z.abs().sqrt();
-                placements.push(Placement {
-                    mesh: ((i + j) % 2) as u32,
-                    transform: DMat4::from_rotation_translation(
-                        DQuat::from_rotation_y(0.37 * (i * side + j) as f64),
-                        DVec3::new(x, 0.0, z),
-                    ),
-                    color: [1.0; 3],
-                });
-            }
-        }
+        let placements = spot_and_grass_field(side);
         assert_eq!(
             placements.len() >= WALK_WIDE_INSTANCES as usize,
             side == 64,
@@ -319,6 +299,87 @@ fn small_instances_take_their_cut_from_the_table_with_the_same_cut() {
             }
         }
     }
+    assert_no_validation_errors(&ctx);
+}
+
+/// Spot (mesh 0, more than `WALK_CLUSTERS` clusters) and a grass clump (mesh 1, at most that).
+fn spot_and_grass() -> Vec<BuiltMesh> {
+    let spot = built(&assets().join("spot.obj"));
+    let grass = build(
+        &vgeo::generated_mesh("grass").expect("grass"),
+        &BuildOptions::default(),
+    )
+    .expect("grass builds");
+    vec![spot, grass]
+}
+
+/// `side` x `side` instances of meshes 0 and 1 in turn, rotated, from 1.5 to 1.5 x 1.35^12 in
+/// front of `field_camera(0, 1, 2)` looking down -z, spread wider with distance.
+fn spot_and_grass_field(side: usize) -> Vec<Placement> {
+    let mut placements = Vec::new();
+    for i in 0..side {
+        for j in 0..side {
+            let z = -1.5 * (1.35f64).powf(j as f64 * 12.0 / side as f64);
+            let x = (i as f64 / side as f64 - 0.5) * 2.4 * z.abs().sqrt();
+            placements.push(Placement {
+                mesh: ((i + j) % 2) as u32,
+                transform: DMat4::from_rotation_translation(
+                    DQuat::from_rotation_y(0.37 * (i * side + j) as f64),
+                    DVec3::new(x, 0.0, z),
+                ),
+                color: [1.0; 3],
+            });
+        }
+    }
+    placements
+}
+
+/// In a view of `WALK_WIDE_INSTANCES` to `SHARED_RUNS_MAX_INSTANCES` instances `instance_cull`
+/// takes its `shared` variant: the workgroup tests the clusters of its threads' small-instance
+/// cuts and local walks (a walk's groups past `SHARED_RUNS_PER_THREAD` go to `cluster_cull`'s
+/// queue). Its cut is the plain variant's and the CPU's, cluster for cluster, with the same
+/// table cuts and local walks, at three thresholds (one where walks reach many groups).
+#[test]
+fn shared_runs_draw_the_plain_variants_cut() {
+    use vgeo::passes::instance_cull::shares_runs;
+    use vgeo::shared::{SHARED_RUNS_MAX_INSTANCES, WALK_WIDE_INSTANCES};
+    assert!(!shares_runs(WALK_WIDE_INSTANCES - 1) && shares_runs(WALK_WIDE_INSTANCES));
+    assert!(shares_runs(SHARED_RUNS_MAX_INSTANCES - 1) && !shares_runs(SHARED_RUNS_MAX_INSTANCES));
+    let ctx = gpu();
+    let meshes = spot_and_grass();
+    let camera = field_camera(DVec3::new(0.0, 1.0, 2.0), DVec3::new(0.0, 0.0, -10.0));
+    let placements = spot_and_grass_field(64);
+    assert!(shares_runs(placements.len() as u32));
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    let (mut tiny, mut walks) = (0, 0);
+    for tau in [0.25f32, 1.0, 4.0] {
+        let settings = FrameSettings {
+            error_px: tau,
+            flags: VIEW_FLAG_NO_FRUSTUM,
+            ..Default::default()
+        };
+        let mut runs = Vec::new();
+        for force in [true, false] {
+            r.set_shared_runs(Some(force));
+            compare(&mut r, &meshes, &placements, &camera, tau);
+            let res = r.cull(&camera, 320, 240, &settings).expect("cull runs");
+            let cut: BTreeSet<(u32, u32)> = res.visible.iter().map(|v| (v[0], v[1])).collect();
+            let c = res.counters;
+            runs.push((cut, c.tiny_cuts, c.local_walks, c.triangles));
+        }
+        let (shared, plain) = (&runs[0], &runs[1]);
+        eprintln!(
+            "tau={tau}: {} clusters, {} table cuts, {} local walks",
+            shared.0.len(),
+            shared.1,
+            shared.2
+        );
+        assert!(shared == plain, "tau={tau}: the variants' cuts differ");
+        tiny += shared.1;
+        walks += shared.2;
+    }
+    assert!(tiny > 0 && walks > 0, "the views have table cuts and walks");
+    r.set_shared_runs(None);
     assert_no_validation_errors(&ctx);
 }
 

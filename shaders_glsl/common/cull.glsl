@@ -331,6 +331,55 @@ bool emit_root_if_whole_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     return true;
 }
 
+// A run's count flag: a local walk's group, its members' cut rule still to apply.
+#define RUN_TEST 0x80000000u
+#ifdef CULL_SHARED_RUNS
+// instance_cull's shared runs. A run is `count` clusters of one instance: a small-instance cut
+// (`first`: its word in `tiny_cuts`) or a group a local walk reached (RUN_TEST set in the count:
+// the cut rule still to apply; `first`: the group's first cluster, global). Each thread writes
+// its item's runs to its own SHARED_RUNS_PER_THREAD entries; after each round of items the
+// workgroup tests and draws the clusters of all of them (run_round). Only in instance_cull's
+// `shared` variant, which src/passes/instance_cull.rs takes for views of the size where that
+// pays (SHARED_RUNS_MAX_INSTANCES); in the plain one a thread tests its small-instance cut and
+// its walk's groups itself.
+#define SHARED_RUN_ENTRIES (INSTANCE_CULL_WORKGROUP_SIZE * SHARED_RUNS_PER_THREAD)
+shared uint s_run_instance[SHARED_RUN_ENTRIES];
+shared uint s_run_first[SHARED_RUN_ENTRIES];
+shared uint s_run_count[SHARED_RUN_ENTRIES];
+// Per thread: its runs this round, and (shared) the first of its clusters among all threads'.
+shared uint s_thread_runs[INSTANCE_CULL_WORKGROUP_SIZE];
+shared uint s_thread_start[INSTANCE_CULL_WORKGROUP_SIZE];
+shared uint s_round_items;
+
+// Whether the workgroup shares its threads' runs (instance_cull's `shared` variant).
+bool shared_runs() {
+    return true;
+}
+
+// Adds a run to this thread's; false when it has SHARED_RUNS_PER_THREAD already.
+bool push_run(uint instance, uint first, uint count) {
+    uint lid = gl_LocalInvocationID.x;
+    uint j = s_thread_runs[lid];
+    if (j >= SHARED_RUNS_PER_THREAD) {
+        return false;
+    }
+    uint e = lid * SHARED_RUNS_PER_THREAD + j;
+    s_run_instance[e] = instance;
+    s_run_first[e] = first;
+    s_run_count[e] = count;
+    s_thread_runs[lid] = j + 1u;
+    return true;
+}
+#else
+bool shared_runs() {
+    return false;
+}
+
+bool push_run(uint instance, uint first, uint count) {
+    return false;
+}
+#endif
+
 // The error of the small-instance table's row at word `row` (its error, first entry, count and
 // coverage part: src/builder/cut.rs TinyCuts::words) as an instance of weight `w` counts it.
 float tiny_row_error(uint row, float w) {
@@ -415,7 +464,12 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     CULL_STAT(clusters_tested, count)
     // Otherwise each cluster is still tested (frustum, HZB) as test_cluster tests a drawn one:
     // emitting the whole cut untested drew 14 % more triangles on stress N=100 (clusters these
-    // tests reject), and rasterizing them cost more than the tests.
+    // tests reject), and rasterizing them cost more than the tests. In a view of shared runs
+    // the workgroup runs them after the round (run_round; a thread's first run always fits).
+    if (shared_runs()) {
+        push_run(instance, first, count);
+        return true;
+    }
     for (uint k = 0u; k < count; k++) {
         uint ci = mesh.cluster_offset + tiny_cuts[first + k];
         uint at = cluster_word(mesh, ci);
@@ -428,34 +482,37 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
 uint walk_stack[WALK_STACK];
 uint walk_sp;
 
-// The cut rule, frustum and occlusion for cluster `ci` (global index) of a visible instance, and
-// its emission when drawn; `w` is the instance's weight (lod.glsl's instance_weight), which the
-// caller computes once for all the clusters it tests.
-void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool partial, float w) {
+// The cut rule of a cluster (pool word `at`, info word `info`) of a visible instance whose
+// parent pair is already over the threshold (its group's test): whether it is drawn. `w` is the
+// instance's weight (lod.glsl's instance_weight). Under partial residency a cluster drawn for
+// want of its children asks for them.
+bool in_cut(InstanceVgeo inst, MeshGpu mesh, uint at, uint info, bool partial, float w) {
+    CULL_STAT(clusters_tested, 1u)
+    if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u) {
+        return info_level(info) <= mesh.fallback_level;
+    }
     float scale = inst.max_scale;
-    bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
-    bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
+    uint creator = cluster_creator(at);
+    float self_px = self_error_px(inst, mesh, creator, scale, w);
+    bool fine = self_px <= view.error_px;
+    if (partial && !fine && !children_resident(mesh, creator)) {
+        // Drawn for want of its children; only a cluster in the frustum asks for them (one
+        // outside it shows nothing their detail could change).
+        if ((view.flags & VIEW_FLAG_NO_FRUSTUM) != 0u || cluster_in_frustum(inst, mesh, at)) {
+            request_children(inst, mesh, creator, self_px / view.error_px);
+        }
+        fine = true;
+    }
+    return fine;
+}
+
+// The cut rule, frustum and occlusion for cluster `ci` (global index) of a visible instance, and
+// its emission when drawn; `w` is the instance's weight, which the caller computes once for all
+// the clusters it tests.
+void test_cluster(uint instance, InstanceVgeo inst, MeshGpu mesh, uint ci, bool partial, float w) {
     uint at = cluster_word(mesh, ci);
     uint info = cluster_info(at);
-    CULL_STAT(clusters_tested, 1u)
-    bool in_cut;
-    if (fallback) {
-        in_cut = info_level(info) <= mesh.fallback_level;
-    } else {
-        uint creator = cluster_creator(at);
-        float self_px = self_error_px(inst, mesh, creator, scale, w);
-        bool fine = self_px <= view.error_px;
-        if (partial && !fine && !children_resident(mesh, creator)) {
-            // Drawn for want of its children; only a cluster in the frustum asks for them (one
-            // outside it shows nothing their detail could change).
-            if (!frustum || cluster_in_frustum(inst, mesh, at)) {
-                request_children(inst, mesh, creator, self_px / view.error_px);
-            }
-            fine = true;
-        }
-        in_cut = fine;
-    }
-    if (!in_cut) {
+    if (!in_cut(inst, mesh, at, info, partial, w)) {
         return;
     }
     mark_used(mesh, ci);
@@ -575,13 +632,14 @@ void process_node(uint64_t item, bool local) {
             continue;
         }
         uint first = mesh.cluster_offset + group.first_cluster;
-        if (local) {
-            // A small instance's walk (one thread, few clusters): tested here.
+        // A small instance's walk (instance_cull) tests its members itself, or in a view of
+        // shared runs hands them to the workgroup; in cluster_cull, and when this thread's runs
+        // are full, they go in ranges on the queue, for other lanes.
+        if (local && !shared_runs()) {
             for (uint k = 0u; k < group.cluster_count; k++) {
                 test_cluster(instance, inst, mesh, first + k, partial, w);
             }
-        } else {
-            // In ranges on the queue, for other lanes.
+        } else if (!local || !push_run(instance, first, group.cluster_count | RUN_TEST)) {
             for (uint k = 0u; k < group.cluster_count; k += CULL_RANGE_CLUSTERS) {
                 uint n = min(group.cluster_count - k, CULL_RANGE_CLUSTERS);
                 uint low = CULL_RANGE_FLAG | ((n - 1u) << CULL_RANGE_INDEX_BITS) | (first + k);
@@ -624,5 +682,76 @@ void walk_or_push_item(uint64_t item, InstanceVgeo inst, MeshGpu mesh) {
         process_node(instance | uint64_t(walk_stack[walk_sp]), true);
     }
 }
+
+#ifdef CULL_SHARED_RUNS
+// The end of a round of instance_cull's items in a view of shared runs (every thread of the
+// workgroup calls it: it has barriers): the clusters of all the threads' runs are tested and
+// drawn, each thread taking every INSTANCE_CULL_WORKGROUP_SIZE-th of them. A cluster's run is
+// found by a binary search over the threads' first clusters, then along its thread's runs. The
+// runs are then cleared.
+void run_round() {
+    uint lid = gl_LocalInvocationID.x;
+    uint own = 0u;
+    for (uint j = 0u; j < s_thread_runs[lid]; j++) {
+        own += s_run_count[lid * SHARED_RUNS_PER_THREAD + j] & ~RUN_TEST;
+    }
+    s_thread_start[lid] = own;
+    barrier();
+    if (lid == 0u) {
+        uint sum = 0u;
+        for (uint i = 0u; i < INSTANCE_CULL_WORKGROUP_SIZE; i++) {
+            uint n = s_thread_start[i];
+            s_thread_start[i] = sum;
+            sum += n;
+        }
+        s_round_items = sum;
+    }
+    barrier();
+    uint items = s_round_items;
+    // The run's instance and mesh, loaded when the run changes.
+    uint run = 0xffffffffu;
+    uint instance = 0u;
+    InstanceVgeo inst;
+    MeshGpu mesh;
+    for (uint t = lid; t < items; t += INSTANCE_CULL_WORKGROUP_SIZE) {
+        // The last thread whose clusters start at or before t (one with none shares its start
+        // with the next, so this one has t among its clusters), then its run holding t.
+        uint lo = 0u;
+        uint hi = INSTANCE_CULL_WORKGROUP_SIZE - 1u;
+        while (lo < hi) {
+            uint mid = (lo + hi + 1u) / 2u;
+            if (s_thread_start[mid] <= t) {
+                lo = mid;
+            } else {
+                hi = mid - 1u;
+            }
+        }
+        uint k = t - s_thread_start[lo];
+        uint e = lo * SHARED_RUNS_PER_THREAD;
+        while (k >= (s_run_count[e] & ~RUN_TEST)) {
+            k -= s_run_count[e] & ~RUN_TEST;
+            e++;
+        }
+        if (e != run) {
+            run = e;
+            instance = s_run_instance[e];
+            inst = instances[instance];
+            mesh = meshes[inst.mesh];
+        }
+        bool walked = (s_run_count[e] & RUN_TEST) != 0u;
+        uint ci = walked ? s_run_first[e] + k : mesh.cluster_offset + tiny_cuts[s_run_first[e] + k];
+        uint at = cluster_word(mesh, ci);
+        uint info = cluster_info(at);
+        if (walked && !in_cut(inst, mesh, at, info, mesh_partial(mesh), instance_weight(inst, mesh, view))) {
+            continue;
+        }
+        mark_used(mesh, ci);
+        draw_if_visible(instance, inst, mesh, ci, at, info);
+    }
+    // Every thread's runs read before any is cleared and rewritten.
+    barrier();
+    s_thread_runs[lid] = 0u;
+}
+#endif
 
 #endif

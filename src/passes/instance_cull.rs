@@ -1,22 +1,44 @@
 //! Pass `instance_cull`: a thread per instance tests the mesh's bounding sphere against the frustum
 //! and pushes the mesh's BVH root for each visible instance into `cluster_cull`'s work queue.
+//! In views of [`WALK_WIDE_INSTANCES`] to [`SHARED_RUNS_MAX_INSTANCES`] instances its `shared`
+//! variant runs instead: the workgroup shares the cluster tests of its threads' small-instance
+//! cuts and local walks (`common/cull.glsl`, shared runs).
 
 use crate::gpu::{Buffer, Cmd, ComputePipeline, Context, GpuResult, Timer};
 use crate::passes::FrameBuffers;
 use crate::passes::cull::{self, Phase};
 use crate::scene_gpu::GpuScene;
-use crate::shared::INSTANCE_CULL_WORKGROUP_SIZE;
+use crate::shared::{INSTANCE_CULL_WORKGROUP_SIZE, SHARED_RUNS_MAX_INSTANCES, WALK_WIDE_INSTANCES};
 
-/// The `instance_cull` pipeline.
+/// The `instance_cull` pipelines: the plain one and the `shared` variant.
 pub struct InstanceCull {
     pipeline: ComputePipeline,
+    shared: ComputePipeline,
+    /// The variant forced by tests (`VgeoRenderer::set_shared_runs`); `None`: by the view.
+    pub force_shared: Option<bool>,
+}
+
+/// Whether a view of `instances` instances takes the `shared` variant: one of at least
+/// [`WALK_WIDE_INSTANCES`] (where small instances take their cut from a table and walks reach
+/// [`crate::shared::WALK_CLUSTERS_WIDE`] clusters) and fewer than [`SHARED_RUNS_MAX_INSTANCES`].
+pub fn shares_runs(instances: u32) -> bool {
+    (WALK_WIDE_INSTANCES..SHARED_RUNS_MAX_INSTANCES).contains(&instances)
 }
 
 impl InstanceCull {
-    /// Creates the pipeline.
+    /// Creates the pipelines.
     pub fn new(ctx: &Context) -> GpuResult<Self> {
         let pipeline = cull::pipeline(ctx, "instance_cull", crate::shaders::INSTANCE_CULL_COMP)?;
-        Ok(Self { pipeline })
+        let shared = cull::pipeline(
+            ctx,
+            "instance_cull",
+            crate::shaders::INSTANCE_CULL_COMP_SHARED,
+        )?;
+        Ok(Self {
+            pipeline,
+            shared,
+            force_shared: None,
+        })
     }
 
     /// Records the pass: one thread per instance in a 2D grid of workgroups.
@@ -30,7 +52,15 @@ impl InstanceCull {
         phase: Phase,
     ) {
         timer.begin(cmd, phase.name("instance_cull", "instance_cull (post)"));
-        cull::bind(cmd, &self.pipeline, scene, fb, hzb, phase);
+        let pipeline = if self
+            .force_shared
+            .unwrap_or_else(|| shares_runs(scene.instance_count))
+        {
+            &self.shared
+        } else {
+            &self.pipeline
+        };
+        cull::bind(cmd, pipeline, scene, fb, hzb, phase);
         let groups = scene.instance_count.div_ceil(INSTANCE_CULL_WORKGROUP_SIZE);
         if groups > 0 {
             let x = groups.min(65535);
