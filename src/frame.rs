@@ -289,6 +289,12 @@ impl VgeoRenderer {
         self.instance_cull.force_shared = force;
     }
 
+    /// Caps `instance_cull`'s workgroups (`None`: one thread per instance). For tests: its
+    /// grid-stride loop then gives each workgroup several rounds of items.
+    pub fn set_instance_cull_workgroups(&mut self, max: Option<u32>) {
+        self.instance_cull.max_workgroups = max;
+    }
+
     /// The scene's material table (global ids: each mesh's ids offset by the mesh slots before it),
     /// as of construction or the last frame (mesh changes rebuild it before the next frame).
     pub fn scene_materials(&self) -> &SceneMaterials {

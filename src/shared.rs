@@ -105,6 +105,8 @@ pub const SHARED_RUNS_MAX_INSTANCES: u32 = 65536;
 /// Runs (a small-instance cut, or a group a local walk reaches) each `instance_cull` thread can
 /// hand to its workgroup per item; a walk's groups past them go to `cluster_cull`'s queue.
 pub const SHARED_RUNS_PER_THREAD: u32 = 8;
+// A thread's small-instance cut is its item's first run: it always fits.
+const _: () = assert!(SHARED_RUNS_PER_THREAD >= 1);
 /// Most clusters of a small instance's cut that `instance_cull` draws from its mesh's table of
 /// cuts ([`crate::builder::cut::TinyCuts`]) in O(1), without a BVH walk.
 pub const TINY_CUT_CLUSTERS: u32 = 64;

@@ -383,6 +383,111 @@ fn shared_runs_draw_the_plain_variants_cut() {
     assert_no_validation_errors(&ctx);
 }
 
+/// Whole frames with both `instance_cull` variants: a cold frame, then two as the camera moves
+/// (frustum and two-phase occlusion culling on) over 67 x 67 spots and clumps, with one thread
+/// per instance and with 7 workgroups (each then takes several rounds of items, with runs in
+/// consecutive rounds). Each frame's image, depth, triangles, and per phase the drawn clusters
+/// (none twice), table cuts, local walks and deferred items are the plain variant's.
+#[test]
+fn shared_runs_render_the_plain_variants_frames() {
+    use vgeo::ViewMode;
+    use vgeo::frame::VgeoFrame;
+    use vgeo::passes::instance_cull::shares_runs;
+    use vgeo::render::Light;
+    use vgeo::shared::INSTANCE_CULL_WORKGROUP_SIZE;
+    let ctx = gpu();
+    let meshes = spot_and_grass();
+    let placements = spot_and_grass_field(67);
+    assert!(shares_runs(placements.len() as u32));
+    let cameras = [
+        field_camera(DVec3::new(0.0, 1.0, 2.0), DVec3::new(0.0, 0.0, -10.0)),
+        field_camera(DVec3::new(0.3, 0.8, 0.5), DVec3::new(-0.5, 0.0, -10.0)),
+        field_camera(DVec3::new(0.6, 0.6, -1.0), DVec3::new(-1.0, 0.0, -10.0)),
+    ];
+    let settings = FrameSettings {
+        error_px: 1.0,
+        ..Default::default()
+    };
+    for cap in [None, Some(7u32)] {
+        let threads = (placements.len() as u32)
+            .div_ceil(INSTANCE_CULL_WORKGROUP_SIZE)
+            .min(cap.unwrap_or(u32::MAX))
+            * INSTANCE_CULL_WORKGROUP_SIZE;
+        let mut frames: Vec<Vec<VgeoFrame>> = Vec::new();
+        for force in [true, false] {
+            let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+            r.set_shared_runs(Some(force));
+            r.set_instance_cull_workgroups(cap);
+            frames.push(
+                cameras
+                    .iter()
+                    .map(|c| {
+                        let f = r
+                            .render(c, 320, 240, &settings, ViewMode::Lambert, &Light::default())
+                            .expect("frame renders");
+                        f.check().expect("no overflow, no watchdog");
+                        f
+                    })
+                    .collect(),
+            );
+        }
+        let mut rounds = false;
+        for (i, (s, p)) in frames[0].iter().zip(&frames[1]).enumerate() {
+            let (m, q) = (&s.main.counters, &s.post.counters);
+            let post_items = m.post_instance_count + m.post_node_count + m.post_cluster_count;
+            eprintln!(
+                "{threads} threads, frame {i}: {} triangles; main {} table cuts, {} walks; post {} items",
+                s.frame.triangles, m.tiny_cuts, m.local_walks, post_items
+            );
+            rounds |= post_items > threads && q.visible_count > 0;
+            assert!(
+                s.frame.color == p.frame.color,
+                "frame {i}: the image differs"
+            );
+            assert!(
+                s.frame.depth == p.frame.depth,
+                "frame {i}: the depth differs"
+            );
+            assert_eq!(s.frame.triangles, p.frame.triangles, "frame {i}: triangles");
+            for (phase, a, b) in [("main", &s.main, &p.main), ("post", &s.post, &p.post)] {
+                let set = |c: &vgeo::frame::CullResult| -> BTreeSet<(u32, u32)> {
+                    c.visible.iter().map(|v| (v[0], v[1])).collect()
+                };
+                assert_eq!(
+                    set(a).len(),
+                    a.visible.len(),
+                    "frame {i}, {phase}: a cluster drawn twice"
+                );
+                assert!(
+                    set(a) == set(b),
+                    "frame {i}, {phase} phase: the drawn clusters differ"
+                );
+                let (x, y) = (&a.counters, &b.counters);
+                assert_eq!(
+                    (
+                        x.tiny_cuts,
+                        x.local_walks,
+                        x.post_instance_count,
+                        x.post_cluster_count
+                    ),
+                    (
+                        y.tiny_cuts,
+                        y.local_walks,
+                        y.post_instance_count,
+                        y.post_cluster_count
+                    ),
+                    "frame {i}, {phase} phase: counters"
+                );
+            }
+        }
+        assert!(
+            rounds,
+            "no frame's post phase took several rounds of a workgroup"
+        );
+    }
+    assert_no_validation_errors(&ctx);
+}
+
 /// A mesh of at most `WALK_CLUSTERS` clusters (a grass clump) takes its cut from its table at any
 /// size in a view of many instances: clumps from far to around the camera (over
 /// `TINY_CUT_RADIUS_PX`, some reaching the near plane) all take it, none walks its BVH, and the

@@ -708,11 +708,13 @@ void run_round() {
     }
     barrier();
     uint items = s_round_items;
-    // The run's instance and mesh, loaded when the run changes.
+    // The run's instance, mesh, residency and weight, loaded when the run changes.
     uint run = 0xffffffffu;
     uint instance = 0u;
     InstanceVgeo inst;
     MeshGpu mesh;
+    bool partial = false;
+    float w = 1.0;
     for (uint t = lid; t < items; t += INSTANCE_CULL_WORKGROUP_SIZE) {
         // The last thread whose clusters start at or before t (one with none shares its start
         // with the next, so this one has t among its clusters), then its run holding t.
@@ -737,12 +739,14 @@ void run_round() {
             instance = s_run_instance[e];
             inst = instances[instance];
             mesh = meshes[inst.mesh];
+            partial = mesh_partial(mesh);
+            w = instance_weight(inst, mesh, view);
         }
         bool walked = (s_run_count[e] & RUN_TEST) != 0u;
         uint ci = walked ? s_run_first[e] + k : mesh.cluster_offset + tiny_cuts[s_run_first[e] + k];
         uint at = cluster_word(mesh, ci);
         uint info = cluster_info(at);
-        if (walked && !in_cut(inst, mesh, at, info, mesh_partial(mesh), instance_weight(inst, mesh, view))) {
+        if (walked && !in_cut(inst, mesh, at, info, partial, w)) {
             continue;
         }
         mark_used(mesh, ci);

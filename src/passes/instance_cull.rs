@@ -16,6 +16,8 @@ pub struct InstanceCull {
     shared: ComputePipeline,
     /// The variant forced by tests (`VgeoRenderer::set_shared_runs`); `None`: by the view.
     pub force_shared: Option<bool>,
+    /// At most this many workgroups (tests: each then takes several rounds of items).
+    pub max_workgroups: Option<u32>,
 }
 
 /// Whether a view of `instances` instances takes the `shared` variant: one of at least
@@ -38,6 +40,7 @@ impl InstanceCull {
             pipeline,
             shared,
             force_shared: None,
+            max_workgroups: None,
         })
     }
 
@@ -61,7 +64,10 @@ impl InstanceCull {
             &self.pipeline
         };
         cull::bind(cmd, pipeline, scene, fb, hzb, phase);
-        let groups = scene.instance_count.div_ceil(INSTANCE_CULL_WORKGROUP_SIZE);
+        let groups = scene
+            .instance_count
+            .div_ceil(INSTANCE_CULL_WORKGROUP_SIZE)
+            .min(self.max_workgroups.unwrap_or(u32::MAX));
         if groups > 0 {
             let x = groups.min(65535);
             cmd.dispatch(x, groups.div_ceil(x), 1);
