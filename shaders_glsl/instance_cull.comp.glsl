@@ -98,8 +98,8 @@ void cull_item(uint j, uint n_inst, uint n_nodes) {
     walk_or_push_item(item, inst, meshes[inst.mesh]);
 }
 
-// Rounds of a workgroup-uniform loop (a grid-stride loop whose trip count is the workgroup's):
-// in each, every thread takes one item (cull_item); in the shared variant the workgroup then
+// The shared variant takes rounds of a workgroup-uniform loop (a grid-stride loop whose trip
+// count is the workgroup's): in each, every thread takes one item (cull_item), then the workgroup
 // tests and draws the clusters of the runs they left (run_round).
 void main() {
     uint lid = gl_LocalInvocationID.x;
@@ -125,12 +125,17 @@ void main() {
         n_clusters = min(main_counters.post_cluster_count, view.visible_capacity);
     }
     uint total = n_inst + n_nodes + n_clusters;
+#ifdef CULL_SHARED_RUNS
     for (; base < total; base += threads) {
         if (base + lid < total) {
             cull_item(base + lid, n_inst, n_nodes);
         }
-#ifdef CULL_SHARED_RUNS
         run_round();
-#endif
     }
+#else
+    // The plain variant: a grid-stride loop, a thread leaving when its items are done.
+    for (uint j = base + lid; j < total; j += threads) {
+        cull_item(j, n_inst, n_nodes);
+    }
+#endif
 }
