@@ -98,9 +98,10 @@ void cull_item(uint j, uint n_inst, uint n_nodes) {
     walk_or_push_item(item, inst, meshes[inst.mesh]);
 }
 
-// The shared variant takes rounds of a workgroup-uniform loop (a grid-stride loop whose trip
-// count is the workgroup's): in each, every thread takes one item (cull_item), then the workgroup
-// tests and draws the clusters of the runs they left (run_round).
+// The shared variant takes the items that may leave runs in rounds of a workgroup-uniform loop
+// (a grid-stride loop whose trip count is the workgroup's): in each, every thread takes one item
+// (cull_item), then the workgroup tests and draws the clusters of the runs they left
+// (run_round).
 void main() {
     uint lid = gl_LocalInvocationID.x;
     uint threads = gl_NumWorkGroups.x * gl_NumWorkGroups.y * INSTANCE_CULL_WORKGROUP_SIZE;
@@ -126,11 +127,18 @@ void main() {
     }
     uint total = n_inst + n_nodes + n_clusters;
 #ifdef CULL_SHARED_RUNS
-    for (; base < total; base += threads) {
-        if (base + lid < total) {
-            cull_item(base + lid, n_inst, n_nodes);
+    // Instances and BVH-node items may leave runs: rounds. The post phase's deferred clusters
+    // leave none: a plain grid-stride loop after them (rounds over them paid the barriers for
+    // nothing).
+    uint with_runs = n_inst + n_nodes;
+    for (uint b = base; b < with_runs; b += threads) {
+        if (b + lid < with_runs) {
+            cull_item(b + lid, n_inst, n_nodes);
         }
         run_round();
+    }
+    for (uint j = with_runs + base + lid; j < total; j += threads) {
+        cull_item(j, n_inst, n_nodes);
     }
 #else
     // The plain variant: a grid-stride loop, a thread leaving when its items are done.

@@ -35,11 +35,12 @@ pub struct BuildArgs {
     /// 2.3x); a cut lands further below the threshold, so mid-sized instances draw a few percent
     /// more triangles. A ratio other than 0.5 keeps 0.5's root chain (the coarse levels small
     /// instances draw; its source is found by making the levels at 0.5 too, from the same level
-    /// 0, so the build takes about 1.5x as long as at 0.5). At 0.35 against 0.5 on the H100:
-    /// image error at 1 px within 0.05 dB (the smallest instances the same), frame times -2.3 %
-    /// to +2.0 % on the scans' scenes, up to +2.9 % on indoor and foliage, 13-23 % fewer bytes
-    /// (docs/architecture.md, "The DAG's step", "The root chain at any ratio" and "The stated
-    /// precision apart from the build grid, and 0.35 as the default").
+    /// 0, so the build takes about 1.5x as long as at 0.5). At 0.35 against 0.5 on the H100
+    /// (the bench's 16-frame paths): image error at 1 px within 0.05 dB (the smallest instances
+    /// the same), frame times -2.4 % to +1.3 % (stress N=20 +1.2 %, outdoor +1.3 %, foliage
+    /// -2.4 %), 13-23 % fewer bytes (docs/architecture.md, "The DAG's step", "The root chain at
+    /// any ratio" and "The stated precision apart from the build grid, and 0.35 as the
+    /// default").
     #[arg(long = "ratio", default_value_t = BuildOptions::default().simplify_ratio)]
     pub ratio: f32,
     /// Percentage of input triangles kept at level 0 (UE Nanite's "Keep Triangle Percent").

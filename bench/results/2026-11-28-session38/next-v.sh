@@ -1,6 +1,6 @@
 #!/bin/bash
 # Prepared in session 38 for the next session's first device call (not run here): the committed
-# shared runs (V = main at 3d789bc or later: the `shared` variant between 4,096 and 65,535 instances,
+# shared runs (V = main at the session's last commit: the `shared` variant between 4,096 and 65,535 instances,
 # main's code elsewhere) against H = 5ddee74 and A = f0ec5ef; every bench scene at the full
 # suite's path of 16 frames, stress N=20 at 4 frames as well; runs A H V V H A; then V's
 # error at 1 px against the 4x4-spp reference.
