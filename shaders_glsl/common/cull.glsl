@@ -485,25 +485,33 @@ uint walk_sp;
 // The cut rule of a cluster (pool word `at`, info word `info`) of a visible instance whose
 // parent pair is already over the threshold (its group's test): whether it is drawn. `w` is the
 // instance's weight (lod.glsl's instance_weight). Under partial residency a cluster drawn for
-// want of its children asks for them.
+// want of its children asks for them. Written as one if/else with the view's flags read first
+// (test_cluster's body before it was split out): a form with an early return for the fallback
+// cut made cluster_cull's H100 binary larger and stress N=200 0.6-0.8 % slower
+// (bench/results/2026-11-28-session39, calls 2-3).
 bool in_cut(InstanceVgeo inst, MeshGpu mesh, uint at, uint info, bool partial, float w) {
-    CULL_STAT(clusters_tested, 1u)
-    if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u) {
-        return info_level(info) <= mesh.fallback_level;
-    }
     float scale = inst.max_scale;
-    uint creator = cluster_creator(at);
-    float self_px = self_error_px(inst, mesh, creator, scale, w);
-    bool fine = self_px <= view.error_px;
-    if (partial && !fine && !children_resident(mesh, creator)) {
-        // Drawn for want of its children; only a cluster in the frustum asks for them (one
-        // outside it shows nothing their detail could change).
-        if ((view.flags & VIEW_FLAG_NO_FRUSTUM) != 0u || cluster_in_frustum(inst, mesh, at)) {
-            request_children(inst, mesh, creator, self_px / view.error_px);
+    bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;
+    bool fallback = (view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u;
+    CULL_STAT(clusters_tested, 1u)
+    bool drawn;
+    if (fallback) {
+        drawn = info_level(info) <= mesh.fallback_level;
+    } else {
+        uint creator = cluster_creator(at);
+        float self_px = self_error_px(inst, mesh, creator, scale, w);
+        bool fine = self_px <= view.error_px;
+        if (partial && !fine && !children_resident(mesh, creator)) {
+            // Drawn for want of its children; only a cluster in the frustum asks for them (one
+            // outside it shows nothing their detail could change).
+            if (!frustum || cluster_in_frustum(inst, mesh, at)) {
+                request_children(inst, mesh, creator, self_px / view.error_px);
+            }
+            fine = true;
         }
-        fine = true;
+        drawn = fine;
     }
-    return fine;
+    return drawn;
 }
 
 // The cut rule, frustum and occlusion for cluster `ci` (global index) of a visible instance, and
