@@ -1047,3 +1047,107 @@ fn resident_bytes_follow_the_budget_not_the_scene_size() {
     assert!(opts.out.join("sizes.md").exists() && opts.out.join("sizes.json").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `instance_cull`'s `shared` variant (views of `WALK_WIDE_INSTANCES` to
+/// `SHARED_RUNS_MAX_INSTANCES` instances) under partial residency: 64 x 64 instances of one
+/// streamed bunny, the near ones asking for pages, streamed along a camera path by two renderers
+/// in lockstep, one forced to each variant. Every frame draws the same clusters and image, and
+/// every streaming step asks for, loads and evicts the same pages.
+#[test]
+fn the_shared_runs_variant_streams_as_the_plain_one() {
+    use vgeo::passes::instance_cull::shares_runs;
+    let ctx = gpu();
+    let mut one = bunny();
+    // Only the root's page always resident: small instances, walked by instance_cull, want
+    // pages too, and draw coarser clusters for want of them.
+    paginate(&mut one, 12288, u32::MAX);
+    let side = 64;
+    let total: u64 = one.pages.iter().map(|p| p.bytes as u64).sum();
+    let opts = StreamOptions {
+        budget_bytes: total / 4,
+        upload_bytes_per_frame: 64 << 10,
+    };
+    let transforms: Vec<DMat4> = (0..side * side)
+        .map(|i| {
+            let (x, z) = ((i % side) as f64, (i / side) as f64);
+            DMat4::from_rotation_translation(
+                glam::DQuat::from_rotation_y(0.61 * i as f64),
+                DVec3::new((x - side as f64 / 2.0) * 0.25, 0.0, -z * 0.25),
+            )
+        })
+        .collect();
+    assert!(shares_runs(transforms.len() as u32));
+    let mut pair = Vec::new();
+    for force in [true, false] {
+        let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
+        let source = Box::new(one.clone()) as Box<dyn PageSource>;
+        let (s, handles) =
+            Streamer::new(&mut r.scene, vec![(one.clone(), source)], opts).expect("streamer");
+        for t in &transforms {
+            r.scene
+                .add_instance(&InstanceDesc {
+                    mesh: handles[0],
+                    transform: *t,
+                    color: [1.0; 3],
+                })
+                .expect("instance");
+        }
+        r.set_shared_runs(Some(force));
+        pair.push((r, s));
+    }
+    let settings = FrameSettings {
+        error_px: 1.0,
+        ..Default::default()
+    };
+    let (mut requests, mut evictions, mut walks_or_cuts) = (0, 0, 0);
+    for k in 0..24 {
+        // Low over the field's near edge, moving along it: the near bunnies want their detail.
+        let x = -1.0 + 2.0 * (k.min(16) as f64 / 16.0);
+        let eye = DVec3::new(x, 0.1, 0.15);
+        let camera = Camera::look_at(
+            eye,
+            eye + DVec3::new(0.2, -0.05, -1.0),
+            Vec3::Y,
+            60f32.to_radians(),
+            0.01,
+        );
+        let mut seen = Vec::new();
+        for (r, s) in pair.iter_mut() {
+            let f = render_with(r, &camera, &settings);
+            let cut: BTreeSet<(u32, u32)> = f.visible().iter().map(|v| (v[0], v[1])).collect();
+            assert_eq!(
+                cut.len(),
+                f.visible().len(),
+                "frame {k}: a cluster drawn twice"
+            );
+            let st = s.update(&mut r.scene).expect("streaming step");
+            assert!(st.resident_bytes <= opts.budget_bytes, "frame {k}: {st:?}");
+            let c = &f.main.counters;
+            seen.push((
+                cut,
+                f.frame.color,
+                st,
+                s.residency(),
+                c.tiny_cuts + c.local_walks,
+            ));
+        }
+        let (a, b) = (&seen[0], &seen[1]);
+        assert!(
+            a.0 == b.0,
+            "frame {k}: the variants draw different clusters"
+        );
+        assert!(a.1 == b.1, "frame {k}: the variants' images differ");
+        assert_eq!(a.2, b.2, "frame {k}: the streaming steps differ");
+        assert!(a.3 == b.3, "frame {k}: the residency differs");
+        assert_eq!(a.4, b.4, "frame {k}: table cuts and local walks");
+        requests += a.2.requests;
+        evictions += a.2.evictions;
+        walks_or_cuts += a.4;
+    }
+    eprintln!("{requests} requests, {evictions} evictions, {walks_or_cuts} table cuts and walks");
+    assert!(
+        requests > 0 && walks_or_cuts > 0,
+        "the path streams and has small instances"
+    );
+    assert_no_validation_errors(&ctx);
+}
