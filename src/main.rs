@@ -150,8 +150,9 @@ struct RenderArgs {
     /// pages the view needs stay resident, loaded on the GPU's requests between frames and
     /// evicted least-recently-used (use `--frames` to let the detail stream in; `--stats` prints
     /// each frame's residency, requests, uploads and evictions). `auto` (also the flag alone):
-    /// a quarter of the device's largest device-local memory heap, printed at the start.
-    /// Without the flag: everything resident.
+    /// a quarter of the device's largest device-local memory heap, at most what one storage
+    /// buffer binds (the page pool is one), printed at the start. Without the flag: everything
+    /// resident.
     #[arg(long, value_name = "MIB|auto", num_args = 0..=1, default_missing_value = "auto")]
     geometry_budget: Option<String>,
     /// With `--geometry-budget`: most page bytes read and uploaded between two frames (MiB).
@@ -422,9 +423,12 @@ fn render(a: &RenderArgs) -> Result<()> {
         let load_s = t0.elapsed().as_secs_f64();
         let ctx = context()?;
         let light = streamed.light;
-        let device_local = ctx.caps().device_local_bytes;
-        eprintln!("{}", budget.describe(device_local));
-        let budget_bytes = budget.bytes(device_local);
+        let (heap, range) = (
+            ctx.caps().device_local_bytes,
+            ctx.caps().max_storage_buffer_range as u64,
+        );
+        eprintln!("{}", budget.describe(heap, range));
+        let budget_bytes = budget.bytes(heap, range);
         let (r, streamer) = streamed_renderer(&ctx, streamed, budget_bytes, a)?;
         return render_vgeo(
             a,

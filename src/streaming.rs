@@ -94,22 +94,37 @@ impl GeometryBudget {
     }
 
     /// The budget in bytes on a device whose largest device-local heap holds
-    /// `device_local_bytes` (see [`crate::gpu::Caps::device_local_bytes`]).
-    pub fn bytes(self, device_local_bytes: u64) -> u64 {
+    /// `device_local_bytes` (see [`crate::gpu::Caps::device_local_bytes`]) and which binds at
+    /// most `max_pool_bytes` in the geometry pool's one storage buffer
+    /// ([`crate::gpu::Caps::max_storage_buffer_range`]): `auto` takes no more than that, so that
+    /// the default streams any scene (a quarter of a large GPU's memory is more than a buffer
+    /// binds); a given budget is taken as given.
+    pub fn bytes(self, device_local_bytes: u64, max_pool_bytes: u64) -> u64 {
         match self {
-            GeometryBudget::Auto => device_local_bytes / Self::AUTO_DIVISOR,
+            GeometryBudget::Auto => (device_local_bytes / Self::AUTO_DIVISOR).min(max_pool_bytes),
             GeometryBudget::Bytes(b) => b,
         }
     }
 
     /// One line for the start of a run: the budget, and for `auto` where it comes from.
-    pub fn describe(self, device_local_bytes: u64) -> String {
+    pub fn describe(self, device_local_bytes: u64, max_pool_bytes: u64) -> String {
         match self {
-            GeometryBudget::Auto => format!(
-                "geometry budget: {} (auto: a quarter of the {} device-local heap)",
-                mib(self.bytes(device_local_bytes)),
-                mib(device_local_bytes)
-            ),
+            GeometryBudget::Auto => {
+                let quarter = device_local_bytes / Self::AUTO_DIVISOR;
+                let cap = if quarter > max_pool_bytes {
+                    format!(
+                        ", capped at the {} one storage buffer binds (maxStorageBufferRange)",
+                        mib(max_pool_bytes)
+                    )
+                } else {
+                    String::new()
+                };
+                format!(
+                    "geometry budget: {} (auto: a quarter of the {} device-local heap{cap})",
+                    mib(self.bytes(device_local_bytes, max_pool_bytes)),
+                    mib(device_local_bytes)
+                )
+            }
             GeometryBudget::Bytes(b) => format!("geometry budget: {}", mib(b)),
         }
     }

@@ -372,12 +372,24 @@ fn geometry_budget_parses_mib_and_auto() {
         let err = GeometryBudget::parse(bad).expect_err(bad);
         assert!(err.contains("auto"), "{bad}: {err}");
     }
-    assert_eq!(GeometryBudget::Auto.bytes(8 << 30), 2 << 30);
-    assert_eq!(GeometryBudget::Bytes(5).bytes(8 << 30), 5);
+    assert_eq!(GeometryBudget::Auto.bytes(8 << 30, 4 << 30), 2 << 30);
+    assert_eq!(GeometryBudget::Bytes(5).bytes(8 << 30, 4 << 30), 5);
     assert!(
         GeometryBudget::Auto
-            .describe(8 << 30)
+            .describe(8 << 30, 4 << 30)
             .contains("2048.00 MiB (auto: a quarter of the 8192.00 MiB device-local heap)")
+    );
+    // A quarter of a large heap is more than one storage buffer binds (the pool is one): `auto`
+    // takes the binding limit; a budget given is taken as given.
+    assert_eq!(GeometryBudget::Auto.bytes(80 << 30, 4 << 30), 4 << 30);
+    assert_eq!(
+        GeometryBudget::Bytes(8 << 30).bytes(80 << 30, 4 << 30),
+        8 << 30
+    );
+    assert!(
+        GeometryBudget::Auto
+            .describe(24 << 30, 128 << 20)
+            .contains("128.00 MiB (auto: a quarter of the 24576.00 MiB device-local heap, capped at the 128.00 MiB one storage buffer binds")
     );
     // The device reports its heap (lavapipe: system memory).
     let ctx = common::gpu();

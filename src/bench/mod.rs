@@ -275,7 +275,7 @@ pub struct BenchArgs {
     pub psnr_margin: Option<f64>,
     /// vgeo: stream the meshes' geometry pages under this GPU budget (MiB), as `vgeo render
     /// --geometry-budget` does; `auto` (also the flag alone): a quarter of the device's largest
-    /// device-local heap, printed at the start. Each camera of a path is rendered, streaming
+    /// device-local heap, at most what one storage buffer binds, printed at the start. Each camera of a path is rendered, streaming
     /// between frames, until nothing more is uploaded (at most 64 frames) before its frame is
     /// timed (then alone, after the warm-up); bench.json and bench.md report per scene and
     /// threshold the resident page bytes, their peak, requests, uploads, evictions and the
@@ -546,7 +546,14 @@ pub fn run_bench(args: &BenchArgs) -> Result<()> {
         return Ok(());
     }
     if let Some(b) = settings.geometry_budget {
-        println!("{}", b.describe(ctx.caps().device_local_bytes));
+        let caps = ctx.caps();
+        println!(
+            "{}",
+            b.describe(
+                caps.device_local_bytes,
+                caps.max_storage_buffer_range as u64
+            )
+        );
     }
     let report = run(&ctx, &settings, &scenes_dir, !args.quiet)?;
     write_outputs(&report, &args.out)?;
