@@ -33,3 +33,22 @@ compare_images() {
     echo "  $n: $(python3 $tool /tmp/img-$n-H.png /tmp/img-$n-N.png 2>&1)" >> $out
   done
 }
+
+# setup_xz OUTFILE FILE...: as setup, for binaries carried as .gpu/<FILE>.xz (unpacked to
+# /tmp/<FILE>; the device host has no xz, Python's lzma unpacks them).
+setup_xz() {
+  local out=$1; shift
+  for f in .gpu/*.deb; do dpkg -x $f / >/dev/null; done; ldconfig
+  if [ -d .gpu/assets ]; then mkdir -p ../shared && ln -sfn $PWD/.gpu/assets ../shared/assets; fi
+  for b in "$@"; do
+    python3 -c "import lzma, sys; open(sys.argv[2], 'wb').write(lzma.open(sys.argv[1]).read())" .gpu/$b.xz /tmp/$b
+    chmod +x /tmp/$b
+  done
+  nvidia-smi --query-gpu=name,driver_version --format=csv > $out 2>&1
+}
+
+# pack: everything in $OUT but images into $OUT/h.tgz (call it after each step: what a timeout
+# leaves still comes back).
+pack() {
+  (cd $OUT && tar czf /tmp/h.tgz --exclude='*.png' --exclude='*.svg' --exclude=images --exclude=h.tgz . && cp /tmp/h.tgz $OUT/h.tgz)
+}
