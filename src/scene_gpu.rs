@@ -399,7 +399,8 @@ impl GpuScene {
             return Err(SceneError::Limit(format!(
                 "the geometry pool needs {:.1} MiB, more than this device binds in one buffer \
                  ({:.1} MiB, maxStorageBufferRange): stream the meshes under a geometry budget \
-                 of at most {:.0} MiB (`--geometry-budget`; the always-resident pages count in it)",
+                 of at most {:.0} MiB (`--geometry-budget`, the always-resident pages included; \
+                 `--geometry-budget auto` takes no more)",
                 bytes as f64 / (1u64 << 20) as f64,
                 limit as f64 / (1u64 << 20) as f64,
                 (limit >> 20) as f64

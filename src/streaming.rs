@@ -64,7 +64,8 @@ pub struct StreamOptions {
 pub enum GeometryBudget {
     /// A share of the device's memory: its largest device-local heap over
     /// [`GeometryBudget::AUTO_DIVISOR`] (a quarter), leaving the rest to the frame's buffers,
-    /// the hierarchy (cluster records, groups, BVH: resident in full) and the application.
+    /// the hierarchy (cluster records, groups, BVH: resident in full) and the application; at
+    /// most what one storage buffer binds (the page pool is one).
     Auto,
     /// This many bytes.
     Bytes(u64),
@@ -88,7 +89,7 @@ impl GeometryBudget {
                 Ok(GeometryBudget::Bytes((mib * (1u64 << 20) as f64) as u64))
             }
             _ => Err(format!(
-                "`{s}` is no geometry budget: a positive number of MiB, or `auto` (a quarter of the device-local memory)"
+                "`{s}` is no geometry budget: a positive number of MiB, or `auto` (a quarter of the device-local memory, at most what one buffer binds)"
             )),
         }
     }

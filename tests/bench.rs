@@ -382,6 +382,9 @@ fn geometry_budget_parses_mib_and_auto() {
     // A quarter of a large heap is more than one storage buffer binds (the pool is one): `auto`
     // takes the binding limit; a budget given is taken as given.
     assert_eq!(GeometryBudget::Auto.bytes(80 << 30, 4 << 30), 4 << 30);
+    // NVIDIA's maxStorageBufferRange is u32::MAX.
+    let nv = u32::MAX as u64;
+    assert_eq!(GeometryBudget::Auto.bytes(80 << 30, nv), nv);
     assert_eq!(
         GeometryBudget::Bytes(8 << 30).bytes(80 << 30, 4 << 30),
         8 << 30

@@ -1050,13 +1050,34 @@ fn resident_bytes_follow_the_budget_not_the_scene_size() {
 
 /// `instance_cull`'s `shared` variant (views of `WALK_WIDE_INSTANCES` to
 /// `SHARED_RUNS_MAX_INSTANCES` instances) under partial residency: 64 x 64 instances of one
-/// streamed bunny, the near ones asking for pages, streamed along a camera path by two renderers
-/// in lockstep, one forced to each variant. Every frame draws the same clusters and image, and
-/// every streaming step asks for, loads and evicts the same pages.
+/// streamed bunny (only the root page fixed), the near ones asking for pages, streamed along a
+/// camera path by two renderers in lockstep, one forced to each variant. Every frame draws the
+/// same clusters, image, depth and triangles with the same counters, and every streaming step
+/// asks for, loads and evicts the same pages. A third renderer runs the shared variant with
+/// `run_round` blind to residency (its runs' `partial` forced off, through a shader folder): it
+/// must draw other clusters somewhere on the path, or the path never had a walked instance draw a
+/// cluster for want of its children there, and the comparison would prove nothing about it.
 #[test]
 fn the_shared_runs_variant_streams_as_the_plain_one() {
+    use vgeo::gpu::{Context, ContextOptions};
     use vgeo::passes::instance_cull::shares_runs;
     let ctx = gpu();
+    // The blind shared runs: cull.glsl with run_round's residency flag false.
+    let dir = std::env::temp_dir().join(format!("vgeo-blind-runs-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("common")).unwrap();
+    let cull = include_str!("../shaders_glsl/common/cull.glsl");
+    let flag = "            partial = mesh_partial(mesh);\n";
+    assert_eq!(cull.matches(flag).count(), 1, "run_round's residency flag");
+    let blind = cull.replace(flag, "            partial = false;\n");
+    std::fs::write(dir.join("common/cull.glsl"), blind).unwrap();
+    let blind_ctx = Context::new(&ContextOptions {
+        validation: true,
+        shader_dir: Some(dir.clone()),
+        ..ContextOptions::from_env()
+    })
+    .expect("a device with the blind runs");
+    let _ = std::fs::remove_dir_all(&dir);
+
     let mut one = bunny();
     // Only the root's page always resident: small instances, walked by instance_cull, want
     // pages too, and draw coarser clusters for want of them.
@@ -1077,9 +1098,9 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
         })
         .collect();
     assert!(shares_runs(transforms.len() as u32));
-    let mut pair = Vec::new();
-    for force in [true, false] {
-        let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
+    let mut renderers = Vec::new();
+    for (c, shared) in [(&ctx, true), (&ctx, false), (&blind_ctx, true)] {
+        let mut r = VgeoRenderer::new(c, &[] as &[BuiltMesh], &[]).expect("empty renderer");
         let source = Box::new(one.clone()) as Box<dyn PageSource>;
         let (s, handles) =
             Streamer::new(&mut r.scene, vec![(one.clone(), source)], opts).expect("streamer");
@@ -1092,27 +1113,24 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
                 })
                 .expect("instance");
         }
-        r.set_shared_runs(Some(force));
-        pair.push((r, s));
+        r.set_shared_runs(Some(shared));
+        renderers.push((r, s));
     }
     let settings = FrameSettings {
         error_px: 1.0,
         ..Default::default()
     };
-    let (mut requests, mut evictions, mut walks_or_cuts) = (0, 0, 0);
+    let (mut requests, mut walks, mut blind_differs) = (0, 0, None);
     for k in 0..24 {
         // Low over the field's near edge, moving along it: the near bunnies want their detail.
         let x = -1.0 + 2.0 * (k.min(16) as f64 / 16.0);
         let eye = DVec3::new(x, 0.1, 0.15);
-        let camera = Camera::look_at(
-            eye,
-            eye + DVec3::new(0.2, -0.05, -1.0),
-            Vec3::Y,
-            60f32.to_radians(),
-            0.01,
-        );
+        let at = eye + DVec3::new(0.2, -0.05, -1.0);
+        let camera = Camera::look_at(eye, at, Vec3::Y, 60f32.to_radians(), 0.01);
         let mut seen = Vec::new();
-        for (r, s) in pair.iter_mut() {
+        // The blind runs until they have drawn other clusters (their streaming then differs).
+        let n = if blind_differs.is_some() { 2 } else { 3 };
+        for (r, s) in renderers.iter_mut().take(n) {
             let f = render_with(r, &camera, &settings);
             let cut: BTreeSet<(u32, u32)> = f.visible().iter().map(|v| (v[0], v[1])).collect();
             assert_eq!(
@@ -1122,32 +1140,74 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
             );
             let st = s.update(&mut r.scene).expect("streaming step");
             assert!(st.resident_bytes <= opts.budget_bytes, "frame {k}: {st:?}");
-            let c = &f.main.counters;
-            seen.push((
-                cut,
-                f.frame.color,
-                st,
-                s.residency(),
-                c.tiny_cuts + c.local_walks,
-            ));
+            // The queue's items are not compared: the shared variant sends a walk's groups past
+            // a thread's runs there.
+            let counters = [&f.main.counters, &f.post.counters].map(|c| {
+                [
+                    c.local_walks,
+                    c.tiny_cuts,
+                    c.post_instance_count,
+                    c.post_node_count,
+                    c.post_cluster_count,
+                    c.visible_count,
+                ]
+            });
+            seen.push((cut, f.frame, st, s.residency(), counters));
         }
         let (a, b) = (&seen[0], &seen[1]);
         assert!(
             a.0 == b.0,
             "frame {k}: the variants draw different clusters"
         );
-        assert!(a.1 == b.1, "frame {k}: the variants' images differ");
+        assert!(
+            a.1.color == b.1.color,
+            "frame {k}: the variants' images differ"
+        );
+        assert!(
+            a.1.depth == b.1.depth,
+            "frame {k}: the variants' depths differ"
+        );
+        assert_eq!(a.1.triangles, b.1.triangles, "frame {k}: triangles");
         assert_eq!(a.2, b.2, "frame {k}: the streaming steps differ");
         assert!(a.3 == b.3, "frame {k}: the residency differs");
-        assert_eq!(a.4, b.4, "frame {k}: table cuts and local walks");
+        assert_eq!(a.4, b.4, "frame {k}: the counters (main, post) differ");
+        if seen.len() == 3 && seen[2].0 != a.0 {
+            blind_differs = Some(k);
+        }
         requests += a.2.requests;
-        evictions += a.2.evictions;
-        walks_or_cuts += a.4;
+        walks += a.4[0][0] + a.4[1][0];
     }
-    eprintln!("{requests} requests, {evictions} evictions, {walks_or_cuts} table cuts and walks");
-    assert!(
-        requests > 0 && walks_or_cuts > 0,
-        "the path streams and has small instances"
+    eprintln!(
+        "{requests} requests, {walks} local walks, the blind runs differ at {blind_differs:?}"
     );
+    assert!(requests > 0 && walks > 0, "the path streams and walks");
+    assert!(
+        blind_differs.is_some(),
+        "no frame's cut depends on the shared runs' residency test"
+    );
+    assert_no_validation_errors(&ctx);
+    assert_no_validation_errors(&blind_ctx);
+}
+
+/// The geometry pool (one storage buffer) grows by doubling, but never past what one buffer
+/// binds: page slots of 55 % and then 44 % of `maxStorageBufferRange` fit (doubling the first
+/// asked for 110 %, and the second was refused although both fit); past the limit, a clear error.
+#[test]
+fn the_pool_grows_up_to_the_binding_limit() {
+    let ctx = gpu();
+    let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
+    let words = ctx.caps().max_storage_buffer_range as u64 / 4;
+    let (a, b) = (words * 55 / 100, words * 44 / 100);
+    let first = r.scene.reserve_page_slots(a).expect("55 % of the binding");
+    let second = r
+        .scene
+        .reserve_page_slots(b)
+        .expect("44 % more fit in the binding");
+    assert!(second as u64 >= first as u64 + a, "{first} {second}");
+    let err = r
+        .scene
+        .reserve_page_slots(words / 50)
+        .expect_err("past the binding");
+    assert!(err.to_string().contains("maxStorageBufferRange"), "{err}");
     assert_no_validation_errors(&ctx);
 }

@@ -487,8 +487,8 @@ uint walk_sp;
 // instance's weight (lod.glsl's instance_weight). Under partial residency a cluster drawn for
 // want of its children asks for them. Written as one if/else with the view's flags read first
 // (test_cluster's body before it was split out): a form with an early return for the fallback
-// cut made cluster_cull's H100 binary larger and stress N=200 0.6-0.8 % slower
-// (bench/results/2026-11-28-session39, calls 2-3).
+// cut made cluster_cull's H100 binary larger and stress N=100 / N=200 0.4-0.8 % slower
+// (bench/results/2026-11-28-session39, calls 1-3).
 bool in_cut(InstanceVgeo inst, MeshGpu mesh, uint at, uint info, bool partial, float w) {
     float scale = inst.max_scale;
     bool frustum = (view.flags & VIEW_FLAG_NO_FRUSTUM) == 0u;

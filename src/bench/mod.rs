@@ -275,8 +275,8 @@ pub struct BenchArgs {
     pub psnr_margin: Option<f64>,
     /// vgeo: stream the meshes' geometry pages under this GPU budget (MiB), as `vgeo render
     /// --geometry-budget` does; `auto` (also the flag alone): a quarter of the device's largest
-    /// device-local heap, at most what one storage buffer binds, printed at the start. Each camera of a path is rendered, streaming
-    /// between frames, until nothing more is uploaded (at most 64 frames) before its frame is
+    /// device-local heap, at most what one storage buffer binds, printed at the start. Each
+    /// camera of a path is rendered, streaming between frames, until nothing more is uploaded (at most 64 frames) before its frame is
     /// timed (then alone, after the warm-up); bench.json and bench.md report per scene and
     /// threshold the resident page bytes, their peak, requests, uploads, evictions and the
     /// bytes the last frame used. Default: every page resident.

@@ -79,7 +79,8 @@ pub struct Caps {
     /// is one).
     pub max_storage_buffer_range: u32,
     /// Bytes of the device's largest device-local memory heap (`auto` geometry budgets are a
-    /// share of it; on a CPU device such as lavapipe, system memory).
+    /// share of it, at most `max_storage_buffer_range`; on a CPU device such as lavapipe,
+    /// system memory).
     pub device_local_bytes: u64,
     /// Whether vgeo's validation messenger collects errors.
     pub validation: bool,

@@ -177,8 +177,10 @@ impl Arena {
         len.div_ceil(self.align) * self.align
     }
 
-    /// Makes sure `total` elements fit after the last allocated one, growing `buf` if not (to at
-    /// least twice the size; from empty, to exactly `total`). Returns the replaced buffer, if any.
+    /// Makes sure `total` elements fit after the last allocated one, growing `buf` if not (to
+    /// twice the size, but no more than one storage buffer binds, `maxStorageBufferRange`, and at
+    /// least to what is needed; from empty, to exactly `total`). Returns the replaced buffer, if
+    /// any.
     pub fn reserve(
         &mut self,
         ctx: &Context,
@@ -189,7 +191,12 @@ impl Arena {
         if self.alloc.tail_free() >= total {
             return Ok(None);
         }
-        let size = self.rounded((2 * self.alloc.size()).max(self.alloc.end() + total));
+        // Doubling stops at the binding limit: a scene whose elements fit is never refused for
+        // the growth's slack (the pool holds pages up to the budget, which may be that limit).
+        let bindable =
+            ctx.caps().max_storage_buffer_range as u64 / self.elem / self.align * self.align;
+        let need = self.rounded(self.alloc.end() + total);
+        let size = need.max(self.rounded(2 * self.alloc.size()).min(bindable));
         let old = grow_buffer(ctx, buf, size * self.elem, self.alloc.size() * self.elem)?;
         self.alloc.grow(size);
         Ok(Some(old))
