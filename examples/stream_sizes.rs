@@ -452,6 +452,18 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
     if most == 0 {
         bail!("--sizes needs at least one size above 0");
     }
+    // The page pool is one storage buffer: say so before the meshes are made (minutes), not
+    // when the first scene is loaded.
+    let binds = ctx.caps().max_storage_buffer_range as u64;
+    if opts.budget_bytes > binds {
+        bail!(
+            "--budget-mib {}: this device binds at most {} MiB in one buffer (maxStorageBufferRange), \
+             and the page pool is one: give --budget-mib {} or less",
+            opts.budget_bytes >> 20,
+            binds >> 20,
+            binds >> 20
+        );
+    }
     std::fs::create_dir_all(&opts.work)?;
     std::fs::create_dir_all(&opts.out)?;
     // A few meshes at once: subdividing is serial, and one build does not keep many cores busy.
@@ -530,6 +542,15 @@ pub fn run_on(ctx: &vgeo::Context, opts: &Options) -> Result<Vec<SizeRecord>> {
     Ok(records)
 }
 
+/// A whole number of MiB above 0, in bytes.
+fn mib_arg(flag: &str, v: &str) -> Result<u64> {
+    v.parse::<u64>()
+        .ok()
+        .filter(|&m| m > 0)
+        .and_then(|m| m.checked_mul(1 << 20))
+        .with_context(|| format!("{flag} {v}: a whole number of MiB above 0"))
+}
+
 fn parse_args() -> Result<Options> {
     let mut o = Options::default();
     let mut args = std::env::args().skip(1);
@@ -545,8 +566,8 @@ fn parse_args() -> Result<Options> {
                     .map(|s| s.trim().parse())
                     .collect::<Result<_, _>>()?
             }
-            "--budget-mib" => o.budget_bytes = value()?.parse::<u64>()? << 20,
-            "--mib-per-frame" => o.upload_bytes_per_frame = value()?.parse::<u64>()? << 20,
+            "--budget-mib" => o.budget_bytes = mib_arg(&a, &value()?)?,
+            "--mib-per-frame" => o.upload_bytes_per_frame = mib_arg(&a, &value()?)?,
             "--levels" => o.levels = value()?.parse()?,
             "--copies" => o.copies = value()?.parse()?,
             "--frames" => o.frames = value()?.parse()?,
@@ -558,7 +579,7 @@ fn parse_args() -> Result<Options> {
             }
             "--help" | "-h" => {
                 println!(
-                    "stream_sizes [--mesh SCAN] [--work DIR] [--out DIR] [--sizes 4,8,16] [--budget-mib 256] [--mib-per-frame 64] [--levels 3] [--copies 4] [--frames 120] [--size 1920x1080] [--ratio 0.35]\n\nStreams scenes of 4, 8, 16 unique meshes (made once in --work) under one budget and plots what stays on the GPU against the scene's size (sizes.md, sizes.json, sizes.svg in --out)."
+                    "stream_sizes [--mesh SCAN] [--work DIR] [--out DIR] [--sizes 4,8,16] [--budget-mib 256] [--mib-per-frame 64] [--levels 3] [--copies 4] [--frames 120] [--size 1920x1080] [--ratio 0.35]\n\nStreams scenes of 4, 8, 16 unique meshes (made once in --work) under one budget and plots what stays on the GPU against the scene's size (sizes.md, sizes.json, sizes.svg in --out). The budget is at most what the device binds in one storage buffer (the page pool is one: 4 GiB on NVIDIA, 128 MiB on lavapipe), checked before any mesh is made."
                 );
                 std::process::exit(0);
             }

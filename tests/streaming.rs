@@ -1211,3 +1211,29 @@ fn the_pool_grows_up_to_the_binding_limit() {
     assert!(err.to_string().contains("maxStorageBufferRange"), "{err}");
     assert_no_validation_errors(&ctx);
 }
+
+/// `stream_sizes` refuses a budget the device cannot bind (the page pool is one storage buffer)
+/// before it makes any mesh (minutes each at its defaults), naming the largest that works.
+#[test]
+fn stream_sizes_refuses_an_unbindable_budget_before_making_meshes() {
+    let ctx = gpu();
+    let dir = std::env::temp_dir().join(format!("vgeo-stream-budget-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let binds = ctx.caps().max_storage_buffer_range as u64;
+    let opts = stream_sizes::Options {
+        mesh: common::assets().join("spot.obj"),
+        work: dir.join("work"),
+        out: dir.join("out"),
+        sizes: vec![1],
+        budget_bytes: binds + (1 << 20),
+        ..Default::default()
+    };
+    let err = stream_sizes::run_on(&ctx, &opts).expect_err("a budget over the binding");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("maxStorageBufferRange") && msg.contains(&format!("{} or less", binds >> 20)),
+        "{msg}"
+    );
+    assert!(!dir.join("work").exists(), "no mesh was made");
+    assert_no_validation_errors(&ctx);
+}
