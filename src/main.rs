@@ -423,12 +423,8 @@ fn render(a: &RenderArgs) -> Result<()> {
         let load_s = t0.elapsed().as_secs_f64();
         let ctx = context()?;
         let light = streamed.light;
-        let (heap, range) = (
-            ctx.caps().device_local_bytes,
-            ctx.caps().max_storage_buffer_range as u64,
-        );
-        eprintln!("{}", budget.describe(heap, range));
-        let budget_bytes = budget.bytes(heap, range);
+        eprintln!("{}", budget.describe_on(ctx.caps()));
+        let budget_bytes = budget.bytes_on(ctx.caps());
         let (r, streamer) = streamed_renderer(&ctx, streamed, budget_bytes, a)?;
         return render_vgeo(
             a,

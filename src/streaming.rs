@@ -107,6 +107,22 @@ impl GeometryBudget {
         }
     }
 
+    /// [`GeometryBudget::bytes`] on the device `caps` describes.
+    pub fn bytes_on(self, caps: &crate::gpu::Caps) -> u64 {
+        self.bytes(
+            caps.device_local_bytes,
+            caps.max_storage_buffer_range as u64,
+        )
+    }
+
+    /// [`GeometryBudget::describe`] on the device `caps` describes.
+    pub fn describe_on(self, caps: &crate::gpu::Caps) -> String {
+        self.describe(
+            caps.device_local_bytes,
+            caps.max_storage_buffer_range as u64,
+        )
+    }
+
     /// One line for the start of a run: the budget, and for `auto` where it comes from.
     pub fn describe(self, device_local_bytes: u64, max_pool_bytes: u64) -> String {
         match self {

@@ -276,8 +276,9 @@ pub struct BenchArgs {
     /// vgeo: stream the meshes' geometry pages under this GPU budget (MiB), as `vgeo render
     /// --geometry-budget` does; `auto` (also the flag alone): a quarter of the device's largest
     /// device-local heap, at most what one storage buffer binds, printed at the start. Each
-    /// camera of a path is rendered, streaming between frames, until nothing more is uploaded (at most 64 frames) before its frame is
-    /// timed (then alone, after the warm-up); bench.json and bench.md report per scene and
+    /// camera of a path is rendered, streaming between frames, until nothing more is uploaded
+    /// (at most 64 frames) before its frame is timed (then alone, after the warm-up);
+    /// bench.json and bench.md report per scene and
     /// threshold the resident page bytes, their peak, requests, uploads, evictions and the
     /// bytes the last frame used. Default: every page resident.
     #[arg(long, value_name = "MIB|auto", num_args = 0..=1, default_missing_value = "auto")]
@@ -546,14 +547,7 @@ pub fn run_bench(args: &BenchArgs) -> Result<()> {
         return Ok(());
     }
     if let Some(b) = settings.geometry_budget {
-        let caps = ctx.caps();
-        println!(
-            "{}",
-            b.describe(
-                caps.device_local_bytes,
-                caps.max_storage_buffer_range as u64
-            )
-        );
+        println!("{}", b.describe_on(ctx.caps()));
     }
     let report = run(&ctx, &settings, &scenes_dir, !args.quiet)?;
     write_outputs(&report, &args.out)?;

@@ -266,10 +266,7 @@ pub(super) fn run_scene(
     };
     times.build_s = t.elapsed().as_secs_f64();
     let stream = settings.geometry_budget.map(|b| StreamOptions {
-        budget_bytes: b.bytes(
-            ctx.caps().device_local_bytes,
-            ctx.caps().max_storage_buffer_range as u64,
-        ),
+        budget_bytes: b.bytes_on(ctx.caps()),
         upload_bytes_per_frame: (settings.stream_mib_per_frame * (1u64 << 20) as f64) as u64,
     });
     let mut vgeo = match &built {
