@@ -767,6 +767,158 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
     assert_no_validation_errors(&ctx);
 }
 
+/// Small instances under partial residency (a view of 64 x 64 spots and clumps, spot's pages
+/// small and random closed sets of them absent): each takes the finest row of its mesh's table at
+/// most as fine as wanted whose clusters are all resident, in both `instance_cull` variants,
+/// exactly the CPU cut (`reference_cut_resident`); only resident pages are drawn and the drawn
+/// ones are marked used; every page asked for is absent. Loading what is asked for (with what
+/// keeps the residency closed) until nothing is asked reaches the all-resident cut: the table's
+/// requests are enough to settle.
+#[test]
+fn small_instances_under_partial_residency_take_the_finest_resident_row() {
+    use vgeo::builder::page::{close_residency, group_needs, paginate};
+    use vgeo::reference::cut::reference_cut_resident;
+    let ctx = gpu();
+    let mut meshes = spot_and_grass();
+    // Small pages, so that residency has many pages to choose from.
+    let level = meshes[0].fallback_level(200);
+    paginate(&mut meshes[0], 2048, level);
+    let spot = &meshes[0];
+    assert!(spot.pages.len() > 12, "{} pages", spot.pages.len());
+    let needs = group_needs(spot);
+    let placements = spot_and_grass_field(64);
+    // Far enough back that every spot is under TINY_CUT_RADIUS_PX: every instance takes its
+    // table (no walk asks for pages on its behalf).
+    let camera = field_camera(DVec3::new(0.0, 2.5, 11.0), DVec3::new(0.0, 0.0, -10.0));
+    assert_eq!(over_tiny_cut_size(spot, &placements, 0, &camera), 0);
+    let (w, hgt) = (320, 240);
+    let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    let h = r.scene.mesh_handle(0).expect("mesh");
+    let cull = |r: &mut VgeoRenderer, res: &[bool], tau: f32, shared: bool| {
+        r.set_shared_runs(Some(shared));
+        r.scene.set_page_residency(h, res).expect("residency");
+        r.scene.clear_page_feedback().expect("clear");
+        let settings = FrameSettings {
+            error_px: tau,
+            flags: VIEW_FLAG_NO_FRUSTUM,
+            ..Default::default()
+        };
+        let out = r.cull(&camera, w, hgt, &settings).expect("cull runs");
+        out.check().expect("no overflow, no watchdog");
+        let gpu: BTreeSet<(u32, u32)> = out.visible.iter().map(|v| (v[0], v[1])).collect();
+        assert_eq!(gpu.len(), out.visible.len(), "a cluster was emitted twice");
+        let view = view_for(&camera, w, hgt, &settings);
+        let (cut, borderline) =
+            reference_cut_resident(&meshes, &[Some(res), None], &placements, &view, 1e-4);
+        let cpu: BTreeSet<(u32, u32)> = cut.iter().map(|e| (e.instance, e.cluster)).collect();
+        let border: BTreeSet<(u32, u32)> =
+            borderline.iter().map(|e| (e.instance, e.cluster)).collect();
+        let hard: Vec<_> = gpu
+            .symmetric_difference(&cpu)
+            .filter(|c| !border.contains(c))
+            .collect();
+        assert!(
+            hard.is_empty(),
+            "tau={tau}, shared {shared}: GPU and CPU cuts differ on {} clusters, e.g. {:?}",
+            hard.len(),
+            &hard[..hard.len().min(5)]
+        );
+        let spot = &meshes[0];
+        let drawn: BTreeSet<u32> = gpu
+            .iter()
+            .filter(|c| (c.1 as usize) < spot.clusters.len())
+            .map(|c| spot.clusters[c.1 as usize].page)
+            .collect();
+        for &p in &drawn {
+            assert!(res[p as usize], "page {p} drawn but not resident");
+        }
+        let (wish, used) = r.scene.page_feedback(h).expect("feedback");
+        let got_used: BTreeSet<u32> = (0..used.len() as u32)
+            .filter(|&p| used[p as usize])
+            .collect();
+        // (A mesh with every page resident marks none.)
+        if res.iter().any(|&x| !x) {
+            assert_eq!(got_used, drawn, "tau={tau}: used pages");
+        }
+        let asked: Vec<u32> = (0..wish.len() as u32)
+            .filter(|&p| wish[p as usize] > 0.0)
+            .collect();
+        for &p in &asked {
+            assert!(
+                !res[p as usize] && wish[p as usize] >= 1.0,
+                "page {p}: wish {}",
+                wish[p as usize]
+            );
+        }
+        (gpu, out.counters.tiny_cuts, asked)
+    };
+    let (mut coarser, mut settled_partial) = (0, 0);
+    for tau in [1.0f32, 2.0, 4.0] {
+        let view = view_for(
+            &camera,
+            w,
+            hgt,
+            &FrameSettings {
+                error_px: tau,
+                flags: VIEW_FLAG_NO_FRUSTUM,
+                ..Default::default()
+            },
+        );
+        let (all, all_border) = reference_cut(&meshes, &placements, &view, 1e-4);
+        let all: BTreeSet<(u32, u32)> = all.iter().map(|e| (e.instance, e.cluster)).collect();
+        let all_border: BTreeSet<(u32, u32)> =
+            all_border.iter().map(|e| (e.instance, e.cluster)).collect();
+        for seed in 1..4u32 {
+            let mut res: Vec<bool> = (0..spot.pages.len())
+                .map(|p| (p as u32 * 7 + seed * 11) % 6 < seed)
+                .collect();
+            close_residency(spot, &needs, &mut res);
+            assert!(res.iter().any(|&x| !x), "seed {seed}: every page resident");
+            // Settle by hand: load what is asked for, closed, until nothing is.
+            for step in 0..40 {
+                let (plain, plain_tiny, plain_asked) = cull(&mut r, &res, tau, false);
+                let (cut, tiny, asked) = cull(&mut r, &res, tau, true);
+                assert!(
+                    cut == plain && tiny == plain_tiny && asked == plain_asked,
+                    "tau={tau}, seed {seed}, step {step}: the variants differ"
+                );
+                assert_eq!(tiny as usize, placements.len(), "tau={tau}: table cuts");
+                if asked.is_empty() {
+                    // Settled: the all-resident cut (but at the borderline).
+                    let hard = cut
+                        .symmetric_difference(&all)
+                        .filter(|c| !all_border.contains(c))
+                        .count();
+                    assert!(
+                        hard == 0,
+                        "tau={tau}, seed {seed}: settled after {step} steps, {hard} clusters off the all-resident cut"
+                    );
+                    let absent = res.iter().filter(|&&x| !x).count();
+                    eprintln!(
+                        "tau={tau}, seed {seed}: settled after {step} steps, {tiny} table cuts, {absent} pages still absent"
+                    );
+                    settled_partial += (absent > 0) as u32;
+                    break;
+                }
+                assert!(step < 39, "tau={tau}, seed {seed}: still asking");
+                coarser += 1;
+                for p in asked {
+                    res[p as usize] = true;
+                }
+                close_residency(spot, &needs, &mut res);
+            }
+        }
+    }
+    assert!(coarser > 3, "only {coarser} steps asked for pages");
+    // The view settles with pages still absent.
+    assert!(
+        settled_partial >= 4,
+        "{settled_partial} settled with pages absent"
+    );
+    r.set_shared_runs(None);
+    assert_no_validation_errors(&ctx);
+}
+
 /// Which SW clusters `emit_cluster` sends to `raster_sw`'s small paths: exactly those of at most
 /// `RASTER_SW_SMALL_VERTICES` vertices that project to at most `RASTER_SW_SMALL_PX` across with
 /// triangles of at most `RASTER_SW_SMALL_TRIANGLE_PX` (the cluster's size code), by the CPU's

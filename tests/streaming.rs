@@ -1050,7 +1050,8 @@ fn resident_bytes_follow_the_budget_not_the_scene_size() {
 
 /// `instance_cull`'s `shared` variant (views of `WALK_WIDE_INSTANCES` to
 /// `SHARED_RUNS_MAX_INSTANCES` instances) under partial residency: 64 x 64 instances of one
-/// streamed bunny (only the root page fixed), the near ones asking for pages, streamed along a
+/// streamed bunny (only the root page fixed), the near ones walked and asking for pages, the far
+/// ones taking their table's finest resident rows, streamed along a
 /// camera path by two renderers in lockstep, one forced to each variant. Every frame draws the
 /// same clusters, image, depth and triangles with the same counters, and every streaming step
 /// asks for, loads and evicts the same pages. A third renderer runs the shared variant with
@@ -1116,11 +1117,15 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
         r.set_shared_runs(Some(shared));
         renderers.push((r, s));
     }
+    // At 8 px the near bunnies (over TINY_CUT_RADIUS_PX, each cut within WALK_CLUSTERS_WIDE)
+    // are walked by instance_cull, the far ones take their table's rows; at 1 px (the default)
+    // every bunny of this 160 x 120 view takes its table or goes to cluster_cull's queue, and no
+    // walk is left to test (6 px: walks, but none draws for want of its children).
     let settings = FrameSettings {
-        error_px: 1.0,
+        error_px: 8.0,
         ..Default::default()
     };
-    let (mut requests, mut walks, mut blind_differs) = (0, 0, None);
+    let (mut requests, mut walks, mut blind_differs, mut overflow) = (0, 0, None, 0);
     for k in 0..24 {
         // Low over the field's near edge, moving along it: the near bunnies want their detail.
         let x = -1.0 + 2.0 * (k.min(16) as f64 / 16.0);
@@ -1152,7 +1157,14 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
                     c.visible_count,
                 ]
             });
-            seen.push((cut, f.frame, st, s.residency(), counters));
+            seen.push((
+                cut,
+                f.frame,
+                st,
+                s.residency(),
+                counters,
+                f.main.counters.queue_tail,
+            ));
         }
         let (a, b) = (&seen[0], &seen[1]);
         assert!(
@@ -1176,11 +1188,14 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
         }
         requests += a.2.requests;
         walks += a.4[0][0] + a.4[1][0];
+        // Queue items the shared variant sent past a thread's runs (walks' groups).
+        overflow = overflow.max(a.5.saturating_sub(b.5));
     }
     eprintln!(
-        "{requests} requests, {walks} local walks, the blind runs differ at {blind_differs:?}"
+        "{requests} requests, {walks} local walks, up to {overflow} more queue items shared, the blind runs differ at {blind_differs:?}"
     );
     assert!(requests > 0 && walks > 0, "the path streams and walks");
+    assert!(overflow > 0, "no walk's groups overflowed a thread's runs");
     assert!(
         blind_differs.is_some(),
         "no frame's cut depends on the shared runs' residency test"

@@ -386,6 +386,31 @@ float tiny_row_error(uint row, float w) {
     return weighted_error(uintBitsToFloat(tiny_cuts[row]), uintBitsToFloat(tiny_cuts[row + 3u]), w);
 }
 
+// Whether every cluster of the small-instance table's row at word `row` lies in a resident page
+// (`base`: the mesh's table).
+bool tiny_row_resident(MeshGpu mesh, uint base, uint row) {
+    uint first = base + tiny_cuts[row + 1u];
+    uint count = tiny_cuts[row + 2u];
+    for (uint k = 0u; k < count; k++) {
+        if (!page_resident(mesh, cluster_locs[mesh.cluster_offset + tiny_cuts[first + k]].page)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// Asks, with priority `wish`, for the absent pages of the table row at word `row`.
+void request_tiny_row(MeshGpu mesh, uint base, uint row, float wish) {
+    uint first = base + tiny_cuts[row + 1u];
+    uint count = tiny_cuts[row + 2u];
+    for (uint k = 0u; k < count; k++) {
+        uint p = cluster_locs[mesh.cluster_offset + tiny_cuts[first + k]].page;
+        if (!page_resident(mesh, p)) {
+            atomicMax(page_requests[mesh.page_offset + p], floatBitsToUint(min(wish, 1e30)));
+        }
+    }
+}
+
 // Small instances (src/builder/cut.rs, TinyCuts): the cut of an instance far from the camera
 // compared to its size comes from its mesh's table. Every group error is projected at the point
 // of the mesh's LOD bound (`walk_radius` around `bounds_center`, enclosing every group's LOD
@@ -396,14 +421,15 @@ float tiny_row_error(uint row, float w) {
 // the HZB and emitted, with no BVH walk and no LOD test. False when the
 // instance's bounding sphere projects to a radius over TINY_CUT_RADIUS_PX (unless its mesh has
 // at most WALK_CLUSTERS clusters) or the table holds no cut fine enough (a larger instance: walk
-// it), in a view of fewer than WALK_WIDE_INSTANCES instances, for a mesh that streams and for the
-// fallback cut.
+// it), in a view of fewer than WALK_WIDE_INSTANCES instances and for the fallback cut. Under
+// partial residency the instance takes the finest row at most as fine as wanted whose clusters
+// are all resident (rows are crack-free cuts: any of them may be drawn), and asks for the absent
+// pages of the wanted one (the streamer brings each with what keeps the residency closed).
 bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     // One thread tests and emits the whole cut: in a view of few instances that is the frame's
     // latency (outdoor, 91 instances: +11 % with cuts of up to 64 clusters, +3 % with 16), so
     // only views of many instances, where every thread has its instance, take the table.
-    if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u || mesh_partial(mesh)
-        || view.instance_count < WALK_WIDE_INSTANCES) {
+    if ((view.flags & VIEW_FLAG_FALLBACK_CUT) != 0u || view.instance_count < WALK_WIDE_INSTANCES) {
         return false;
     }
     uint base = mesh.tiny_offset;
@@ -444,6 +470,20 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
         }
     }
     uint row = row0 + TINY_ROW_WORDS * lo;
+    if (mesh_partial(mesh) && !tiny_row_resident(mesh, base, row)) {
+        uint wanted = row;
+        // Row 0 (the mesh's top) is always resident; a row that is not is never taken.
+        do {
+            if (lo == 0u) {
+                return false;
+            }
+            lo--;
+            row = row0 + TINY_ROW_WORDS * lo;
+        } while (!tiny_row_resident(mesh, base, row));
+        // How far the drawn row is over the threshold: the request's priority (request_children's).
+        float wish = lod_error_px(tiny_row_error(row, w) * scale, c, r, view.proj_scale) / view.error_px;
+        request_tiny_row(mesh, base, wanted, wish);
+    }
     uint first = base + tiny_cuts[row + 1u];
     uint count = tiny_cuts[row + 2u];
     CULL_STAT(tiny_cuts, 1u)
@@ -458,6 +498,7 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
         vec3 cc;
         float cr;
         box_sphere(inst, cluster_bounds_min(mesh, at), cluster_bounds_max(mesh, at), cc, cr);
+        mark_used(mesh, ci);
         emit_cluster(instance, ci, at, cluster_info(at), cc, cr);
         return true;
     }
@@ -473,6 +514,7 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     for (uint k = 0u; k < count; k++) {
         uint ci = mesh.cluster_offset + tiny_cuts[first + k];
         uint at = cluster_word(mesh, ci);
+        mark_used(mesh, ci);
         draw_if_visible(instance, inst, mesh, ci, at, cluster_info(at));
     }
     return true;

@@ -103,9 +103,10 @@ pub fn reference_cut(
 
 /// [`reference_cut`] under page residency: `residency[mesh]` is the mesh's resident pages
 /// (`None`: all), the cut rule of `builder::cut` (a group not wholly resident counts error 0).
-/// Small instances of meshes with every page resident, in a view of many instances, take
-/// `instance_cull`'s cut from the mesh's table ([`TinyCuts`]): every error projected on the
-/// mesh's LOD bound. Every instance counts [`small_instance_weight`] of each error (of its
+/// Small instances, in a view of many instances, take `instance_cull`'s cut from the mesh's table
+/// ([`TinyCuts`]): every error projected on the mesh's LOD bound; under partial residency the
+/// finest row at most as fine as that whose clusters' pages are all resident
+/// ([`resident_row`]). Every instance counts [`small_instance_weight`] of each error (of its
 /// bounding sphere's projected radius) and its coverage part whole (`common/lod.glsl`'s
 /// `instance_weight` and `weighted_error`).
 pub fn reference_cut_resident(
@@ -161,32 +162,30 @@ pub fn reference_cut_resident(
         let wide = placements.len() >= WALK_WIDE_INSTANCES as usize;
         // A mesh of at most WALK_CLUSTERS clusters takes its table at any size.
         let any_size = m.clusters.len() <= WALK_CLUSTERS as usize;
-        let small = !partial
-            && wide
-            && (any_size || size <= TINY_CUT_RADIUS_PX)
-            && last.is_some_and(|px| px <= tau);
-        // A small instance's cut is the table's row (`emit_tiny_cut`'s binary search).
+        let small =
+            wide && (any_size || size <= TINY_CUT_RADIUS_PX) && last.is_some_and(|px| px <= tau);
+        // A small instance's cut is the table's row (`emit_tiny_cut`'s binary search), under
+        // partial residency the finest resident row at most as fine.
         let row_clusters =
             |r: &TinyRow| &table.clusters[r.first as usize..(r.first + r.count) as usize];
-        let row: &[u32] = match table.row_for(tau, row_px).filter(|_| small) {
-            Some(r) => row_clusters(r),
-            None => &[],
-        };
+        let pick = |k: usize| resident_row(m, table, k, res).map(|k| row_clusters(&table.rows[k]));
+        let wanted = table.rows.partition_point(|r| row_px(r) > tau);
+        let picked = pick(wanted);
+        let row: &[u32] = picked.filter(|_| small).unwrap_or(&[]);
         // A row whose weighted error is at the threshold may be taken or passed over by the
         // GPU's rounding: the clusters in which the rows beside it differ are borderline (a
         // row's coverage may come from clusters other than those that change).
         let mut row_edge: Vec<u32> = Vec::new();
         if small {
-            let k = table.rows.partition_point(|r| row_px(r) > tau);
+            let k = wanted;
             let mut alt = Vec::new();
             if table.rows.get(k).is_some_and(|r| near(row_px(r))) {
-                alt.extend(table.rows.get(k + 1));
+                alt.extend(pick(k + 1));
             }
             if k > 0 && near(row_px(&table.rows[k - 1])) {
-                alt.push(&table.rows[k - 1]);
+                alt.extend(pick(k - 1));
             }
             for a in alt {
-                let a = row_clusters(a);
                 row_edge.extend(a.iter().filter(|c| row.binary_search(c).is_err()));
                 row_edge.extend(row.iter().filter(|c| a.binary_search(c).is_err()));
             }
@@ -196,7 +195,7 @@ pub fn reference_cut_resident(
         // take either path: clusters the two cuts disagree on are borderline.
         let size_edge =
             !any_size && (size - TINY_CUT_RADIUS_PX).abs() <= rel_margin * TINY_CUT_RADIUS_PX;
-        let either = !partial && wide && (size_edge || last.is_some_and(near));
+        let either = wide && (size_edge || last.is_some_and(near));
         for (ci, c) in m.clusters.iter().enumerate() {
             let (se, pe) = crate::builder::cut::resident_errors(m, c, res);
             // With their coverage parts (0 with the error, where a group is not resident).
@@ -233,12 +232,36 @@ pub fn reference_cut_resident(
             } else {
                 near(s) || near(q)
             };
-            if edge || (either && by_group != by_bound) {
+            // Under partial residency the table's row may be coarser than `by_bound`'s.
+            let by_row = partial && picked.is_some_and(|r| r.binary_search(&(ci as u32)).is_ok());
+            if edge || (either && (by_group != by_bound || (partial && by_group != by_row))) {
                 borderline.push(e);
             }
         }
     }
     (cut, borderline)
+}
+
+/// The row a small instance of `m` draws when its table's row `wanted` is the one fine enough
+/// (`emit_tiny_cut`): under `res` (resident pages; `None`: all) the finest row at most as fine
+/// whose clusters' pages are all resident; `None` when the table has no such row (the instance
+/// is walked).
+pub fn resident_row(
+    m: &BuiltMesh,
+    table: &TinyCuts,
+    wanted: usize,
+    res: Option<&[bool]>,
+) -> Option<usize> {
+    let resident = |k: usize| {
+        let r = &table.rows[k];
+        table.clusters[r.first as usize..(r.first + r.count) as usize]
+            .iter()
+            .all(|&c| res.is_none_or(|res| res[m.clusters[c as usize].page as usize]))
+    };
+    if wanted >= table.rows.len() {
+        return None;
+    }
+    (0..=wanted).rev().find(|&k| resident(k))
 }
 
 /// Convenience: the [`ViewGpu`] the GPU would use, for [`reference_cut`].
