@@ -93,6 +93,21 @@ fn compare(
     (cpu.len(), diff.len())
 }
 
+/// The (instance, cluster) pairs in which `gpu` and the CPU's `cut` differ, but for the
+/// `borderline` ones (either side acceptable).
+fn off_borderline(
+    gpu: &BTreeSet<(u32, u32)>,
+    cut: &[vgeo::reference::cut::CutEntry],
+    borderline: &[vgeo::reference::cut::CutEntry],
+) -> Vec<(u32, u32)> {
+    let cpu: BTreeSet<(u32, u32)> = cut.iter().map(|e| (e.instance, e.cluster)).collect();
+    let border: BTreeSet<(u32, u32)> = borderline.iter().map(|e| (e.instance, e.cluster)).collect();
+    gpu.symmetric_difference(&cpu)
+        .filter(|c| !border.contains(c))
+        .copied()
+        .collect()
+}
+
 fn r_triangles(meshes: &[BuiltMesh], global: u32) -> u32 {
     global_cluster(meshes, global).triangle_count()
 }
@@ -810,13 +825,7 @@ fn small_instances_under_partial_residency_take_the_finest_resident_row() {
         let view = view_for(&camera, w, hgt, &settings);
         let (cut, borderline) =
             reference_cut_resident(&meshes, &[Some(res), None], &placements, &view, 1e-4);
-        let cpu: BTreeSet<(u32, u32)> = cut.iter().map(|e| (e.instance, e.cluster)).collect();
-        let border: BTreeSet<(u32, u32)> =
-            borderline.iter().map(|e| (e.instance, e.cluster)).collect();
-        let hard: Vec<_> = gpu
-            .symmetric_difference(&cpu)
-            .filter(|c| !border.contains(c))
-            .collect();
+        let hard = off_borderline(&gpu, &cut, &borderline);
         assert!(
             hard.is_empty(),
             "tau={tau}, shared {shared}: GPU and CPU cuts differ on {} clusters, e.g. {:?}",
@@ -865,9 +874,6 @@ fn small_instances_under_partial_residency_take_the_finest_resident_row() {
             },
         );
         let (all, all_border) = reference_cut(&meshes, &placements, &view, 1e-4);
-        let all: BTreeSet<(u32, u32)> = all.iter().map(|e| (e.instance, e.cluster)).collect();
-        let all_border: BTreeSet<(u32, u32)> =
-            all_border.iter().map(|e| (e.instance, e.cluster)).collect();
         for seed in 1..4u32 {
             let mut res: Vec<bool> = (0..spot.pages.len())
                 .map(|p| (p as u32 * 7 + seed * 11) % 6 < seed)
@@ -885,10 +891,7 @@ fn small_instances_under_partial_residency_take_the_finest_resident_row() {
                 assert_eq!(tiny as usize, placements.len(), "tau={tau}: table cuts");
                 if asked.is_empty() {
                     // Settled: the all-resident cut (but at the borderline).
-                    let hard = cut
-                        .symmetric_difference(&all)
-                        .filter(|c| !all_border.contains(c))
-                        .count();
+                    let hard = off_borderline(&cut, &all, &all_border).len();
                     assert!(
                         hard == 0,
                         "tau={tau}, seed {seed}: settled after {step} steps, {hard} clusters off the all-resident cut"
