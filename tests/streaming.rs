@@ -1204,6 +1204,78 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
     assert_no_validation_errors(&blind_ctx);
 }
 
+/// Small instances under a budget too small for the closure of the row they want: 64 x 64
+/// streamed bunnies, all taking their table's rows (a wide view at 0.05 px), only the root page
+/// fixed, a budget of about 11 page slots. They ask for the next finer row's pages before the
+/// wanted row's, so the streamer, which takes requests by decreasing wish and stops at the first
+/// load set it cannot free slots for, still refines them (asking only for the wanted row, whose
+/// closure never fit, they stayed at the root: one page and 48 K triangles for good).
+#[test]
+fn a_tight_budget_still_refines_small_instances() {
+    let ctx = gpu();
+    let mut one = bunny();
+    paginate(&mut one, 12288, u32::MAX);
+    let side = 64;
+    let opts = StreamOptions {
+        budget_bytes: 150_000,
+        upload_bytes_per_frame: 64 << 10,
+    };
+    let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
+    let source = Box::new(one.clone()) as Box<dyn PageSource>;
+    let (mut s, handles) =
+        Streamer::new(&mut r.scene, vec![(one.clone(), source)], opts).expect("streamer");
+    assert!(s.slot_count() < 16, "{} slots", s.slot_count());
+    for i in 0..side * side {
+        let (x, z) = ((i % side) as f64, (i / side) as f64);
+        r.scene
+            .add_instance(&InstanceDesc {
+                mesh: handles[0],
+                transform: DMat4::from_rotation_translation(
+                    glam::DQuat::from_rotation_y(0.61 * i as f64),
+                    DVec3::new((x - side as f64 / 2.0) * 0.25, 0.0, -z * 0.25),
+                ),
+                color: [1.0; 3],
+            })
+            .expect("instance");
+    }
+    let settings = FrameSettings {
+        error_px: 0.05,
+        ..Default::default()
+    };
+    let eye = DVec3::new(0.0, 1.5, 3.0);
+    let camera = Camera::look_at(
+        eye,
+        DVec3::new(0.0, 0.0, -8.0),
+        Vec3::Y,
+        60f32.to_radians(),
+        0.01,
+    );
+    let mut first = None;
+    let mut last = None;
+    for k in 0..10 {
+        let f = render_with(&mut r, &camera, &settings);
+        let st = s.update(&mut r.scene).expect("streaming step");
+        assert!(st.resident_bytes <= opts.budget_bytes, "frame {k}: {st:?}");
+        let (m, p) = (&f.main.counters, &f.post.counters);
+        assert_eq!(
+            m.local_walks + p.local_walks,
+            0,
+            "frame {k}: an instance walked"
+        );
+        assert!(m.tiny_cuts + p.tiny_cuts > 0, "frame {k}: no table cut");
+        first.get_or_insert((f.frame.triangles, st.resident_pages));
+        last = Some((f.frame.triangles, st.resident_pages));
+    }
+    let ((t0, _), (t1, p1)) = (first.unwrap(), last.unwrap());
+    let fixed = one.resident_pages as u64;
+    eprintln!("triangles {t0} -> {t1}, resident pages {fixed} -> {p1}");
+    assert!(
+        p1 > fixed && t1 > 10 * t0,
+        "the small instances stayed coarse: {t0} -> {t1} triangles, {fixed} -> {p1} pages"
+    );
+    assert_no_validation_errors(&ctx);
+}
+
 /// The geometry pool (one storage buffer) grows by doubling, but never past what one buffer
 /// binds: page slots of 55 % and then 44 % of `maxStorageBufferRange` fit (doubling the first
 /// asked for 110 %, and the second was refused although both fit); past the limit, a clear error.

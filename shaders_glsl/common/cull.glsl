@@ -424,7 +424,8 @@ void request_tiny_row(MeshGpu mesh, uint base, uint row, float wish) {
 // it), in a view of fewer than WALK_WIDE_INSTANCES instances and for the fallback cut. Under
 // partial residency the instance takes the finest row at most as fine as wanted whose clusters
 // are all resident (rows are crack-free cuts: any of them may be drawn), and asks for the absent
-// pages of the wanted one (the streamer brings each with what keeps the residency closed).
+// pages of the next finer row and of the wanted one (the streamer brings each with what keeps
+// the residency closed).
 bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
     // One thread tests and emits the whole cut: in a view of few instances that is the frame's
     // latency (outdoor, 91 instances: +11 % with cuts of up to 64 clusters, +3 % with 16), so
@@ -480,9 +481,17 @@ bool emit_tiny_cut(uint instance, InstanceVgeo inst, MeshGpu mesh) {
             lo--;
             row = row0 + TINY_ROW_WORDS * lo;
         } while (!tiny_row_resident(mesh, base, row));
-        // How far the drawn row is over the threshold: the request's priority (request_children's).
+        // The next finer row first, with how far the drawn row is over the threshold
+        // (request_children's priority): its pages are the fewest that refine the drawn row, so
+        // a budget that cannot take the wanted row's closure at once still moves. Then the
+        // wanted row, with the priority of the row before it.
+        uint next = row + TINY_ROW_WORDS;
         float wish = lod_error_px(tiny_row_error(row, w) * scale, c, r, view.proj_scale) / view.error_px;
-        request_tiny_row(mesh, base, wanted, wish);
+        request_tiny_row(mesh, base, next, wish);
+        if (next != wanted) {
+            float px = lod_error_px(tiny_row_error(wanted - TINY_ROW_WORDS, w) * scale, c, r, view.proj_scale);
+            request_tiny_row(mesh, base, wanted, px / view.error_px);
+        }
     }
     uint first = base + tiny_cuts[row + 1u];
     uint count = tiny_cuts[row + 2u];

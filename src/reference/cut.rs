@@ -171,6 +171,8 @@ pub fn reference_cut_resident(
         let pick = |k: usize| resident_row(m, table, k, res).map(|k| row_clusters(&table.rows[k]));
         let wanted = table.rows.partition_point(|r| row_px(r) > tau);
         let picked = pick(wanted);
+        // With no resident row (not while the top is always resident) the GPU walks it.
+        let small = small && picked.is_some();
         let row: &[u32] = picked.filter(|_| small).unwrap_or(&[]);
         // A row whose weighted error is at the threshold may be taken or passed over by the
         // GPU's rounding: the clusters in which the rows beside it differ are borderline (a
