@@ -1048,6 +1048,37 @@ fn resident_bytes_follow_the_budget_not_the_scene_size() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Side of `streamed_bunny_field`'s square of instances.
+const BUNNY_FIELD: usize = 64;
+
+/// A renderer with `BUNNY_FIELD` x `BUNNY_FIELD` instances of the bunny `one`, streamed under
+/// `opts` (rows 0.25 apart going away along -z, each turned its own way), and its streamer.
+fn streamed_bunny_field(
+    ctx: &vgeo::gpu::Context,
+    one: &BuiltMesh,
+    opts: StreamOptions,
+) -> (VgeoRenderer, Streamer) {
+    let mut r = VgeoRenderer::new(ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
+    let source = Box::new(one.clone()) as Box<dyn PageSource>;
+    let (s, handles) =
+        Streamer::new(&mut r.scene, vec![(one.clone(), source)], opts).expect("streamer");
+    let side = BUNNY_FIELD;
+    for i in 0..side * side {
+        let (x, z) = ((i % side) as f64, (i / side) as f64);
+        r.scene
+            .add_instance(&InstanceDesc {
+                mesh: handles[0],
+                transform: DMat4::from_rotation_translation(
+                    glam::DQuat::from_rotation_y(0.61 * i as f64),
+                    DVec3::new((x - side as f64 / 2.0) * 0.25, 0.0, -z * 0.25),
+                ),
+                color: [1.0; 3],
+            })
+            .expect("instance");
+    }
+    (r, s)
+}
+
 /// `instance_cull`'s `shared` variant (views of `WALK_WIDE_INSTANCES` to
 /// `SHARED_RUNS_MAX_INSTANCES` instances) under partial residency: 64 x 64 instances of one
 /// streamed bunny (only the root page fixed), the near ones walked and asking for pages, the far
@@ -1083,37 +1114,15 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
     // Only the root's page always resident: small instances, walked by instance_cull, want
     // pages too, and draw coarser clusters for want of them.
     paginate(&mut one, 12288, u32::MAX);
-    let side = 64;
     let total: u64 = one.pages.iter().map(|p| p.bytes as u64).sum();
     let opts = StreamOptions {
         budget_bytes: total / 4,
         upload_bytes_per_frame: 64 << 10,
     };
-    let transforms: Vec<DMat4> = (0..side * side)
-        .map(|i| {
-            let (x, z) = ((i % side) as f64, (i / side) as f64);
-            DMat4::from_rotation_translation(
-                glam::DQuat::from_rotation_y(0.61 * i as f64),
-                DVec3::new((x - side as f64 / 2.0) * 0.25, 0.0, -z * 0.25),
-            )
-        })
-        .collect();
-    assert!(shares_runs(transforms.len() as u32));
+    assert!(shares_runs((BUNNY_FIELD * BUNNY_FIELD) as u32));
     let mut renderers = Vec::new();
     for (c, shared) in [(&ctx, true), (&ctx, false), (&blind_ctx, true)] {
-        let mut r = VgeoRenderer::new(c, &[] as &[BuiltMesh], &[]).expect("empty renderer");
-        let source = Box::new(one.clone()) as Box<dyn PageSource>;
-        let (s, handles) =
-            Streamer::new(&mut r.scene, vec![(one.clone(), source)], opts).expect("streamer");
-        for t in &transforms {
-            r.scene
-                .add_instance(&InstanceDesc {
-                    mesh: handles[0],
-                    transform: *t,
-                    color: [1.0; 3],
-                })
-                .expect("instance");
-        }
+        let (mut r, s) = streamed_bunny_field(c, &one, opts);
         r.set_shared_runs(Some(shared));
         renderers.push((r, s));
     }
@@ -1215,29 +1224,12 @@ fn a_tight_budget_still_refines_small_instances() {
     let ctx = gpu();
     let mut one = bunny();
     paginate(&mut one, 12288, u32::MAX);
-    let side = 64;
     let opts = StreamOptions {
         budget_bytes: 150_000,
         upload_bytes_per_frame: 64 << 10,
     };
-    let mut r = VgeoRenderer::new(&ctx, &[] as &[BuiltMesh], &[]).expect("empty renderer");
-    let source = Box::new(one.clone()) as Box<dyn PageSource>;
-    let (mut s, handles) =
-        Streamer::new(&mut r.scene, vec![(one.clone(), source)], opts).expect("streamer");
+    let (mut r, mut s) = streamed_bunny_field(&ctx, &one, opts);
     assert!(s.slot_count() < 16, "{} slots", s.slot_count());
-    for i in 0..side * side {
-        let (x, z) = ((i % side) as f64, (i / side) as f64);
-        r.scene
-            .add_instance(&InstanceDesc {
-                mesh: handles[0],
-                transform: DMat4::from_rotation_translation(
-                    glam::DQuat::from_rotation_y(0.61 * i as f64),
-                    DVec3::new((x - side as f64 / 2.0) * 0.25, 0.0, -z * 0.25),
-                ),
-                color: [1.0; 3],
-            })
-            .expect("instance");
-    }
     let settings = FrameSettings {
         error_px: 0.05,
         ..Default::default()

@@ -179,13 +179,12 @@ pub fn reference_cut_resident(
         // row's coverage may come from clusters other than those that change).
         let mut row_edge: Vec<u32> = Vec::new();
         if small {
-            let k = wanted;
             let mut alt = Vec::new();
-            if table.rows.get(k).is_some_and(|r| near(row_px(r))) {
-                alt.extend(pick(k + 1));
+            if table.rows.get(wanted).is_some_and(|r| near(row_px(r))) {
+                alt.extend(pick(wanted + 1));
             }
-            if k > 0 && near(row_px(&table.rows[k - 1])) {
-                alt.extend(pick(k - 1));
+            if wanted > 0 && near(row_px(&table.rows[wanted - 1])) {
+                alt.extend(pick(wanted - 1));
             }
             for a in alt {
                 row_edge.extend(a.iter().filter(|c| row.binary_search(c).is_err()));
