@@ -95,6 +95,10 @@ void main() {
             uint sw_small = atomicAdd(counters.sw_small_count, 0u);
             uint hw_front = atomicAdd(counters.hw_count, 0u);
             uint sw_quarter = atomicAdd(counters.sw_quarter_count, 0u);
+            // What this phase deferred (read with the others: this tail is the pass's last work).
+            uint post_items = atomicAdd(counters.post_instance_count, 0u)
+                + min(atomicAdd(counters.post_node_count, 0u), view.queue_capacity)
+                + min(atomicAdd(counters.post_cluster_count, 0u), view.visible_capacity);
             uint sw = min(sw_front, view.visible_capacity);
             uint small = min(sw_small, view.visible_capacity - sw);
             uint hw = min(hw_front, view.visible_capacity);
@@ -132,6 +136,14 @@ void main() {
             uvec2 level0 = (uvec2(view.viewport.xy) + 1u) / 2u;
             uvec2 groups = (level0 + 2u * HZB_GROUP - 1u) / (2u * HZB_GROUP);
             counters.hzb_dispatch = uvec4(sw + small + quarter + hw > 0u ? groups.x : 0u, groups.y, 1u, 0u);
+            // The post phase's instance_cull: a thread per item this phase deferred (src/shared.rs
+            // post_dispatch_args), not one per instance (a view of few instances gave a workgroup
+            // or two hundreds of deferred clusters each, in turn).
+            if (pc.phase == 0u) {
+                uint post_groups = (post_items + INSTANCE_CULL_WORKGROUP_SIZE - 1u) / INSTANCE_CULL_WORKGROUP_SIZE;
+                uint x = min(post_groups, 65535u);
+                counters.post_dispatch = uvec4(x, x == 0u ? 1u : (post_groups + x - 1u) / x, 1u, 0u);
+            }
         }
     }
 }

@@ -289,8 +289,9 @@ impl VgeoRenderer {
         self.instance_cull.force_shared = force;
     }
 
-    /// Caps `instance_cull`'s workgroups (`None`: one thread per instance). For tests: its
-    /// grid-stride loop then gives each workgroup several rounds of items.
+    /// Caps `instance_cull`'s workgroups at `max` in both phases, dispatched by the instance
+    /// count (`None`: the main phase a thread per instance, the post phase a thread per deferred
+    /// item). For tests: its grid-stride loop then gives each workgroup several rounds of items.
     pub fn set_instance_cull_workgroups(&mut self, max: Option<u32>) {
         self.instance_cull.max_workgroups = max;
     }

@@ -581,14 +581,36 @@ pub struct CullCounters {
     /// [`VIEW_FLAG_COLD_FRAME`] (main phase): how many `occluder_select` workgroups have added
     /// their sums to `cold_area` (the last one picks `cold_cutoff`); 0 in other frames.
     pub cold_groups_done: u32,
+    /// Main phase: `vkCmdDispatchIndirect` arguments (x, y, z) + pad of the post phase's
+    /// `instance_cull`, a thread per item the main phase deferred ([`post_dispatch_args`]; the
+    /// main phase's last `cluster_cull` workgroup writes them). A dispatch by the instance count
+    /// gave a view of few instances one or two workgroups for hundreds of deferred clusters.
+    pub post_dispatch: [u32; 4],
     /// [`VIEW_FLAG_COLD_FRAME`] (main phase): the projected area of the instances in the frustum
     /// (their bounding spheres' discs at their nearest point, at most the screen each), in
     /// 1 / [`COLD_AREA_SCALE`] pixel, by distance bin ([`COLD_DEPTH_BINS`]); 64-bit sums as (low,
     /// high) words, written by `occluder_select` and read by `instance_cull`.
     pub cold_area: [[u32; 2]; COLD_DEPTH_BINS as usize],
 }
-const _: () = assert!(size_of::<CullCounters>() == 436);
+const _: () = assert!(size_of::<CullCounters>() == 452);
 const _: () = assert!(std::mem::offset_of!(CullCounters, hw_mesh) % 4 == 0);
+
+/// [`CullCounters::post_dispatch`] for what the main phase deferred (`counters`: its counters
+/// once its cull is done) in a view of the given capacities, as `cluster_cull` writes it: a
+/// thread per deferred instance, BVH-node item (at most `queue_capacity`) and cluster (at most
+/// `visible_capacity`), in rows of at most 65,535 workgroups.
+pub fn post_dispatch_args(
+    counters: &CullCounters,
+    queue_capacity: u32,
+    visible_capacity: u32,
+) -> [u32; 4] {
+    let items = counters.post_instance_count
+        + counters.post_node_count.min(queue_capacity)
+        + counters.post_cluster_count.min(visible_capacity);
+    let groups = items.div_ceil(INSTANCE_CULL_WORKGROUP_SIZE);
+    let x = groups.min(65535);
+    [x, if x == 0 { 1 } else { groups.div_ceil(x) }, 1, 0]
+}
 
 /// [`CullCounters::hw_mesh`] for `clusters` HW clusters, as `cluster_cull` writes it: rows of
 /// [`MESH_GROUPS_X`] workgroups, at most [`MESH_MAX_CLUSTERS`] clusters.

@@ -17,7 +17,10 @@ use vgeo::mesh::Mesh;
 use vgeo::passes::debug_view::ViewMode;
 use vgeo::passes::view::FrameSettings;
 use vgeo::render::{Light, Placement};
-use vgeo::shared::{COLD_OCCLUDER_COVER, VIEW_FLAG_FORCE_HW, VIEW_FLAG_FORCE_SW};
+use vgeo::shared::{
+    COLD_OCCLUDER_COVER, INSTANCE_CULL_WORKGROUP_SIZE, VIEW_FLAG_FORCE_HW, VIEW_FLAG_FORCE_SW,
+    post_dispatch_args,
+};
 
 const W: u32 = 192;
 const H: u32 = 160;
@@ -1037,6 +1040,21 @@ fn the_post_phase_draws_deferred_instances_and_clusters_together() {
         "the main phase should defer instances, nodes and clusters at once"
     );
     assert!(cut.post.counters.visible_count > 0, "the post phase draws");
+    // The post phase's instance_cull runs a thread per deferred item (the main phase's cull
+    // writes the indirect arguments), more threads here than a thread per instance would give:
+    // the frame below is drawn with them.
+    let (queue, visible) = r.capacities();
+    assert_eq!(
+        m.post_dispatch,
+        post_dispatch_args(m, queue, visible),
+        "the post phase's instance_cull arguments"
+    );
+    let per_instance = (placements.len() as u32).div_ceil(INSTANCE_CULL_WORKGROUP_SIZE);
+    assert!(
+        m.post_dispatch[0] * m.post_dispatch[1] > per_instance,
+        "{:?}: more workgroups than {per_instance} (a thread per instance)",
+        m.post_dispatch
+    );
     assert_the_cut_is_the_frame_without_occlusion(&mut r, &cut);
     assert!(cut.frame.covered() > 1000);
     assert_no_validation_errors(&ctx);

@@ -8,7 +8,9 @@ use crate::gpu::{Buffer, Cmd, ComputePipeline, Context, GpuResult, Timer};
 use crate::passes::FrameBuffers;
 use crate::passes::cull::{self, Phase};
 use crate::scene_gpu::GpuScene;
-use crate::shared::{INSTANCE_CULL_WORKGROUP_SIZE, SHARED_RUNS_MAX_INSTANCES, WALK_WIDE_INSTANCES};
+use crate::shared::{
+    CullCounters, INSTANCE_CULL_WORKGROUP_SIZE, SHARED_RUNS_MAX_INSTANCES, WALK_WIDE_INSTANCES,
+};
 
 /// The `instance_cull` pipelines: the plain one and the `shared` variant.
 pub struct InstanceCull {
@@ -16,7 +18,9 @@ pub struct InstanceCull {
     shared: ComputePipeline,
     /// The variant forced by tests (`VgeoRenderer::set_shared_runs`); `None`: by the view.
     pub force_shared: Option<bool>,
-    /// At most this many workgroups (tests: each then takes several rounds of items).
+    /// At most this many workgroups, one per [`INSTANCE_CULL_WORKGROUP_SIZE`] instances in both
+    /// phases (tests: each then takes several rounds of items); `None`: the main phase a thread
+    /// per instance, the post phase a thread per deferred item.
     pub max_workgroups: Option<u32>,
 }
 
@@ -44,7 +48,8 @@ impl InstanceCull {
         })
     }
 
-    /// Records the pass: one thread per instance in a 2D grid of workgroups.
+    /// Records the pass: in the main phase one thread per instance, in the post phase one per
+    /// deferred item ([`CullCounters::post_dispatch`]), in a 2D grid of workgroups.
     pub fn record(
         &self,
         cmd: &mut Cmd,
@@ -64,13 +69,23 @@ impl InstanceCull {
             &self.pipeline
         };
         cull::bind(cmd, pipeline, scene, fb, hzb, phase);
-        let groups = scene
-            .instance_count
-            .div_ceil(INSTANCE_CULL_WORKGROUP_SIZE)
-            .min(self.max_workgroups.unwrap_or(u32::MAX));
-        if groups > 0 {
-            let x = groups.min(65535);
-            cmd.dispatch(x, groups.div_ceil(x), 1);
+        match (phase, self.max_workgroups) {
+            // The post phase: a thread per item the main phase deferred (its cull wrote the
+            // arguments, behind the barrier that made the rasterizers' visible).
+            (Phase::Post, None) => cmd.dispatch_indirect(
+                &fb.counters,
+                std::mem::offset_of!(CullCounters, post_dispatch) as u64,
+            ),
+            (_, cap) => {
+                let groups = scene
+                    .instance_count
+                    .div_ceil(INSTANCE_CULL_WORKGROUP_SIZE)
+                    .min(cap.unwrap_or(u32::MAX));
+                if groups > 0 {
+                    let x = groups.min(65535);
+                    cmd.dispatch(x, groups.div_ceil(x), 1);
+                }
+            }
         }
         timer.end(cmd);
     }
