@@ -1085,30 +1085,31 @@ fn streamed_bunny_field(
 /// ones taking their table's finest resident rows, streamed along a
 /// camera path by two renderers in lockstep, one forced to each variant. Every frame draws the
 /// same clusters, image, depth and triangles with the same counters, and every streaming step
-/// asks for, loads and evicts the same pages. A third renderer runs the shared variant with
-/// `run_round` blind to residency (its runs' `partial` forced off, through a shader folder): it
-/// must draw other clusters somewhere on the path, or the path never had a walked instance draw a
+/// asks for, loads and evicts the same pages. A third renderer, in the same lockstep, runs the
+/// shared variant with no runs for a walk's groups (through a shader folder): they go to
+/// `cluster_cull`'s queue as they do past a thread's runs, and some must. A fourth runs the
+/// shared variant with `run_round` blind to residency (its runs' `partial` forced off): it must
+/// draw other clusters somewhere on the path, or the path never had a walked instance draw a
 /// cluster for want of its children there, and the comparison would prove nothing about it.
 #[test]
 fn the_shared_runs_variant_streams_as_the_plain_one() {
-    use vgeo::gpu::{Context, ContextOptions};
     use vgeo::passes::instance_cull::shares_runs;
     let ctx = gpu();
     // The blind shared runs: cull.glsl with run_round's residency flag false.
-    let dir = std::env::temp_dir().join(format!("vgeo-blind-runs-{}", std::process::id()));
-    std::fs::create_dir_all(dir.join("common")).unwrap();
-    let cull = include_str!("../shaders_glsl/common/cull.glsl");
-    let flag = "            partial = mesh_partial(mesh);\n";
-    assert_eq!(cull.matches(flag).count(), 1, "run_round's residency flag");
-    let blind = cull.replace(flag, "            partial = false;\n");
-    std::fs::write(dir.join("common/cull.glsl"), blind).unwrap();
-    let blind_ctx = Context::new(&ContextOptions {
-        validation: true,
-        shader_dir: Some(dir.clone()),
-        ..ContextOptions::from_env()
-    })
-    .expect("a device with the blind runs");
-    let _ = std::fs::remove_dir_all(&dir);
+    let blind_ctx = cull_variant_context(
+        "blind-runs",
+        "            partial = mesh_partial(mesh);\n",
+        "            partial = false;\n",
+    );
+    // The shared runs with no room for a walk's groups: all of them go past the runs to
+    // cluster_cull's queue, as they do once a thread's SHARED_RUNS_PER_THREAD are taken (which
+    // none of this path's walks reaches since process_node skips members whose resident
+    // creator is over the threshold).
+    let tight_ctx = cull_variant_context(
+        "tight-runs",
+        "        } else if (!local || !push_run(instance, first, group.cluster_count | RUN_TEST)) {\n",
+        "        } else {\n",
+    );
 
     let mut one = bunny();
     // Only the root's page always resident: small instances, walked by instance_cull, want
@@ -1121,7 +1122,13 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
     };
     assert!(shares_runs((BUNNY_FIELD * BUNNY_FIELD) as u32));
     let mut renderers = Vec::new();
-    for (c, shared) in [(&ctx, true), (&ctx, false), (&blind_ctx, true)] {
+    // Compared in lockstep: the shared variant, the plain one, the tight runs; then the blind.
+    for (c, shared) in [
+        (&ctx, true),
+        (&ctx, false),
+        (&tight_ctx, true),
+        (&blind_ctx, true),
+    ] {
         let (mut r, s) = streamed_bunny_field(c, &one, opts);
         r.set_shared_runs(Some(shared));
         renderers.push((r, s));
@@ -1134,7 +1141,8 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
         error_px: 8.0,
         ..Default::default()
     };
-    let (mut requests, mut walks, mut blind_differs, mut overflow) = (0, 0, None, 0);
+    let (mut requests, mut walks, mut blind_differs) = (0, 0, None);
+    let (mut overflow, mut tight_overflow) = (0, 0);
     for k in 0..24 {
         // Low over the field's near edge, moving along it: the near bunnies want their detail.
         let x = -1.0 + 2.0 * (k.min(16) as f64 / 16.0);
@@ -1143,7 +1151,7 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
         let camera = Camera::look_at(eye, at, Vec3::Y, 60f32.to_radians(), 0.01);
         let mut seen = Vec::new();
         // The blind runs until they have drawn other clusters (their streaming then differs).
-        let n = if blind_differs.is_some() { 2 } else { 3 };
+        let n = if blind_differs.is_some() { 3 } else { 4 };
         for (r, s) in renderers.iter_mut().take(n) {
             let f = render_with(r, &camera, &settings);
             let cut: BTreeSet<(u32, u32)> = f.visible().iter().map(|v| (v[0], v[1])).collect();
@@ -1175,42 +1183,72 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
                 f.main.counters.queue_tail,
             ));
         }
-        let (a, b) = (&seen[0], &seen[1]);
-        assert!(
-            a.0 == b.0,
-            "frame {k}: the variants draw different clusters"
-        );
-        assert!(
-            a.1.color == b.1.color,
-            "frame {k}: the variants' images differ"
-        );
-        assert!(
-            a.1.depth == b.1.depth,
-            "frame {k}: the variants' depths differ"
-        );
-        assert_eq!(a.1.triangles, b.1.triangles, "frame {k}: triangles");
-        assert_eq!(a.2, b.2, "frame {k}: the streaming steps differ");
-        assert!(a.3 == b.3, "frame {k}: the residency differs");
-        assert_eq!(a.4, b.4, "frame {k}: the counters (main, post) differ");
-        if seen.len() == 3 && seen[2].0 != a.0 {
+        let b = &seen[1];
+        for (name, a) in [("shared", &seen[0]), ("tight", &seen[2])] {
+            assert!(
+                a.0 == b.0,
+                "frame {k}: {name} and plain draw different clusters"
+            );
+            assert!(
+                a.1.color == b.1.color,
+                "frame {k}: {name} and plain images differ"
+            );
+            assert!(
+                a.1.depth == b.1.depth,
+                "frame {k}: {name} and plain depths differ"
+            );
+            assert_eq!(a.1.triangles, b.1.triangles, "frame {k}: {name}: triangles");
+            assert_eq!(a.2, b.2, "frame {k}: {name}: the streaming steps differ");
+            assert!(a.3 == b.3, "frame {k}: {name}: the residency differs");
+            assert_eq!(
+                a.4, b.4,
+                "frame {k}: {name}: the counters (main, post) differ"
+            );
+        }
+        let a = &seen[0];
+        if seen.len() == 4 && seen[3].0 != a.0 {
             blind_differs = Some(k);
         }
         requests += a.2.requests;
         walks += a.4[0][0] + a.4[1][0];
-        // Queue items the shared variant sent past a thread's runs (walks' groups).
+        // Queue items the shared variants sent past a thread's runs (walks' groups).
         overflow = overflow.max(a.5.saturating_sub(b.5));
+        tight_overflow = tight_overflow.max(seen[2].5.saturating_sub(b.5));
     }
     eprintln!(
-        "{requests} requests, {walks} local walks, up to {overflow} more queue items shared, the blind runs differ at {blind_differs:?}"
+        "{requests} requests, {walks} local walks, up to {overflow} more queue items shared ({tight_overflow} with no runs for walks), the blind runs differ at {blind_differs:?}"
     );
     assert!(requests > 0 && walks > 0, "the path streams and walks");
-    assert!(overflow > 0, "no walk's groups overflowed a thread's runs");
+    assert!(
+        tight_overflow > 0,
+        "no walk's groups went past the tight runs"
+    );
     assert!(
         blind_differs.is_some(),
         "no frame's cut depends on the shared runs' residency test"
     );
     assert_no_validation_errors(&ctx);
+    assert_no_validation_errors(&tight_ctx);
     assert_no_validation_errors(&blind_ctx);
+}
+
+/// A device context whose shaders take `common/cull.glsl` with its one line `line` replaced by
+/// `with` (a shader folder, `ContextOptions::shader_dir`), named `name` in the temporary folder.
+fn cull_variant_context(name: &str, line: &str, with: &str) -> vgeo::gpu::Context {
+    use vgeo::gpu::{Context, ContextOptions};
+    let dir = std::env::temp_dir().join(format!("vgeo-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("common")).unwrap();
+    let cull = include_str!("../shaders_glsl/common/cull.glsl");
+    assert_eq!(cull.matches(line).count(), 1, "{name}: the line to replace");
+    std::fs::write(dir.join("common/cull.glsl"), cull.replace(line, with)).unwrap();
+    let ctx = Context::new(&ContextOptions {
+        validation: true,
+        shader_dir: Some(dir.clone()),
+        ..ContextOptions::from_env()
+    })
+    .expect("a device with the cull variant");
+    let _ = std::fs::remove_dir_all(&dir);
+    ctx
 }
 
 /// Small instances under a budget too small for the closure of the row they want: 64 x 64

@@ -683,9 +683,11 @@ void process_node(uint64_t item, bool local) {
             }
         }
         // Members of one creator share their own error: when it is over the threshold, none is
-        // drawn (test_cluster's test, once; under partial residency a member may be drawn for
-        // want of its children, so each is tested there).
-        if (!fallback && !partial && group.members_creator != NO_GROUP_ID
+        // drawn (test_cluster's test, once). Under partial residency a member may be drawn for
+        // want of its children, so then only when their creator group, the members' children,
+        // is resident (in_cut's exception never applies to them).
+        if (!fallback && group.members_creator != NO_GROUP_ID
+            && children_resident(mesh, group.members_creator)
             && self_error_px(inst, mesh, group.members_creator, scale, w) > view.error_px) {
             CULL_STAT(clusters_tested, group.cluster_count)
             continue;
