@@ -142,7 +142,7 @@ void main() {
             if (pc.phase == 0u) {
                 uint post_groups = (post_items + INSTANCE_CULL_WORKGROUP_SIZE - 1u) / INSTANCE_CULL_WORKGROUP_SIZE;
                 uint x = min(post_groups, 65535u);
-                counters.post_dispatch = uvec4(x, x == 0u ? 1u : (post_groups + x - 1u) / x, 1u, 0u);
+                counters.post_dispatch = uvec3(x, x == 0u ? 1u : (post_groups + x - 1u) / x, 1u);
             }
         }
     }

@@ -581,18 +581,22 @@ pub struct CullCounters {
     /// [`VIEW_FLAG_COLD_FRAME`] (main phase): how many `occluder_select` workgroups have added
     /// their sums to `cold_area` (the last one picks `cold_cutoff`); 0 in other frames.
     pub cold_groups_done: u32,
-    /// Main phase: `vkCmdDispatchIndirect` arguments (x, y, z) + pad of the post phase's
+    /// Main phase: `vkCmdDispatchIndirect` arguments (x, y, z) of the post phase's
     /// `instance_cull`, a thread per item the main phase deferred ([`post_dispatch_args`]; the
     /// main phase's last `cluster_cull` workgroup writes them). A dispatch by the instance count
     /// gave a view of few instances one or two workgroups for hundreds of deferred clusters.
-    pub post_dispatch: [u32; 4],
+    /// Three words, no pad: the struct is 448 bytes, what its 436 bytes took before this field
+    /// at an allocation alignment of 16, so the frame's buffers allocated after the counters
+    /// keep their offsets (a guess at why a 16-byte pad, 452 bytes, read stress N=100 0.3-0.4 %
+    /// slower in passes it does not touch: bench/results/2026-11-28-session41, not yet timed).
+    pub post_dispatch: [u32; 3],
     /// [`VIEW_FLAG_COLD_FRAME`] (main phase): the projected area of the instances in the frustum
     /// (their bounding spheres' discs at their nearest point, at most the screen each), in
     /// 1 / [`COLD_AREA_SCALE`] pixel, by distance bin ([`COLD_DEPTH_BINS`]); 64-bit sums as (low,
     /// high) words, written by `occluder_select` and read by `instance_cull`.
     pub cold_area: [[u32; 2]; COLD_DEPTH_BINS as usize],
 }
-const _: () = assert!(size_of::<CullCounters>() == 452);
+const _: () = assert!(size_of::<CullCounters>() == 448);
 const _: () = assert!(std::mem::offset_of!(CullCounters, hw_mesh) % 4 == 0);
 
 /// [`CullCounters::post_dispatch`] for what the main phase deferred (`counters`: its counters
@@ -603,13 +607,13 @@ pub fn post_dispatch_args(
     counters: &CullCounters,
     queue_capacity: u32,
     visible_capacity: u32,
-) -> [u32; 4] {
+) -> [u32; 3] {
     let items = counters.post_instance_count
         + counters.post_node_count.min(queue_capacity)
         + counters.post_cluster_count.min(visible_capacity);
     let groups = items.div_ceil(INSTANCE_CULL_WORKGROUP_SIZE);
     let x = groups.min(65535);
-    [x, if x == 0 { 1 } else { groups.div_ceil(x) }, 1, 0]
+    [x, if x == 0 { 1 } else { groups.div_ceil(x) }, 1]
 }
 
 /// [`CullCounters::hw_mesh`] for `clusters` HW clusters, as `cluster_cull` writes it: rows of
@@ -728,6 +732,37 @@ const _: () = assert!(size_of::<LodStatsGpu>() == 32);
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The post phase's `instance_cull` gets a thread per deferred item (at most the
+    /// capacities' worth), none when nothing was deferred, in rows within the limit.
+    #[test]
+    fn post_dispatch_args_take_a_thread_per_deferred_item() {
+        let deferred = |instances: u32, nodes: u32, clusters: u32| CullCounters {
+            post_instance_count: instances,
+            post_node_count: nodes,
+            post_cluster_count: clusters,
+            ..Zeroable::zeroed()
+        };
+        let (queue, visible) = (1 << 20, 1 << 20);
+        assert_eq!(
+            post_dispatch_args(&deferred(0, 0, 0), queue, visible),
+            [0, 1, 1]
+        );
+        // Outdoor's 887 deferred clusters and 5 nodes: 14 workgroups (its 91 instances gave 2).
+        assert_eq!(
+            post_dispatch_args(&deferred(0, 5, 887), queue, visible),
+            [14, 1, 1]
+        );
+        // Items past the capacities count at the capacities.
+        assert_eq!(
+            post_dispatch_args(&deferred(3, 1 << 21, 1 << 21), queue, visible),
+            [32769, 1, 1]
+        );
+        // 8 M deferred instances: rows of 65,535 workgroups covering every one.
+        let big = post_dispatch_args(&deferred(8_000_000, 0, 0), queue, visible);
+        assert_eq!(big, [65535, 2, 1]);
+        assert!(big[0] * big[1] * INSTANCE_CULL_WORKGROUP_SIZE >= 8_000_000);
+    }
 
     /// The mesh path's workgroup grid covers every HW cluster up to the limit, in rows of
     /// `MESH_GROUPS_X`, within the specification's minimum limits.

@@ -106,7 +106,7 @@ struct CullCounters {
     uint sw_quarter_groups;
     uint cold_cutoff;
     uint cold_groups_done;
-    uvec4 post_dispatch;
+    uvec3 post_dispatch;
     uvec2 cold_area[COLD_DEPTH_BINS];
 };
 
