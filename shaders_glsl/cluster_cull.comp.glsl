@@ -95,10 +95,14 @@ void main() {
             uint sw_small = atomicAdd(counters.sw_small_count, 0u);
             uint hw_front = atomicAdd(counters.hw_count, 0u);
             uint sw_quarter = atomicAdd(counters.sw_quarter_count, 0u);
-            // What this phase deferred (read with the others: this tail is the pass's last work).
-            uint post_items = atomicAdd(counters.post_instance_count, 0u)
-                + min(atomicAdd(counters.post_node_count, 0u), view.queue_capacity)
-                + min(atomicAdd(counters.post_cluster_count, 0u), view.visible_capacity);
+            // What the main phase deferred (read with the others: this tail is the pass's last
+            // work).
+            uint post_items = 0u;
+            if (pc.phase == 0u) {
+                post_items = atomicAdd(counters.post_instance_count, 0u)
+                    + min(atomicAdd(counters.post_node_count, 0u), view.queue_capacity)
+                    + min(atomicAdd(counters.post_cluster_count, 0u), view.visible_capacity);
+            }
             uint sw = min(sw_front, view.visible_capacity);
             uint small = min(sw_small, view.visible_capacity - sw);
             uint hw = min(hw_front, view.visible_capacity);

@@ -1086,8 +1086,8 @@ fn streamed_bunny_field(
 /// camera path by two renderers in lockstep, one forced to each variant. Every frame draws the
 /// same clusters, image, depth and triangles with the same counters, and every streaming step
 /// asks for, loads and evicts the same pages. A third renderer, in the same lockstep, runs the
-/// shared variant with no runs for a walk's groups (through a shader folder): they go to
-/// `cluster_cull`'s queue as they do past a thread's runs, and some must. A fourth runs the
+/// shared variant with `push_run` refusing a walk's groups as it does past a thread's runs
+/// (through a shader folder): they go to `cluster_cull`'s queue, and some must. A fourth runs the
 /// shared variant with `run_round` blind to residency (its runs' `partial` forced off): it must
 /// draw other clusters somewhere on the path, or the path never had a walked instance draw a
 /// cluster for want of its children there, and the comparison would prove nothing about it.
@@ -1101,14 +1101,15 @@ fn the_shared_runs_variant_streams_as_the_plain_one() {
         "            partial = mesh_partial(mesh);\n",
         "            partial = false;\n",
     );
-    // The shared runs with no room for a walk's groups: all of them go past the runs to
-    // cluster_cull's queue, as they do once a thread's SHARED_RUNS_PER_THREAD are taken (which
-    // none of this path's walks reaches since process_node skips members whose resident
-    // creator is over the threshold).
+    // The shared runs with no room for a walk's groups: push_run refuses them (its test for a
+    // thread's full runs, taken for every walk's group), so all of them go the way groups past a
+    // thread's SHARED_RUNS_PER_THREAD runs go, to cluster_cull's queue (none of this path's walks
+    // fills its runs since process_node skips members whose resident creator is over the
+    // threshold).
     let tight_ctx = cull_variant_context(
         "tight-runs",
-        "        } else if (!local || !push_run(instance, first, group.cluster_count | RUN_TEST)) {\n",
-        "        } else {\n",
+        "    if (j >= SHARED_RUNS_PER_THREAD) {\n",
+        "    if (j >= SHARED_RUNS_PER_THREAD || (count & RUN_TEST) != 0u) {\n",
     );
 
     let mut one = bunny();

@@ -27,6 +27,25 @@ impl MemoryKind {
     }
 }
 
+/// With `VGEO_LOG_ALLOCATIONS=1`, one line on stderr per buffer: its name, size, the alignment
+/// the device asks for and where the allocator placed it (for layout effects on frame times:
+/// docs/profiling.md).
+fn log_allocation(
+    name: &str,
+    size: u64,
+    requirements: &vk::MemoryRequirements,
+    allocation: &Allocation,
+) {
+    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    if *ON.get_or_init(|| std::env::var("VGEO_LOG_ALLOCATIONS").is_ok_and(|v| v == "1")) {
+        eprintln!(
+            "[allocation] {name}: {size} B, alignment {}, block offset {}",
+            requirements.alignment,
+            allocation.offset()
+        );
+    }
+}
+
 /// Memory for a resource from the context's allocator.
 fn allocate(
     ctx: &Context,
@@ -99,6 +118,7 @@ impl Buffer {
                 return Err(e);
             }
         };
+        log_allocation(name, size, &requirements, &allocation);
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound elsewhere.
         unsafe { dev.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
             .call("vkBindBufferMemory")?;

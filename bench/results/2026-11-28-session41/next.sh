@@ -5,9 +5,14 @@
 # .gpu/vgeo-F.xz): is stress N=100's +0.3-0.4 % (N=200 +0.1 %) against A the counters' pad word
 # moving the frame buffers after them? Runs A F M M F A on stress N=100 / N=200, then A M M A on
 # every other scene (issue 13's acceptance 5: frame times no worse than A's), then M's errors.
+# M: main at session 41's end (its cluster_cull tail also reads the deferred counts
+# only in the main phase).
 . bench/results/2026-11-26-session17/common.sh
 o=$OUT/timing.txt
 setup_xz $o vgeo-A vgeo-F vgeo-M
+# Where the frame's buffers lie on this device (the alignment it asks for; M only: A and F
+# predate VGEO_LOG_ALLOCATIONS).
+VGEO_LOG_ALLOCATIONS=1 timeout 60 /tmp/vgeo-M render assets/scenes/outdoor.toml --width 1920 --height 1080 -o /tmp/a.png 2>&1 | grep allocation > $OUT/alloc-M.txt
 warm A
 T0=$SECONDS
 run() { # NAME BENCH_ARGS...
