@@ -46,6 +46,20 @@ fn log_allocation(
     }
 }
 
+/// With `VGEO_BUFFER_ALIGN=N` (a power of two), every buffer starts on a multiple of N bytes in
+/// its memory block at least (the device's own alignment otherwise): for measuring whether a
+/// frame time moves with where the buffers lie (docs/profiling.md). 1 when unset or invalid.
+fn buffer_alignment() -> u64 {
+    static ALIGN: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    *ALIGN.get_or_init(|| {
+        std::env::var("VGEO_BUFFER_ALIGN")
+            .ok()
+            .and_then(|v| v.parse::<u64>().ok())
+            .filter(|n| n.is_power_of_two())
+            .unwrap_or(1)
+    })
+}
+
 /// Memory for a resource from the context's allocator.
 fn allocate(
     ctx: &Context,
@@ -109,7 +123,8 @@ impl Buffer {
         // SAFETY: valid device and create info.
         let raw = unsafe { dev.create_buffer(&info, None) }.call("vkCreateBuffer")?;
         // SAFETY: `raw` was just created on this device.
-        let requirements = unsafe { dev.get_buffer_memory_requirements(raw) };
+        let mut requirements = unsafe { dev.get_buffer_memory_requirements(raw) };
+        requirements.alignment = requirements.alignment.max(buffer_alignment());
         let allocation = match allocate(ctx, name, requirements, kind.location(), true) {
             Ok(a) => a,
             Err(e) => {

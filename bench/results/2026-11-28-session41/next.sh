@@ -23,6 +23,13 @@ run() { # NAME BENCH_ARGS...
 for r in Aa Fa Ma Mb Fb Ab; do
   run $r-big --scenes stress --stress-n 100,200 --modes vgeo
 done
+# M with every buffer on a 256-byte boundary (VGEO_BUFFER_ALIGN, no rebuild): does the layout
+# move these frames at all?
+export VGEO_BUFFER_ALIGN=256
+for r in Mc Md; do
+  run $r-big256 --scenes stress --stress-n 100,200 --modes vgeo
+done
+unset VGEO_BUFFER_ALIGN
 pack
 SC="--scenes stress,outdoor,indoor,foliage,drawcalls --stress-n 20"
 for r in Ac Mc Md Ad; do
