@@ -145,8 +145,8 @@ void main() {
             // or two hundreds of deferred clusters each, in turn).
             if (pc.phase == 0u) {
                 uint post_groups = (post_items + INSTANCE_CULL_WORKGROUP_SIZE - 1u) / INSTANCE_CULL_WORKGROUP_SIZE;
-                uint x = min(post_groups, 65535u);
-                counters.post_dispatch = uvec3(x, x == 0u ? 1u : (post_groups + x - 1u) / x, 1u);
+                counters.post_dispatch = uvec3(min(post_groups, COMPUTE_GROUPS_X),
+                                               max((post_groups + COMPUTE_GROUPS_X - 1u) / COMPUTE_GROUPS_X, 1u), 1u);
             }
         }
     }

@@ -40,6 +40,9 @@ pub const HZB_GROUP: u32 = 16;
 pub const HZB_HEAD_LEVELS: u32 = 6;
 /// Threads of one `instance_cull` workgroup.
 pub const INSTANCE_CULL_WORKGROUP_SIZE: u32 = 64;
+/// Workgroups along x of a compute dispatch (the specification's minimum
+/// `maxComputeWorkGroupCount[0]`); more take rows of this many ([`compute_grid`]).
+pub const COMPUTE_GROUPS_X: u32 = 65535;
 /// Threads of one persistent `cluster_cull` workgroup (items popped per iteration).
 pub const CLUSTER_CULL_WORKGROUP_SIZE: u32 = 64;
 /// Threads of one `raster_sw` workgroup: one per triangle of a cluster.
@@ -612,9 +615,17 @@ pub fn post_dispatch_args(
     let items = counters.post_instance_count
         + counters.post_node_count.min(queue_capacity)
         + counters.post_cluster_count.min(visible_capacity);
-    let groups = items.div_ceil(INSTANCE_CULL_WORKGROUP_SIZE);
-    let x = groups.min(65535);
-    [x, if x == 0 { 1 } else { groups.div_ceil(x) }, 1]
+    compute_grid(items.div_ceil(INSTANCE_CULL_WORKGROUP_SIZE))
+}
+
+/// A dispatch of `groups` workgroups as (x, y, z): rows of at most [`COMPUTE_GROUPS_X`], at least
+/// one row (`[0, 1, 1]` for none).
+pub fn compute_grid(groups: u32) -> [u32; 3] {
+    [
+        groups.min(COMPUTE_GROUPS_X),
+        groups.div_ceil(COMPUTE_GROUPS_X).max(1),
+        1,
+    ]
 }
 
 /// [`CullCounters::hw_mesh`] for `clusters` HW clusters, as `cluster_cull` writes it: rows of

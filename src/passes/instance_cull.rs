@@ -10,6 +10,7 @@ use crate::passes::cull::{self, Phase};
 use crate::scene_gpu::GpuScene;
 use crate::shared::{
     CullCounters, INSTANCE_CULL_WORKGROUP_SIZE, SHARED_RUNS_MAX_INSTANCES, WALK_WIDE_INSTANCES,
+    compute_grid,
 };
 
 /// The `instance_cull` pipelines: the plain one and the `shared` variant.
@@ -82,8 +83,8 @@ impl InstanceCull {
                     .div_ceil(INSTANCE_CULL_WORKGROUP_SIZE)
                     .min(cap.unwrap_or(u32::MAX));
                 if groups > 0 {
-                    let x = groups.min(65535);
-                    cmd.dispatch(x, groups.div_ceil(x), 1);
+                    let [x, y, z] = compute_grid(groups);
+                    cmd.dispatch(x, y, z);
                 }
             }
         }
