@@ -95,14 +95,14 @@ void main() {
             uint sw_small = atomicAdd(counters.sw_small_count, 0u);
             uint hw_front = atomicAdd(counters.hw_count, 0u);
             uint sw_quarter = atomicAdd(counters.sw_quarter_count, 0u);
-            // What the main phase deferred (read with the others: this tail is the pass's last
-            // work).
-            uint post_items = 0u;
-            if (pc.phase == 0u) {
-                post_items = atomicAdd(counters.post_instance_count, 0u)
-                    + min(atomicAdd(counters.post_node_count, 0u), view.queue_capacity)
-                    + min(atomicAdd(counters.post_cluster_count, 0u), view.visible_capacity);
-            }
+            // What the main phase deferred, read with the others in both phases (only the main
+            // phase uses it): this tail is the pass's last work, and reads behind a branch of
+            // their own may wait for the first four to return (b8908f4, which read them so,
+            // timed the H200's main-phase cluster_cull 0.0059 ms on stress N=100 against 0.0061
+            // with the branch: bench/results/2026-11-28-session42, call 1, F and M).
+            uint post_items = atomicAdd(counters.post_instance_count, 0u)
+                + min(atomicAdd(counters.post_node_count, 0u), view.queue_capacity)
+                + min(atomicAdd(counters.post_cluster_count, 0u), view.visible_capacity);
             uint sw = min(sw_front, view.visible_capacity);
             uint small = min(sw_small, view.visible_capacity - sw);
             uint hw = min(hw_front, view.visible_capacity);
