@@ -588,11 +588,9 @@ pub struct CullCounters {
     /// `instance_cull`, a thread per item the main phase deferred ([`post_dispatch_args`]; the
     /// main phase's last `cluster_cull` workgroup writes them). A dispatch by the instance count
     /// gave a view of few instances one or two workgroups for hundreds of deferred clusters.
-    /// Three words, no pad: the struct is 448 bytes, what its 436 bytes took before this field
-    /// if the allocator aligns the next buffer to 16 bytes, so the frame's buffers allocated
-    /// after the counters would keep their offsets (a guess at why a 16-byte pad, 452 bytes,
-    /// read stress N=100 0.3-0.4 % slower in passes it does not touch:
-    /// bench/results/2026-11-28-session41; not yet timed, the device's alignment not checked).
+    /// Three words, no pad (448 bytes). A 16-byte pad (452) was suspected of slowing stress
+    /// N=100 by moving the buffers after the counters; the H200 timed both alike, and aligns
+    /// storage buffers to 16 bytes (bench/results/2026-11-28-session42, call 1).
     pub post_dispatch: [u32; 3],
     /// [`VIEW_FLAG_COLD_FRAME`] (main phase): the projected area of the instances in the frustum
     /// (their bounding spheres' discs at their nearest point, at most the screen each), in
