@@ -139,6 +139,9 @@ pub struct VgeoRenderer {
     retire_age: u32,
     /// The automatic SW/HW split of [`VgeoRenderer::render`]'s frames ([`split`]).
     split: SplitTuner,
+    /// Set by [`VgeoRenderer::force_streaming_cull`]: the culls take their streaming pipelines in
+    /// every frame, not only in frames with a partial mesh.
+    force_streaming_cull: bool,
 }
 
 impl VgeoRenderer {
@@ -221,6 +224,7 @@ impl VgeoRenderer {
             materials_epoch: scene.mesh_epoch(),
             retire_age: 0,
             split: SplitTuner::new(),
+            force_streaming_cull: false,
             scene,
         })
     }
@@ -287,6 +291,21 @@ impl VgeoRenderer {
     /// [`crate::passes::instance_cull::shares_runs`]). For tests: both draw the same cut.
     pub fn set_shared_runs(&mut self, force: Option<bool>) {
         self.instance_cull.force_shared = force;
+    }
+
+    /// Makes the culls take their pipelines with the partial-residency code in every frame
+    /// (`true`), or only in frames in which some mesh is partial (`false`, the default:
+    /// [`VgeoRenderer::streaming_cull`]). For tests: both draw the same cut of an all-resident
+    /// frame.
+    pub fn force_streaming_cull(&mut self, on: bool) {
+        self.force_streaming_cull = on;
+    }
+
+    /// Whether the next frame's culls take their pipelines with the partial-residency code
+    /// ([`crate::passes::cull::CullPipelines`]): when some mesh of the scene may be partial on the
+    /// GPU ([`GpuScene::may_be_partial`]) or [`VgeoRenderer::force_streaming_cull`] is on.
+    pub fn streaming_cull(&self) -> bool {
+        self.force_streaming_cull || self.scene.may_be_partial()
     }
 
     /// Caps `instance_cull`'s workgroups at `max` in both phases, dispatched by the instance
@@ -441,14 +460,15 @@ impl VgeoRenderer {
                 (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
             );
         }
+        let streaming = self.streaming_cull();
         self.instance_cull
-            .record(cmd, timer, &self.scene, fb, hzb, phase);
+            .record(cmd, timer, &self.scene, fb, hzb, phase, streaming);
         cmd.barrier(
             (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
             (vk::PipelineStageFlags2::COMPUTE_SHADER, rw),
         );
         self.cluster_cull
-            .record(cmd, timer, &self.scene, fb, hzb, phase);
+            .record(cmd, timer, &self.scene, fb, hzb, phase, streaming);
         cmd.barrier(
             (
                 vk::PipelineStageFlags2::COMPUTE_SHADER,

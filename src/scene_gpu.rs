@@ -341,8 +341,11 @@ pub struct GpuScene {
     /// bits: projected error over the threshold), and 1 when a drawn cluster used it.
     pub page_requests: Buffer,
     pub page_usage: Buffer,
-    /// [`MeshGpu`] per mesh slot (all zeros for a free slot).
-    pub mesh_table: Vec<MeshGpu>,
+    /// [`MeshGpu`] per mesh slot (all zeros for a free slot); its partial flags change only
+    /// through [`GpuScene::set_mesh_partial`], which keeps `partial_count`.
+    pub(crate) mesh_table: Vec<MeshGpu>,
+    /// Entries of `mesh_table` with [`MESH_STREAM_PARTIAL`].
+    partial_count: u32,
     /// Instances in the scene (the dense instance array's length).
     pub instance_count: u32,
     /// Clusters of the live meshes.
@@ -460,6 +463,7 @@ impl GpuScene {
             page_requests: buf("scene page requests")?,
             page_usage: buf("scene page usage")?,
             mesh_table: Vec::new(),
+            partial_count: 0,
             instance_count: 0,
             total_clusters: 0,
             instance_clusters: 0,
@@ -774,11 +778,16 @@ impl GpuScene {
                         .sum::<u64>(),
                 material: MeshMaterialSource::of(m),
             });
-            self.mesh_table[slot as usize] = gpu;
+            let generation = ms.generation;
+            self.mesh_table[slot as usize] = MeshGpu {
+                streams: gpu.streams & !MESH_STREAM_PARTIAL,
+                ..gpu
+            };
+            self.set_mesh_partial(slot as usize, gpu.streams & MESH_STREAM_PARTIAL != 0);
             self.total_clusters += gpu.cluster_count;
             handles.push(MeshHandle {
                 index: slot,
-                generation: ms.generation,
+                generation,
             });
             new_slots.push(slot);
         }
@@ -863,6 +872,7 @@ impl GpuScene {
         }
         self.total_clusters -= self.mesh_table[h.index as usize].cluster_count;
         // No instance reads a free slot's entry; the GPU copy is left as it was.
+        self.set_mesh_partial(h.index as usize, false);
         self.mesh_table[h.index as usize] = MeshGpu::default();
         self.staged.forget_mesh(h.index);
         self.free_meshes.push(h.index);
@@ -913,12 +923,8 @@ impl GpuScene {
         let first = live.ranges[PAGES].0;
         let partial = resident.iter().any(|&r| !r);
         let slot = h.index as usize;
-        let e = &mut self.mesh_table[slot];
-        e.streams = if partial {
-            e.streams | MESH_STREAM_PARTIAL
-        } else {
-            e.streams & !MESH_STREAM_PARTIAL
-        };
+        self.set_mesh_partial(slot, partial);
+        let e = &self.mesh_table[slot];
         let staging = Buffer::staging(
             &self.ctx,
             "scene page residency (staging)",
@@ -1053,6 +1059,37 @@ impl GpuScene {
     /// Live meshes.
     pub fn mesh_count(&self) -> usize {
         self.mesh_slots.iter().filter(|s| s.live.is_some()).count()
+    }
+
+    /// Sets or clears mesh slot `slot`'s [`MESH_STREAM_PARTIAL`] in the CPU's table (keeping
+    /// the count of partial meshes); true when it changed.
+    pub(crate) fn set_mesh_partial(&mut self, slot: usize, partial: bool) -> bool {
+        let e = &mut self.mesh_table[slot];
+        let was = e.streams & MESH_STREAM_PARTIAL != 0;
+        if was == partial {
+            return false;
+        }
+        if partial {
+            e.streams |= MESH_STREAM_PARTIAL;
+            self.partial_count += 1;
+        } else {
+            e.streams &= !MESH_STREAM_PARTIAL;
+            self.partial_count -= 1;
+        }
+        true
+    }
+
+    /// Meshes with some page absent ([`MESH_STREAM_PARTIAL`]) in the CPU's table.
+    pub fn partial_meshes(&self) -> u32 {
+        self.partial_count
+    }
+
+    /// Whether a frame recorded now may find a mesh partial on the GPU: one is partial in the
+    /// CPU's table, or a mesh's flag changed and its copy is not yet recorded (the GPU may still
+    /// hold it partial until the frame that records the staged changes). The culls then take
+    /// their pipelines with the partial-residency code (`passes::cull::CullPipelines`).
+    pub fn may_be_partial(&self) -> bool {
+        self.partial_count > 0 || self.staged.has_mesh_changes()
     }
 
     /// Changes with every mesh added or removed.

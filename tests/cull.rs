@@ -402,7 +402,9 @@ fn shared_runs_draw_the_plain_variants_cut() {
 /// (frustum and two-phase occlusion culling on) over 67 x 67 spots and clumps, with one thread
 /// per instance and with 7 workgroups (each then takes several rounds of items, with runs in
 /// consecutive rounds). Each frame's image, depth, triangles, and per phase the drawn clusters
-/// (none twice), table cuts, local walks and deferred items are the plain variant's.
+/// (none twice), table cuts, local walks and deferred items are the plain variant's; at one
+/// thread per instance, so are those of the culls' pipelines with the partial-residency code,
+/// which this all-resident scene does not otherwise run (`CullPipelines`).
 #[test]
 fn shared_runs_render_the_plain_variants_frames() {
     use vgeo::ViewMode;
@@ -429,10 +431,17 @@ fn shared_runs_render_the_plain_variants_frames() {
             .min(cap.unwrap_or(u32::MAX))
             * INSTANCE_CULL_WORKGROUP_SIZE;
         let mut frames: Vec<Vec<VgeoFrame>> = Vec::new();
-        for force in [true, false] {
+        // (shared, streaming): the plain variant is compared with the shared one, and at one
+        // thread per instance the shared one with the streaming pipelines.
+        let configs = [(true, false), (false, false), (true, true)];
+        let n = if cap.is_none() { 3 } else { 2 };
+        for &(force, streaming) in &configs[..n] {
             let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
             r.set_shared_runs(Some(force));
             r.set_instance_cull_workgroups(cap);
+            assert!(!r.streaming_cull(), "all resident");
+            r.force_streaming_cull(streaming);
+            assert_eq!(r.streaming_cull(), streaming);
             frames.push(
                 cameras
                     .iter()
@@ -447,7 +456,9 @@ fn shared_runs_render_the_plain_variants_frames() {
             );
         }
         let mut rounds = false;
-        for (i, (s, p)) in frames[0].iter().zip(&frames[1]).enumerate() {
+        let pairs = frames[1..].iter().flat_map(|f| frames[0].iter().zip(f));
+        for (k, (s, p)) in pairs.enumerate() {
+            let i = k % cameras.len();
             let (m, q) = (&s.main.counters, &s.post.counters);
             let post_items = m.post_instance_count + m.post_node_count + m.post_cluster_count;
             eprintln!(
@@ -678,6 +689,7 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
         color: [1.0; 3],
     }];
     let mut r = VgeoRenderer::new(&ctx, &meshes, &placements).expect("renderer");
+    assert!(!r.streaming_cull(), "all resident");
     let h = r.scene.mesh_handle(0).expect("mesh");
     let center = DVec3::new(-0.017, 0.11, 0.0);
     let (w, hgt) = (320, 240);
@@ -688,6 +700,9 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
             .collect();
         close_residency(m, &needs, &mut res);
         r.scene.set_page_residency(h, &res).expect("residency");
+        let partial = res.iter().any(|&p| !p);
+        assert_eq!(r.scene.partial_meshes(), partial as u32);
+        assert_eq!(r.streaming_cull(), partial, "the culls' pipelines");
         for (dist, tau) in [(0.3, 1.0), (0.8, 0.5), (3.0, 2.0)] {
             let eye = center + DVec3::new(0.3, 0.2, 1.0).normalize() * dist;
             let camera = Camera::look_at(eye, center, Vec3::Y, 45f32.to_radians(), 0.01);
@@ -779,6 +794,20 @@ fn gpu_cut_under_partial_residency_equals_the_cpu_cut_and_asks_for_the_missing_p
     let mut bad = vec![true; m.pages.len()];
     bad[0] = false;
     assert!(r.scene.set_page_residency(h, &bad).is_err());
+    // Every page back: the culls leave the partial-residency code out again.
+    r.scene
+        .set_page_residency(h, &vec![true; m.pages.len()])
+        .expect("all resident");
+    assert!(r.scene.partial_meshes() == 0 && !r.streaming_cull());
+    // Removing a partial mesh leaves no partial mesh behind.
+    let mut res = vec![false; m.pages.len()];
+    close_residency(m, &needs, &mut res);
+    r.scene.set_page_residency(h, &res).expect("residency");
+    assert_eq!(r.scene.partial_meshes(), 1);
+    let i = r.scene.instance_handle(0).expect("instance");
+    r.scene.remove_instance(i).expect("instance removed");
+    r.scene.remove_mesh(h).expect("mesh removed");
+    assert!(r.scene.partial_meshes() == 0 && !r.streaming_cull());
     assert_no_validation_errors(&ctx);
 }
 

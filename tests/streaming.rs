@@ -672,6 +672,88 @@ fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_cull
     assert_no_validation_errors(&ctx);
 }
 
+/// The culls run their pipelines without the partial-residency code (`CULL_STREAMING` false)
+/// only in frames in which no mesh can be partial on the GPU: a streamed mesh takes the streaming
+/// ones while a page is absent, and still in the frame that copies its last page in (its flag
+/// in the CPU's table is already clear, the GPU's not yet); then the resident ones, and its image
+/// and depth are the all-resident renderer's bit for bit; an eviction takes it back.
+#[test]
+fn the_culls_leave_out_streaming_code_only_once_every_page_is_in() {
+    let ctx = gpu();
+    let one = bunny();
+    let total: u64 = one.pages.iter().map(|p| p.bytes as u64).sum();
+    let opts = StreamOptions {
+        budget_bytes: 2 * total,
+        upload_bytes_per_frame: 64 << 20,
+    };
+    let (mut r, _streamer) = streamed(&ctx, &one, Box::new(one.clone()), opts);
+    let h = r.scene.mesh_handle(0).expect("mesh");
+    let camera = camera_at(0.1);
+    assert_eq!(r.scene.partial_meshes(), 1);
+    assert!(r.streaming_cull(), "only the always-resident pages are in");
+    render(&mut r, &camera);
+    // Every absent page in, by hand (the streamer, never updated here, loaded only the
+    // always-resident ones; it would load only what a view asks for).
+    let mut changes = Vec::new();
+    for (p, page) in one
+        .pages
+        .iter()
+        .enumerate()
+        .skip(one.resident_pages as usize)
+    {
+        let bytes = one.read_page(p as u32).expect("page");
+        assert_eq!(bytes.len() as u64, page.bytes as u64);
+        let word = r
+            .scene
+            .reserve_page_slots(bytes.len().div_ceil(4) as u64)
+            .expect("slot");
+        changes.push(vgeo::scene_gpu::PageChange {
+            mesh: h,
+            page: p as u32,
+            load: Some((word, bytes)),
+        });
+    }
+    assert!(!changes.is_empty());
+    r.scene.update_pages(&changes).expect("loads");
+    assert_eq!(
+        r.scene.partial_meshes(),
+        0,
+        "the CPU's table has every page"
+    );
+    assert!(
+        r.scene.may_be_partial() && r.streaming_cull(),
+        "the GPU has not had the copies yet"
+    );
+    let copied = render(&mut r, &camera);
+    assert!(!r.scene.may_be_partial() && !r.streaming_cull());
+    let streamed_image = render(&mut r, &camera);
+    let mut all =
+        VgeoRenderer::new(&ctx, std::slice::from_ref(&one), &[place()]).expect("renderer");
+    assert!(!all.streaming_cull());
+    let want = render(&mut all, &camera);
+    for (what, f) in [("copying", &copied), ("resident", &streamed_image)] {
+        assert!(
+            f.frame.color == want.frame.color && f.frame.depth == want.frame.depth,
+            "{what} frame: the image differs from the all-resident one"
+        );
+    }
+    // An eviction makes the mesh partial again.
+    let last = one.pages.len() as u32 - 1;
+    assert!(last >= one.resident_pages);
+    r.scene
+        .update_pages(&[vgeo::scene_gpu::PageChange {
+            mesh: h,
+            page: last,
+            load: None,
+        }])
+        .expect("eviction");
+    assert_eq!(r.scene.partial_meshes(), 1);
+    assert!(r.streaming_cull());
+    render(&mut r, &camera);
+    assert!(r.streaming_cull(), "still partial after its copy");
+    assert_no_validation_errors(&ctx);
+}
+
 /// A mesh just behind the camera streams in nothing. The eye is 0.02 in front of the bunny's
 /// nearest point, looking away from it: the spheres of its coarse clusters reach past the near
 /// plane, but their boxes lie wholly behind it, and a cluster outside the frustum asks for no

@@ -226,8 +226,12 @@ bool group_pages_resident(MeshGpu mesh, Group g) {
     return true;
 }
 
+// False in the pipelines for frames without a partial mesh (src/passes/cull.rs): the compiler then
+// drops the partial-residency code.
+layout(constant_id = SPEC_CULL_STREAMING) const bool CULL_STREAMING = true;
+
 bool mesh_partial(MeshGpu mesh) {
-    return (mesh.streams & MESH_STREAM_PARTIAL) != 0u;
+    return CULL_STREAMING && (mesh.streams & MESH_STREAM_PARTIAL) != 0u;
 }
 
 // Whether the children of a cluster made by group `creator` (that group's members) are all

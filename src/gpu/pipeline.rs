@@ -94,7 +94,19 @@ impl ComputePipeline {
         bindings: &[vk::DescriptorType],
         push_constant_size: u32,
     ) -> GpuResult<Self> {
-        Self::with_sets(ctx, shader, bindings, push_constant_size, &[])
+        Self::with_sets(ctx, shader, bindings, push_constant_size, &[], &[])
+    }
+
+    /// Like [`ComputePipeline::new`] with specialization constants: `(constant_id, value)` pairs,
+    /// each a 32-bit scalar (a GLSL `bool` takes 0 or 1).
+    pub fn specialized(
+        ctx: &Context,
+        shader: ShaderStage<'_>,
+        bindings: &[vk::DescriptorType],
+        push_constant_size: u32,
+        constants: &[(u32, u32)],
+    ) -> GpuResult<Self> {
+        Self::with_sets(ctx, shader, bindings, push_constant_size, &[], constants)
     }
 
     /// Like [`ComputePipeline::new`] with a bindless texture array as descriptor set 1.
@@ -111,6 +123,7 @@ impl ComputePipeline {
             bindings,
             push_constant_size,
             &[textures.layout],
+            &[],
         )
     }
 
@@ -120,6 +133,7 @@ impl ComputePipeline {
         bindings: &[vk::DescriptorType],
         push_constant_size: u32,
         extra_sets: &[vk::DescriptorSetLayout],
+        constants: &[(u32, u32)],
     ) -> GpuResult<Self> {
         let l = layout(
             ctx,
@@ -130,10 +144,26 @@ impl ComputePipeline {
             extra_sets,
         )?;
         let m = module(ctx, shader)?;
-        let stage = vk::PipelineShaderStageCreateInfo::default()
+        let entries: Vec<vk::SpecializationMapEntry> = constants
+            .iter()
+            .enumerate()
+            .map(|(i, &(id, _))| vk::SpecializationMapEntry {
+                constant_id: id,
+                offset: 4 * i as u32,
+                size: 4,
+            })
+            .collect();
+        let data: Vec<u32> = constants.iter().map(|&(_, v)| v).collect();
+        let spec = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(bytemuck::cast_slice(&data));
+        let mut stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(m)
             .name(c"main");
+        if !constants.is_empty() {
+            stage = stage.specialization_info(&spec);
+        }
         let info = vk::ComputePipelineCreateInfo::default()
             .flags(statistics_flags(ctx))
             .stage(stage)

@@ -3,14 +3,15 @@
 //! clusters to the visible list and to the SW or HW rasterizer's list. See the shader's header for
 //! the queue protocol and termination.
 
-use crate::gpu::{Buffer, Caps, Cmd, ComputePipeline, Context, GpuResult, Timer};
+use crate::gpu::{Buffer, Caps, Cmd, Context, GpuResult, Timer};
 use crate::passes::FrameBuffers;
-use crate::passes::cull::{self, Phase};
+use crate::passes::cull::{self, CullPipelines, Phase};
 use crate::scene_gpu::GpuScene;
 
-/// The `cluster_cull` pipeline and its persistent workgroup count.
+/// The `cluster_cull` pipelines (with and without the partial-residency code) and its persistent
+/// workgroup count.
 pub struct ClusterCull {
-    pipeline: ComputePipeline,
+    pipelines: CullPipelines,
     workgroups: u32,
 }
 
@@ -42,9 +43,9 @@ pub fn default_workgroups(caps: &Caps) -> u32 {
 impl ClusterCull {
     /// Creates the pipeline with `workgroups` persistent workgroups.
     pub fn new(ctx: &Context, workgroups: u32) -> GpuResult<Self> {
-        let pipeline = cull::pipeline(ctx, "cluster_cull", crate::shaders::CLUSTER_CULL_COMP)?;
+        let pipelines = CullPipelines::new(ctx, "cluster_cull", crate::shaders::CLUSTER_CULL_COMP)?;
         Ok(Self {
-            pipeline,
+            pipelines,
             workgroups: workgroups.max(1),
         })
     }
@@ -54,7 +55,8 @@ impl ClusterCull {
         self.workgroups
     }
 
-    /// Records the pass.
+    /// Records the pass; `streaming`: some mesh may be partial ([`CullPipelines::pick`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         cmd: &mut Cmd,
@@ -63,9 +65,10 @@ impl ClusterCull {
         fb: &FrameBuffers,
         hzb: &Buffer,
         phase: Phase,
+        streaming: bool,
     ) {
         timer.begin(cmd, phase.name("cluster_cull", "cluster_cull (post)"));
-        cull::bind(cmd, &self.pipeline, scene, fb, hzb, phase);
+        cull::bind(cmd, self.pipelines.pick(streaming), scene, fb, hzb, phase);
         cmd.dispatch(self.workgroups, 1, 1);
         timer.end(cmd);
     }

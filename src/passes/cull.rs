@@ -4,6 +4,7 @@
 use crate::gpu::{Buffer, Cmd, ComputePipeline, Context, Desc, GpuResult, ShaderStage, vk};
 use crate::passes::FrameBuffers;
 use crate::scene_gpu::GpuScene;
+use crate::shared::SPEC_CULL_STREAMING;
 
 /// Which half of the two-pass occlusion culling runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,6 +94,44 @@ pub fn descriptors<'a>(
 /// A cull pass's pipeline: the shared layout and the phase push constant.
 pub fn pipeline(ctx: &Context, name: &str, spirv: &[u8]) -> GpuResult<ComputePipeline> {
     ComputePipeline::new(ctx, ShaderStage { name, spirv }, &layout(), 4)
+}
+
+/// A cull pass's shader as two pipelines: `streaming` with the partial-residency code
+/// (`CULL_STREAMING` true, [`SPEC_CULL_STREAMING`]), `resident` without it, for frames in which no
+/// mesh has [`crate::shared::MESH_STREAM_PARTIAL`]. Both draw the same cut of such a frame (the
+/// code they differ by takes no branch there); the resident one is what an all-resident scene
+/// runs, so that streaming's code costs it nothing.
+pub struct CullPipelines {
+    streaming: ComputePipeline,
+    resident: ComputePipeline,
+}
+
+impl CullPipelines {
+    /// Creates both pipelines of `spirv`, named `name`.
+    pub fn new(ctx: &Context, name: &str, spirv: &[u8]) -> GpuResult<Self> {
+        let make = |on: bool| {
+            ComputePipeline::specialized(
+                ctx,
+                ShaderStage { name, spirv },
+                &layout(),
+                4,
+                &[(SPEC_CULL_STREAMING, on as u32)],
+            )
+        };
+        Ok(Self {
+            streaming: make(true)?,
+            resident: make(false)?,
+        })
+    }
+
+    /// The pipeline of a frame: `streaming` when some mesh may be partial.
+    pub fn pick(&self, streaming: bool) -> &ComputePipeline {
+        if streaming {
+            &self.streaming
+        } else {
+            &self.resident
+        }
+    }
 }
 
 /// Binds a cull pass's pipeline with one phase's descriptors and push constant.

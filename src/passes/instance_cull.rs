@@ -4,19 +4,20 @@
 //! variant runs instead: the workgroup shares the cluster tests of its threads' small-instance
 //! cuts and local walks (`common/cull.glsl`, shared runs).
 
-use crate::gpu::{Buffer, Cmd, ComputePipeline, Context, GpuResult, Timer};
+use crate::gpu::{Buffer, Cmd, Context, GpuResult, Timer};
 use crate::passes::FrameBuffers;
-use crate::passes::cull::{self, Phase};
+use crate::passes::cull::{self, CullPipelines, Phase};
 use crate::scene_gpu::GpuScene;
 use crate::shared::{
     CullCounters, INSTANCE_CULL_WORKGROUP_SIZE, SHARED_RUNS_MAX_INSTANCES, WALK_WIDE_INSTANCES,
     compute_grid,
 };
 
-/// The `instance_cull` pipelines: the plain one and the `shared` variant.
+/// The `instance_cull` pipelines: the plain one and the `shared` variant, each with and without
+/// the partial-residency code ([`CullPipelines`]).
 pub struct InstanceCull {
-    pipeline: ComputePipeline,
-    shared: ComputePipeline,
+    pipeline: CullPipelines,
+    shared: CullPipelines,
     /// The variant forced by tests (`VgeoRenderer::set_shared_runs`); `None`: by the view.
     pub force_shared: Option<bool>,
     /// At most this many workgroups, one per [`INSTANCE_CULL_WORKGROUP_SIZE`] instances in both
@@ -35,8 +36,9 @@ pub fn shares_runs(instances: u32) -> bool {
 impl InstanceCull {
     /// Creates the pipelines.
     pub fn new(ctx: &Context) -> GpuResult<Self> {
-        let pipeline = cull::pipeline(ctx, "instance_cull", crate::shaders::INSTANCE_CULL_COMP)?;
-        let shared = cull::pipeline(
+        let pipeline =
+            CullPipelines::new(ctx, "instance_cull", crate::shaders::INSTANCE_CULL_COMP)?;
+        let shared = CullPipelines::new(
             ctx,
             "instance_cull",
             crate::shaders::INSTANCE_CULL_COMP_SHARED,
@@ -50,7 +52,9 @@ impl InstanceCull {
     }
 
     /// Records the pass: in the main phase one thread per instance, in the post phase one per
-    /// deferred item ([`CullCounters::post_dispatch`]), in a 2D grid of workgroups.
+    /// deferred item ([`CullCounters::post_dispatch`]), in a 2D grid of workgroups; `streaming`:
+    /// some mesh may be partial ([`CullPipelines::pick`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         cmd: &mut Cmd,
@@ -59,9 +63,10 @@ impl InstanceCull {
         fb: &FrameBuffers,
         hzb: &Buffer,
         phase: Phase,
+        streaming: bool,
     ) {
         timer.begin(cmd, phase.name("instance_cull", "instance_cull (post)"));
-        let pipeline = if self
+        let pipelines = if self
             .force_shared
             .unwrap_or_else(|| shares_runs(scene.instance_count))
         {
@@ -69,6 +74,7 @@ impl InstanceCull {
         } else {
             &self.pipeline
         };
+        let pipeline = pipelines.pick(streaming);
         cull::bind(cmd, pipeline, scene, fb, hzb, phase);
         match (phase, self.max_workgroups) {
             // The post phase: a thread per item the main phase deferred (its cull wrote the

@@ -47,6 +47,11 @@ impl StagedPages {
             + self.meshes.len() as u64 * MESH_GPU_BYTES
     }
 
+    /// Whether a mesh entry's change waits for its copy.
+    pub(super) fn has_mesh_changes(&self) -> bool {
+        !self.meshes.is_empty()
+    }
+
     /// Forgets what targets mesh slot `index` (removed).
     pub(super) fn forget_mesh(&mut self, index: u32) {
         self.entries.retain(|&(m, _)| m != index);
@@ -128,14 +133,7 @@ impl GpuScene {
             let partial = live.loaded.contains(&PAGE_NOT_RESIDENT);
             self.staged.entries.insert((ri, c.page));
             // The mesh's partial flag follows its pages.
-            let e = &mut self.mesh_table[ri as usize];
-            let streams = if partial {
-                e.streams | crate::shared::MESH_STREAM_PARTIAL
-            } else {
-                e.streams & !crate::shared::MESH_STREAM_PARTIAL
-            };
-            if streams != e.streams {
-                e.streams = streams;
+            if self.set_mesh_partial(ri as usize, partial) {
                 self.staged.meshes.insert(ri);
             }
         }
