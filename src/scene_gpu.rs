@@ -268,6 +268,9 @@ struct LiveMesh {
     /// Per page, the pool word where its bytes are (whether or not the cull may use them), or
     /// [`PAGE_NOT_RESIDENT`].
     loaded: Vec<u32>,
+    /// Per page, whether [`GpuScene::set_page_residency`] marked it absent though its bytes are
+    /// loaded (until it is resident again, or a page change names it).
+    hidden: Vec<bool>,
     resident_pages: u32,
     /// Its clusters as (page, word in the page, index in the mesh), sorted: where a visible-list
     /// entry's pool word points ([`GpuScene::clusters_at_words`]).
@@ -280,14 +283,19 @@ struct LiveMesh {
 }
 
 impl LiveMesh {
-    /// Page `p`'s entry where its bytes are loaded (absent when they are not).
+    /// Page `p`'s entry where its bytes are loaded (absent when they are not, or when hidden).
     fn entry(&self, p: usize) -> PageGpu {
-        if self.loaded[p] == PAGE_NOT_RESIDENT {
+        if self.loaded[p] == PAGE_NOT_RESIDENT || self.hidden[p] {
             return PageGpu::absent();
         }
         PageGpu {
             word: self.loaded[p],
         }
+    }
+
+    /// Whether some page's entry is absent ([`MESH_STREAM_PARTIAL`]).
+    fn partial(&self) -> bool {
+        self.loaded.contains(&PAGE_NOT_RESIDENT) || self.hidden.contains(&true)
     }
 }
 
@@ -758,6 +766,7 @@ impl GpuScene {
                 ranges,
                 page_records: m.pages.clone(),
                 loaded: pages.iter().map(|e| e.word).collect(),
+                hidden: vec![false; pages.len()],
                 resident_pages: m.resident_pages,
                 by_page: {
                     let mut v: Vec<(u32, u32, u32)> = locs
@@ -911,17 +920,16 @@ impl GpuScene {
                 "page {p} is not in the pool"
             )));
         }
-        let entries: Vec<PageGpu> = (0..resident.len())
-            .map(|p| {
-                if resident[p] {
-                    live.entry(p)
-                } else {
-                    PageGpu::absent()
-                }
-            })
-            .collect();
+        let live = self.mesh_slots[h.index as usize]
+            .live
+            .as_mut()
+            .expect("checked live");
+        for (p, &r) in resident.iter().enumerate() {
+            live.hidden[p] = !r && live.loaded[p] != PAGE_NOT_RESIDENT;
+        }
+        let entries: Vec<PageGpu> = (0..resident.len()).map(|p| live.entry(p)).collect();
         let first = live.ranges[PAGES].0;
-        let partial = resident.iter().any(|&r| !r);
+        let partial = live.partial();
         let slot = h.index as usize;
         self.set_mesh_partial(slot, partial);
         let e = &self.mesh_table[slot];

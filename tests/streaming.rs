@@ -674,8 +674,8 @@ fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_cull
 
 /// The culls run their pipelines without the partial-residency code (`CULL_STREAMING` false)
 /// only in frames in which no mesh can be partial on the GPU: a streamed mesh takes the streaming
-/// ones while a page is absent, and still in the frame that copies its last page in (its flag
-/// in the CPU's table is already clear, the GPU's not yet); then the resident ones, and its image
+/// ones while a page is absent, and still in the `render` that copies its last page in (its
+/// flag in the CPU's table is already clear, the GPU's not yet); then the resident ones, and its image
 /// and depth are the all-resident renderer's bit for bit; an eviction takes it back.
 #[test]
 fn the_culls_leave_out_streaming_code_only_once_every_page_is_in() {
@@ -751,6 +751,58 @@ fn the_culls_leave_out_streaming_code_only_once_every_page_is_in() {
     assert!(r.streaming_cull());
     render(&mut r, &camera);
     assert!(r.streaming_cull(), "still partial after its copy");
+    assert_no_validation_errors(&ctx);
+}
+
+/// Pages `set_page_residency` marked absent stay absent, and the mesh partial, when
+/// `update_pages` later loads another of its pages (found by session 43's second read: the flag
+/// followed only the pages' bytes, which `set_page_residency` leaves in the pool, so the load
+/// cleared it while a page was absent on the GPU). Every page made resident again clears it.
+#[test]
+fn a_page_change_keeps_pages_set_absent_absent() {
+    let ctx = gpu();
+    let one = bunny();
+    let mut r = VgeoRenderer::new(&ctx, std::slice::from_ref(&one), &[place()]).expect("renderer");
+    let h = r.scene.mesh_handle(0).expect("mesh");
+    let n = one.pages.len();
+    assert!(n >= one.resident_pages as usize + 2);
+    let (p, q) = (n - 2, n - 1);
+    let mut res = vec![true; n];
+    res[p] = false;
+    res[q] = false;
+    r.scene.set_page_residency(h, &res).expect("residency");
+    assert_eq!(r.scene.partial_meshes(), 1);
+    let bytes = one.read_page(p as u32).expect("page");
+    let word = r
+        .scene
+        .reserve_page_slots(bytes.len().div_ceil(4) as u64)
+        .expect("slot");
+    r.scene
+        .update_pages(&[vgeo::scene_gpu::PageChange {
+            mesh: h,
+            page: p as u32,
+            load: Some((word, bytes)),
+        }])
+        .expect("load p");
+    let camera = camera_at(0.1);
+    let f = render(&mut r, &camera);
+    assert_eq!(r.scene.partial_meshes(), 1, "page {q} is still absent");
+    assert!(r.streaming_cull());
+    // Nothing of page q is drawn.
+    let pages: BTreeSet<u32> = f
+        .visible()
+        .iter()
+        .map(|v| one.clusters[v[1] as usize].page)
+        .collect();
+    assert!(
+        !pages.is_empty() && !pages.contains(&(q as u32)),
+        "{pages:?}"
+    );
+    r.scene
+        .set_page_residency(h, &vec![true; n])
+        .expect("all resident");
+    assert_eq!(r.scene.partial_meshes(), 0);
+    assert!(!r.streaming_cull());
     assert_no_validation_errors(&ctx);
 }
 

@@ -288,7 +288,11 @@ impl VgeoRenderer {
     /// # Safety
     /// As [`VgeoRenderer::record`]: `cb` is recording, outside a render pass; the host submits it
     /// before the frame's views' command buffers (or it is the same one), and submits every
-    /// command buffer it recorded, in order.
+    /// command buffer it recorded, in order. The scene changes before this call, not between it
+    /// and the submission of the frame's views: a change that writes the GPU at once (meshes
+    /// added, `GpuScene::set_page_residency`) would meet frames recorded for the scene as it was
+    /// (their culls' pipelines are chosen by whether a mesh may be partial, their ranges by the
+    /// arenas as they were).
     pub unsafe fn update_scene(
         &mut self,
         cb: vk::CommandBuffer,

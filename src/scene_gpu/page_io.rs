@@ -130,7 +130,8 @@ impl GpuScene {
                 .as_mut()
                 .expect("checked live");
             live.loaded[c.page as usize] = word;
-            let partial = live.loaded.contains(&PAGE_NOT_RESIDENT);
+            live.hidden[c.page as usize] = false;
+            let partial = live.partial();
             self.staged.entries.insert((ri, c.page));
             // The mesh's partial flag follows its pages.
             if self.set_mesh_partial(ri as usize, partial) {
