@@ -704,11 +704,8 @@ impl GpuScene {
                 tiny_offset: ranges[TINY].0 as u32,
             };
             let (pages, pool) = page_upload(m, ranges[POOL].0 as u32, present);
+            // Its partial flag is set with the table entry below (`set_mesh_partial`).
             let partial = pages.iter().any(|e| e.word == PAGE_NOT_RESIDENT);
-            let gpu = MeshGpu {
-                streams: gpu.streams | if partial { MESH_STREAM_PARTIAL } else { 0 },
-                ..gpu
-            };
             let locs: Vec<ClusterLocGpu> = m
                 .clusters
                 .iter()
@@ -788,11 +785,8 @@ impl GpuScene {
                 material: MeshMaterialSource::of(m),
             });
             let generation = ms.generation;
-            self.mesh_table[slot as usize] = MeshGpu {
-                streams: gpu.streams & !MESH_STREAM_PARTIAL,
-                ..gpu
-            };
-            self.set_mesh_partial(slot as usize, gpu.streams & MESH_STREAM_PARTIAL != 0);
+            self.mesh_table[slot as usize] = gpu;
+            self.set_mesh_partial(slot as usize, partial);
             self.total_clusters += gpu.cluster_count;
             handles.push(MeshHandle {
                 index: slot,

@@ -672,6 +672,27 @@ fn a_view_the_mesh_overflows_settles_to_the_all_resident_image_with_frustum_cull
     assert_no_validation_errors(&ctx);
 }
 
+/// A load of mesh `h`'s page `p` (`m`'s bytes) into a newly reserved pool slot, for
+/// `GpuScene::update_pages` without a streamer.
+fn load_by_hand(
+    r: &mut VgeoRenderer,
+    m: &BuiltMesh,
+    h: vgeo::scene_gpu::MeshHandle,
+    p: u32,
+) -> vgeo::scene_gpu::PageChange {
+    let bytes = m.read_page(p).expect("page");
+    assert_eq!(bytes.len() as u64, m.pages[p as usize].bytes as u64);
+    let word = r
+        .scene
+        .reserve_page_slots(bytes.len().div_ceil(4) as u64)
+        .expect("slot");
+    vgeo::scene_gpu::PageChange {
+        mesh: h,
+        page: p,
+        load: Some((word, bytes)),
+    }
+}
+
 /// The culls run their pipelines without the partial-residency code (`CULL_STREAMING` false)
 /// only in frames in which no mesh can be partial on the GPU: a streamed mesh takes the streaming
 /// ones while a page is absent, and still in the `render` that copies its last page in (its
@@ -694,25 +715,9 @@ fn the_culls_leave_out_streaming_code_only_once_every_page_is_in() {
     render(&mut r, &camera);
     // Every absent page in, by hand (the streamer, never updated here, loaded only the
     // always-resident ones; it would load only what a view asks for).
-    let mut changes = Vec::new();
-    for (p, page) in one
-        .pages
-        .iter()
-        .enumerate()
-        .skip(one.resident_pages as usize)
-    {
-        let bytes = one.read_page(p as u32).expect("page");
-        assert_eq!(bytes.len() as u64, page.bytes as u64);
-        let word = r
-            .scene
-            .reserve_page_slots(bytes.len().div_ceil(4) as u64)
-            .expect("slot");
-        changes.push(vgeo::scene_gpu::PageChange {
-            mesh: h,
-            page: p as u32,
-            load: Some((word, bytes)),
-        });
-    }
+    let changes: Vec<_> = (one.resident_pages..one.pages.len() as u32)
+        .map(|p| load_by_hand(&mut r, &one, h, p))
+        .collect();
     assert!(!changes.is_empty());
     r.scene.update_pages(&changes).expect("loads");
     assert_eq!(
@@ -772,18 +777,8 @@ fn a_page_change_keeps_pages_set_absent_absent() {
     res[q] = false;
     r.scene.set_page_residency(h, &res).expect("residency");
     assert_eq!(r.scene.partial_meshes(), 1);
-    let bytes = one.read_page(p as u32).expect("page");
-    let word = r
-        .scene
-        .reserve_page_slots(bytes.len().div_ceil(4) as u64)
-        .expect("slot");
-    r.scene
-        .update_pages(&[vgeo::scene_gpu::PageChange {
-            mesh: h,
-            page: p as u32,
-            load: Some((word, bytes)),
-        }])
-        .expect("load p");
+    let change = load_by_hand(&mut r, &one, h, p as u32);
+    r.scene.update_pages(&[change]).expect("load p");
     let camera = camera_at(0.1);
     let f = render(&mut r, &camera);
     assert_eq!(r.scene.partial_meshes(), 1, "page {q} is still absent");
